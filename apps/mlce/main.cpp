@@ -1,0 +1,256 @@
+// mlce: the analyst's command line. It only wires the reader and the estimators together.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mlce/estimate.hpp"
+#include "mlce/reader/table.hpp"
+#include "plot.hpp"
+#include "report.hpp"
+#include "series_input.hpp"
+
+namespace po = boost::program_options;
+using namespace mlce;
+
+namespace {
+
+constexpr int kExitData = 1;   // bad input file or data
+constexpr int kExitUsage = 2;  // bad command line
+
+const char* kUsage =
+    "usage: mlce <command> [options]\n"
+    "commands:\n"
+    "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic\n"
+    "  ami FILE        average mutual information curve and the chosen delay\n"
+    "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
+    "Run 'mlce <command> --help' for the options of a command.\n";
+
+/// "auto" -> nullopt, else a positive integer.
+std::optional<std::size_t> auto_or_count(const std::string& value, const char* option) {
+  if (value == "auto") return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const long long v = std::stoll(value, &used);
+    if (used == value.size() && v >= 0) return static_cast<std::size_t>(v);
+  } catch (const std::exception&) {
+  }
+  throw po::error(fmt::format("--{} '{}': expected 'auto' or a non-negative integer", option, value));
+}
+
+po::options_description series_options(cli::SeriesInput& in) {
+  po::options_description d("series");
+  d.add_options()
+      ("column", po::value(&in.columns)->composing(), "1-based column(s) to analyse (repeat for a multivariate series)")
+      ("time-column", po::value<std::size_t>(), "1-based column holding time (must be uniform)")
+      ("dt", po::value<double>(), "sampling step when the file has no time column")
+      ("time-unit", po::value(&in.time_unit)->default_value("s"), "name of the time unit")
+      ("resample", po::bool_switch(&in.resample), "resample a non-uniform time column linearly (explicit opt-in)")
+      ("from", po::value(&in.from), "start of the analysed window (time units), or 'auto' to skip the transient")
+      ("to", po::value<double>(), "end of the analysed window (time units)");
+  return d;
+}
+
+void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
+  if (vm.count("time-column")) in.time_column = vm["time-column"].as<std::size_t>();
+  if (vm.count("dt")) in.dt = vm["dt"].as<double>();
+  if (vm.count("to")) in.to = vm["to"].as<double>();
+  if (!vm.count("file")) throw po::error("missing FILE");
+  in.file = vm["file"].as<std::string>();
+}
+
+po::variables_map parse(const std::vector<std::string>& args, const po::options_description& d) {
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  po::options_description all = d;
+  all.add_options()("file", po::value<std::string>(), "input file");
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  po::notify(vm);
+  return vm;
+}
+
+/// Stage messages on stderr once a run has lasted a second (short runs stay quiet).
+ProgressCallback progress_printer(bool quiet) {
+  if (quiet) return {};
+  const auto start = std::chrono::steady_clock::now();
+  return [start](std::string_view stage, double) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (s > 1.0) std::fprintf(stderr, "mlce: %.1f s: %.*s\n", s, static_cast<int>(stage.size()), stage.data());
+  };
+}
+
+void print_warnings(const std::vector<std::string>& w) {
+  for (const auto& s : w) std::fprintf(stderr, "mlce: warning: %s\n", s.c_str());
+}
+
+int cmd_estimate(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "100000";
+  std::string curve_path, plot_path;
+  bool json = false, quiet = false;
+  po::options_description d("mlce estimate FILE [options]");
+  d.add(series_options(in));
+  po::options_description e("estimator");
+  e.add_options()
+      ("delay", po::value(&delay), "reconstruction delay J in samples, or auto (first AMI minimum)")
+      ("dim", po::value(&dim), "embedding dimension m, or auto (false nearest neighbours)")
+      ("theiler", po::value(&theiler), "Theiler window in samples, or auto (mean period, eq. 19)")
+      ("horizon", po::value(&horizon), "divergence curve length in samples, or auto (adaptive)")
+      ("fit", po::value(&fit), "fit region A:B in curve steps, or auto")
+      ("refs", po::value(&refs), "reference points of the curve (evenly strided), or 'all'")
+      ("json", po::bool_switch(&json), "print one JSON object on stdout")
+      ("curve", po::value(&curve_path), "write the divergence curve as CSV")
+      ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
+      ("quiet", po::bool_switch(&quiet), "no progress messages")
+      ("help", "this help");
+  d.add(e);
+  const auto vm = parse(args, d);
+  if (vm.count("help")) {
+    std::cout << d;
+    return 0;
+  }
+  finish_series_options(vm, in);
+  MlceOptions o;
+  o.delay = auto_or_count(delay, "delay");
+  o.dim = auto_or_count(dim, "dim");
+  o.theiler = auto_or_count(theiler, "theiler");
+  o.horizon = auto_or_count(horizon, "horizon");
+  if (refs == "all") o.max_references = 0;
+  else o.max_references = auto_or_count(refs, "refs").value_or(100000);
+  if (fit != "auto") {
+    const auto colon = fit.find(':');
+    if (colon == std::string::npos) throw po::error("--fit '" + fit + "': expected auto or A:B");
+    const auto a = auto_or_count(fit.substr(0, colon), "fit"), b = auto_or_count(fit.substr(colon + 1), "fit");
+    if (!a || !b) throw po::error("--fit '" + fit + "': expected auto or A:B");
+    o.fit.range = std::make_pair(*a, *b);
+  }
+  o.progress = progress_printer(quiet);
+
+  cli::LoadedSeries loaded = cli::load_series(in);
+  MlceResult r = estimate_mlce(loaded.series, o);
+  r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  if (!curve_path.empty()) cli::write_file_atomically(curve_path, cli::curve_csv(r));
+  if (!plot_path.empty()) cli::plot_curve_png(r, plot_path);
+  if (json) {
+    auto j = cli::to_json(r);
+    j["file"] = in.file;
+    j["from"] = loaded.series.t0;
+    if (!loaded.transient_rule.empty()) j["transient_rule"] = loaded.transient_rule;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << "file            " << in.file << "\n";
+    if (!loaded.transient_rule.empty())
+      std::cout << fmt::format("window          from {:.6g} ({})\n", loaded.series.t0, loaded.transient_rule);
+    std::cout << cli::to_text(r);
+  }
+  return 0;
+}
+
+int cmd_ami(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  AmiOptions o;
+  bool json = false;
+  po::options_description d("mlce ami FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("max-delay", po::value(&o.max_delay), "largest delay (0 = auto)")
+      ("bins", po::value(&o.bins), "histogram bins (0 = Sturges)")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("help", "this help");
+  const auto vm = parse(args, d);
+  if (vm.count("help")) {
+    std::cout << d;
+    return 0;
+  }
+  finish_series_options(vm, in);
+  const auto loaded = cli::load_series(in);
+  const AmiResult r = estimate_delay_ami(loaded.series, o);
+  if (json) std::cout << cli::to_json(r).dump() << "\n";
+  else std::cout << cli::to_text(r);
+  print_warnings(loaded.warnings);
+  return 0;
+}
+
+int cmd_fnn(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  FnnOptions o;
+  std::string delay = "auto", theiler = "auto";
+  bool json = false;
+  po::options_description d("mlce fnn FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("delay", po::value(&delay), "delay in samples, or auto (first AMI minimum)")
+      ("theiler", po::value(&theiler), "Theiler window, or auto (mean period)")
+      ("max-dim", po::value(&o.max_dim), "largest dimension tested")
+      ("rtol", po::value(&o.rtol), "Kennel R_tol")
+      ("atol", po::value(&o.atol), "Kennel A_tol")
+      ("threshold", po::value(&o.threshold), "false fraction that accepts m")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("help", "this help");
+  const auto vm = parse(args, d);
+  if (vm.count("help")) {
+    std::cout << d;
+    return 0;
+  }
+  finish_series_options(vm, in);
+  const auto loaded = cli::load_series(in);
+  const auto period = estimate_mean_period(loaded.series, {}).mean_period;
+  o.theiler = auto_or_count(theiler, "theiler").value_or(period);
+  std::size_t J = 0;
+  if (auto given = auto_or_count(delay, "delay")) {
+    J = *given;
+  } else {
+    AmiOptions ao;
+    ao.stop_at_minimum = true;
+    J = estimate_delay_ami(loaded.series, ao).delay;
+  }
+  const FnnResult r = estimate_dimension_fnn(loaded.series, J, o);
+  if (json) {
+    auto j = cli::to_json(r);
+    j["delay"] = J;
+    j["theiler"] = o.theiler;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << fmt::format("# delay {} samples, Theiler window {} samples\n", J, o.theiler) << cli::to_text(r);
+  }
+  print_warnings(loaded.warnings);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return kExitUsage;
+  }
+  const std::string cmd = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  try {
+    if (cmd == "estimate") return cmd_estimate(args);
+    if (cmd == "ami") return cmd_ami(args);
+    if (cmd == "fnn") return cmd_fnn(args);
+    if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    std::fprintf(stderr, "mlce: unknown command '%s'\n%s", cmd.c_str(), kUsage);
+    return kExitUsage;
+  } catch (const po::error& e) {
+    std::fprintf(stderr, "mlce %s: error: %s\n", cmd.c_str(), e.what());
+    return kExitUsage;
+  } catch (const OptionError& e) {
+    std::fprintf(stderr, "mlce %s: error: %s\n", cmd.c_str(), e.what());
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mlce %s: error: %s\n", cmd.c_str(), e.what());
+    return kExitData;
+  }
+}

@@ -1,0 +1,143 @@
+#include "report.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace mlce::cli {
+namespace {
+
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+std::string rate_unit(const MlceResult& r) { return r.time_unit.empty() ? "1/sample" : "1/" + r.time_unit; }
+
+}  // namespace
+
+nlohmann::json to_json(const AmiResult& r) {
+  return {{"delay", r.delay},           {"rule", to_string(r.rule)}, {"bins", r.bins},
+          {"binning", "equal-width over the range; Sturges ceil(log2 N)+1 unless given"},
+          {"units", "nats"},            {"noise_floor", r.noise_floor}, {"ami", r.ami},
+          {"smoothed", r.smoothed},     {"channel_delay", r.channel_delay}, {"warnings", r.warnings}};
+}
+
+nlohmann::json to_json(const FnnResult& r) {
+  return {{"dim", r.dim},
+          {"fraction", r.fraction},
+          {"queries", r.queries},
+          {"reached_threshold", r.reached_threshold},
+          {"warnings", r.warnings}};
+}
+
+nlohmann::json to_json(const MlceResult& r) {
+  nlohmann::json j;
+  j["lambda"] = finite_or_null(r.lambda);
+  j["lambda_unit"] = rate_unit(r);
+  j["lambda_per_sample"] = finite_or_null(r.lambda_per_sample);
+  j["ci95"] = {finite_or_null(r.ci95_low), finite_or_null(r.ci95_high)};
+  j["lyapunov_time"] = finite_or_null(r.lyapunov_time);
+  j["log_base"] = "e";
+  j["delay"] = r.delay;
+  j["dim"] = r.dim;
+  j["theiler"] = r.theiler;
+  j["horizon"] = r.horizon;
+  j["fit"] = {r.fit.first, r.fit.last};
+  j["fit_rule"] = r.fit.rule;
+  j["fit_automatic"] = r.fit.automatic;
+  j["curve_end"] = to_string(r.fit.end);
+  j["r2"] = finite_or_null(r.r2);
+  j["n_points"] = r.n_points;
+  j["dt"] = r.dt;
+  j["time_unit"] = r.time_unit;
+  j["mean_frequency"] = r.mean_period.mean_frequency;
+  j["mean_period"] = r.mean_period.mean_period;
+  if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
+  if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
+  j["pairs"] = r.curve.pairs;
+  j["references"] = r.curve.references;
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+std::string to_text(const MlceResult& r) {
+  std::string s;
+  const std::string u = rate_unit(r);
+  s += fmt::format("MLCE            {:.6g} {}  (95 % CI {:.6g} .. {:.6g})\n", r.lambda, u, r.ci95_low, r.ci95_high);
+  s += fmt::format("                {:.6g} per sample", r.lambda_per_sample);
+  if (std::isfinite(r.lyapunov_time))
+    s += fmt::format(", Lyapunov time {:.6g} {}", r.lyapunov_time, r.time_unit.empty() ? "samples" : r.time_unit);
+  s += "\n";
+  s += fmt::format("series          {} samples, dt = {:.6g} {}\n", r.n_points, r.dt,
+                   r.time_unit.empty() ? "(per sample)" : r.time_unit);
+  s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}\n", r.mean_period.mean_period,
+                   r.mean_period.mean_frequency, r.time_unit.empty() ? "sample" : r.time_unit,
+                   r.mean_period.clamped ? ", clamped" : "");
+  s += fmt::format("delay           {} samples{}\n", r.delay, r.ami ? fmt::format(" ({})", to_string(r.ami->rule)) : " (given)");
+  s += fmt::format("dimension       {}{}\n", r.dim, r.fnn ? " (false nearest neighbours)" : " (given)");
+  if (r.fnn) {
+    s += "  FNN fraction ";
+    for (std::size_t m = 0; m < r.fnn->fraction.size(); ++m) s += fmt::format(" m={}:{:.3f}", m + 1, r.fnn->fraction[m]);
+    s += "\n";
+  }
+  s += fmt::format("Theiler window  {} samples\n", r.theiler);
+  s += fmt::format("curve           steps 0..{}, {} pairs ({} references)\n", r.horizon, r.curve.pairs, r.curve.references);
+  s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
+  for (const auto& w : r.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+std::string to_text(const AmiResult& r) {
+  std::string s = fmt::format("# average mutual information (nats), {} equal-width bins\n# tau ami smoothed\n", r.bins);
+  for (std::size_t t = 0; t < r.ami.size(); ++t) s += fmt::format("{} {:.6g} {:.6g}\n", t, r.ami[t], r.smoothed[t]);
+  s += fmt::format("# delay = {} ({})\n", r.delay, to_string(r.rule));
+  for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
+  return s;
+}
+
+std::string to_text(const FnnResult& r) {
+  std::string s = "# false nearest neighbours\n# m fraction tested\n";
+  for (std::size_t m = 0; m < r.fraction.size(); ++m)
+    s += fmt::format("{} {:.6f} {}\n", m + 1, r.fraction[m], r.queries[m]);
+  s += fmt::format("# dim = {}{}\n", r.dim, r.reached_threshold ? "" : " (threshold not reached)");
+  for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
+  return s;
+}
+
+std::string curve_csv(const MlceResult& r) {
+  std::string s = "step,time,mean_log_distance,terms,in_fit,fit_line\n";
+  const auto& y = r.curve.mean_log_distance;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const bool in = i >= r.fit.first && i <= r.fit.last;
+    s += fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}\n", i, r.dt * static_cast<double>(i), y[i], r.curve.terms[i],
+                     in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
+  }
+  return s;
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path tmp = target.string() + ".tmp-mlce";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(path + ": cannot write the file");
+    out << content;
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(path + ": cannot write the file");
+  }
+}
+
+}  // namespace mlce::cli

@@ -1,0 +1,23 @@
+#pragma once
+// Results as text for people, JSON for scripts, CSV for curves.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "mlce/estimate.hpp"
+
+namespace mlce::cli {
+
+nlohmann::json to_json(const MlceResult& r);
+nlohmann::json to_json(const AmiResult& r);
+nlohmann::json to_json(const FnnResult& r);
+std::string to_text(const MlceResult& r);
+std::string to_text(const AmiResult& r);
+std::string to_text(const FnnResult& r);
+/// step,time,mean_log_distance,terms,in_fit,fit_line
+std::string curve_csv(const MlceResult& r);
+
+/// Writes `content` to `path` through a temporary file and a rename: no partial file is left
+/// behind on failure. Throws std::runtime_error naming the path.
+void write_file_atomically(const std::string& path, const std::string& content);
+
+}  // namespace mlce::cli

@@ -1,0 +1,82 @@
+#include "series_input.hpp"
+
+#include <fmt/format.h>
+
+#include "mlce/mean_period.hpp"
+#include "mlce/reader/column_file.hpp"
+#include "mlce/transient.hpp"
+
+namespace mlce::cli {
+
+LoadedSeries load_series(const SeriesInput& in) {
+  using reader::ReadError;
+  if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
+  reader::Table table = reader::read_column_file(in.file);
+  const std::size_t ncols = table.columns.size();
+  std::vector<std::size_t> cols = in.columns;
+  if (cols.empty()) {
+    if (ncols == 1) {
+      cols.push_back(1);
+    } else if (ncols == 2 && in.time_column && *in.time_column <= 2) {
+      cols.push_back(*in.time_column == 1 ? 2 : 1);
+    } else {
+      throw ReadError(fmt::format("{}: the file has {} columns: say which to analyse with --column K "
+                                  "(and --time-column K or --dt DT)", in.file, ncols));
+    }
+  }
+  auto check_col = [&](std::size_t k, const char* what) {
+    if (k == 0 || k > ncols)
+      throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s)", in.file, what, k, ncols));
+  };
+  for (std::size_t k : cols) check_col(k, "--column");
+  if (in.time_column) check_col(*in.time_column, "--time-column");
+
+  LoadedSeries out;
+  std::vector<std::vector<double>> channels;
+  for (std::size_t k : cols) channels.push_back(table.columns[k - 1]);
+  try {
+    if (in.time_column) {
+      SamplingOptions so;
+      so.resample = in.resample;
+      out.series = make_series_from_time(table.columns[*in.time_column - 1], std::move(channels), so, &out.warnings,
+                                         in.time_unit);
+    } else if (in.dt) {
+      out.series = make_series_with_step(std::move(channels), *in.dt, in.time_unit);
+    } else {
+      out.series = make_series_with_step(std::move(channels), 1.0, "");  // per sample
+    }
+    for (std::size_t k : cols) out.series.names.push_back(table.names[k - 1]);
+    validate_series(out.series);
+  } catch (const InputError& e) {
+    if (e.index() != InputError::npos) throw ReadError(table.where(e.index()) + ": " + e.what());
+    throw ReadError(in.file + ": " + e.what());
+  }
+
+  if (in.from == "auto") {
+    TransientOptions to;
+    to.period = estimate_mean_period(out.series, {}).mean_period;
+    const TransientResult tr = detect_transient(out.series, to);
+    out.transient_rule = tr.rule;
+    const double end = in.to.value_or(out.series.time(out.series.size() - 1));
+    out.series = time_window(out.series, tr.end_time, end);
+  } else if (!in.from.empty() || in.to) {
+    double from = out.series.time(0);
+    if (!in.from.empty()) {
+      try {
+        std::size_t used = 0;
+        from = std::stod(in.from, &used);
+        if (used != in.from.size()) throw std::invalid_argument("trailing");
+      } catch (const std::exception&) {
+        throw OptionError("--from '" + in.from + "': expected a time or 'auto'");
+      }
+    }
+    try {
+      out.series = time_window(out.series, from, in.to.value_or(out.series.time(out.series.size() - 1)));
+    } catch (const InputError& e) {
+      throw ReadError(in.file + ": " + e.what());
+    }
+  }
+  return out;
+}
+
+}  // namespace mlce::cli

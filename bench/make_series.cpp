@@ -1,0 +1,33 @@
+// Writes a reference series as a two-column file "time value" (the bundled demo data and the
+// benchmark inputs are made by this program, not by hand).
+//   make_series lorenz|roessler|vanderpol|henon|logistic|oscillator N [dt] > file
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "reference_systems.hpp"
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: make_series lorenz|roessler|vanderpol|henon|logistic|oscillator N [dt]\n");
+    return 2;
+  }
+  const std::string name = argv[1];
+  const auto n = static_cast<std::size_t>(std::strtoull(argv[2], nullptr, 10));
+  double dt = argc > 3 ? std::strtod(argv[3], nullptr) : 0.0;
+  std::vector<double> x;
+  using namespace mlce::reference;
+  if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01);
+  else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
+  else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);
+  else if (name == "oscillator") x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, 0.05, 2.0 * M_PI);
+  else if (name == "henon") x = henon_x(n), dt = 1.0;
+  else if (name == "logistic") x = logistic(n), dt = 1.0;
+  else {
+    std::fprintf(stderr, "make_series: unknown system '%s'\n", name.c_str());
+    return 2;
+  }
+  std::printf("# %s, dt = %.17g, N = %zu\n# time value\n", name.c_str(), dt, n);
+  for (std::size_t i = 0; i < x.size(); ++i) std::printf("%.10g %.17g\n", dt * static_cast<double>(i), x[i]);
+  return 0;
+}

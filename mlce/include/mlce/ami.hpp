@@ -1,0 +1,51 @@
+#pragma once
+// Average mutual information I(tau) and the reconstruction delay J of paper 001 eqs. 15-17.
+#include <string>
+#include <vector>
+
+#include "mlce/series.hpp"
+
+namespace mlce {
+
+enum class DelayRule { first_minimum, autocorrelation_1e };
+
+struct AmiOptions {
+  /// Largest delay evaluated. 0 = automatic: min((N-1)/4, 1000).
+  std::size_t max_delay = 0;
+  /// Number of equal-width bins over the channel's range. 0 = Sturges' rule, ceil(log2 N) + 1,
+  /// clamped to [4, 64].
+  std::size_t bins = 0;
+  /// Width (odd, samples) of the centred moving average applied before the minimum search.
+  std::size_t smoothing = 3;
+  /// A local minimum counts only if the smoothed curve rises after it by at least
+  /// max(significance * b, 0.01 * (I(0) - I(min))), b = (B-1)^2 / (2 n) being the bias of the
+  /// histogram estimator for independent samples: minima inside the noise floor are ignored.
+  double significance = 2.0;
+  /// Stop at the first accepted minimum (the estimator's use); off: whole curve (the `ami` command).
+  bool stop_at_minimum = false;
+  void validate() const;
+};
+
+struct AmiResult {
+  /// I(tau) in nats (natural log), tau = 0..; channel 0 when the series has several channels.
+  std::vector<double> ami;
+  std::vector<double> smoothed;
+  /// Chosen delay in samples: first significant local minimum of the smoothed curve; when there
+  /// is none (maps, whose AMI decays into the noise floor; monotonically decorrelating series),
+  /// the first tau at which the autocorrelation falls to 1/e (1 for maps).
+  std::size_t delay = 1;
+  DelayRule rule = DelayRule::first_minimum;
+  std::size_t bins = 0;
+  double noise_floor = 0.0;  ///< b, nats
+  std::vector<std::size_t> channel_delay;
+  std::vector<std::string> warnings;
+};
+
+AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options);
+
+/// Autocorrelation 1/e time of one standardized channel (samples, >= 1), searched up to max_lag.
+std::size_t autocorrelation_time(const std::vector<double>& x, std::size_t max_lag);
+
+const char* to_string(DelayRule rule);
+
+}  // namespace mlce

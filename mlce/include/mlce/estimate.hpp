@@ -1,0 +1,59 @@
+#pragma once
+// The whole automatic pipeline: mean period -> AMI delay -> FNN dimension -> Rosenstein curve ->
+// fit, with every parameter automatic unless given.
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mlce/ami.hpp"
+#include "mlce/fit.hpp"
+#include "mlce/fnn.hpp"
+#include "mlce/mean_period.hpp"
+#include "mlce/rosenstein.hpp"
+
+namespace mlce {
+
+/// Called with the stage name and the fraction of the stage done.
+using ProgressCallback = std::function<void(std::string_view stage, double fraction)>;
+
+struct MlceOptions {
+  std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
+  std::optional<std::size_t> dim;      ///< m; automatic: FNN
+  std::optional<std::size_t> theiler;  ///< automatic: mean period (eq. 19)
+  /// Curve length in samples. Automatic: starts at max(8 T, 32) and doubles (up to a third of
+  /// the embedded points) until the fit rule sees the curve's end (plateau, floor).
+  std::optional<std::size_t> horizon;
+  MeanPeriodOptions mean_period;
+  AmiOptions ami;
+  FnnOptions fnn;
+  FitOptions fit;
+  /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
+  /// error of the mean curve negligible while bounding the cost for very long series.
+  std::size_t max_references = 100000;
+  double eps = 0.0;
+  ProgressCallback progress;
+};
+
+struct MlceResult {
+  double lambda = 0.0;             ///< per time unit (1/s for MBDyn); natural log
+  double lambda_per_sample = 0.0;  ///< per sample
+  double ci95_low = 0.0, ci95_high = 0.0;  ///< per time unit
+  double lyapunov_time = 0.0;      ///< 1/lambda in time units when lambda > 0, else +inf
+  double r2 = 0.0;
+  std::size_t delay = 1, dim = 1, theiler = 1, horizon = 0;
+  std::size_t n_points = 0;
+  double dt = 1.0;
+  std::string time_unit;
+  MeanPeriodResult mean_period;
+  std::optional<AmiResult> ami;  ///< when the delay was automatic
+  std::optional<FnnResult> fnn;  ///< when the dimension was automatic
+  DivergenceCurve curve;
+  FitResult fit;
+  std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
+};
+
+MlceResult estimate_mlce(const Series& series, const MlceOptions& options);
+
+}  // namespace mlce

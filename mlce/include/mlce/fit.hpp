@@ -1,0 +1,59 @@
+#pragma once
+// Least-squares slope of the divergence curve over its linear region (paper 001 eq. 22-23).
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "mlce/rosenstein.hpp"
+
+namespace mlce {
+
+enum class CurveEnd { none, saturation, floor, flat };
+
+struct FitOptions {
+  /// Explicit fit range [first, last] in steps of the curve (overrides the rule).
+  std::optional<std::pair<std::size_t, std::size_t>> range;
+  /// Samples per oscillation of the curve (the mean period): sets the shortest segment and the
+  /// local-slope window. 0 = 1.
+  std::size_t period = 0;
+  /// Straight pieces the part before the plateau/floor is split into: start-up transient, linear
+  /// region and the bend towards the plateau (which may need two pieces).
+  std::size_t pieces = 4;
+  /// Adjacent segments whose slopes differ by less than this fraction of the larger are one line.
+  double merge_tolerance = 0.25;
+  /// A final segment whose slope is below this fraction of the fitted slope is the saturation
+  /// plateau (lambda > 0) or the noise/underflow floor (lambda < 0).
+  double end_tolerance = 0.2;
+  void validate() const;
+};
+
+struct FitResult {
+  std::size_t first = 0, last = 0;  ///< fit region, curve steps (inclusive)
+  double slope = 0.0;               ///< per sample (natural log)
+  double intercept = 0.0;
+  double r2 = 0.0;
+  double ci_low = 0.0, ci_high = 0.0;  ///< 95 % interval of the slope, per sample
+  CurveEnd end = CurveEnd::none;       ///< what stops the region on the right
+  std::size_t end_index = 0;           ///< where the plateau/floor starts (when end != none)
+  bool automatic = true;
+  std::string rule;                    ///< one-line account of how the region was chosen
+  std::vector<std::string> warnings;
+};
+
+/// The rule (deterministic), in two stages. Pieces are optimal least-squares segmentations (dynamic
+/// programming over the breakpoints), each piece at least max(3, period/2 + 1) steps, adjacent
+/// pieces with slopes equal within merge_tolerance joined.
+///  0. A curve whose total range is below 0.25 (distances change by less than e^0.25) is flat
+///     (lambda ~ 0): the whole curve is fitted.
+///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
+///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
+///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
+///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
+///     bend into the plateau); the linear region is again the piece of largest |slope| x length. The 95 % interval comes from batch means: the slope of each batch's curve over
+/// the same region, t-distributed over the batches.
+FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
+
+const char* to_string(CurveEnd end);
+
+}  // namespace mlce

@@ -1,0 +1,43 @@
+#pragma once
+// False nearest neighbours (Kennel, Brown & Abarbanel 1992) for the embedding dimension m of
+// paper 001 eqs. 15-17.
+#include <string>
+#include <vector>
+
+#include "mlce/series.hpp"
+
+namespace mlce {
+
+struct FnnOptions {
+  std::size_t max_dim = 10;
+  /// Kennel's first criterion: |x(i+mJ) - x(j+mJ)| / R_m(i) > rtol marks a false neighbour.
+  double rtol = 10.0;
+  /// Kennel's second criterion: R_{m+1}(i) / R_A > atol, R_A = standard deviation of the series.
+  double atol = 2.0;
+  /// Chosen m = first m whose false fraction is below this.
+  double threshold = 0.05;
+  /// Theiler window (samples) for the neighbour search; the estimator passes the mean period.
+  std::size_t theiler = 0;
+  /// At most this many query points per m (evenly strided); the kd-tree always holds every point.
+  /// 0 = all.
+  std::size_t max_queries = 20000;
+  /// Stop once the threshold is met (the estimator's use); off: the whole curve up to max_dim.
+  bool stop_at_choice = false;
+  void validate() const;
+};
+
+struct FnnResult {
+  /// fraction[m-1]: false-neighbour fraction at dimension m.
+  std::vector<double> fraction;
+  std::vector<std::size_t> queries;  ///< points tested at each m
+  std::size_t dim = 1;
+  /// false when no m reached the threshold (noise-dominated series): dim is then the m with the
+  /// smallest fraction, with a warning.
+  bool reached_threshold = true;
+  std::size_t zero_distance_pairs = 0;
+  std::vector<std::string> warnings;
+};
+
+FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const FnnOptions& options);
+
+}  // namespace mlce

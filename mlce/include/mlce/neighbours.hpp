@@ -1,0 +1,48 @@
+#pragma once
+// Exact nearest neighbour of each reference point with temporal separation |j - jhat| > w
+// (paper 001 eq. 20, the Theiler window), via a kd-tree whose result set applies the exclusion
+// inside the search.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "mlce/embedding.hpp"
+#include "mlce/series.hpp"
+
+namespace mlce {
+
+struct NeighbourOptions {
+  /// Theiler window w: candidates with |j - jhat| <= w are skipped.
+  std::size_t theiler = 0;
+  /// kd-tree leaf size (nanoflann's default is 10).
+  std::size_t leaf_size = 10;
+  /// 0 = exact search. eps > 0 accepts neighbours within (1+eps) of the true distance (faster;
+  /// for the speed/accuracy study only).
+  double eps = 0.0;
+  void validate() const;
+};
+
+struct NeighbourResult {
+  static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> neighbour;  ///< per query; `none` when every candidate was excluded
+  std::vector<double> distance;          ///< Euclidean, not squared; +inf for `none`
+  /// Candidates at exactly zero distance (repeated points) that were passed over: they would
+  /// give log(0). The nearest neighbour at a positive distance is returned instead.
+  std::size_t zero_distance_candidates = 0;
+  std::size_t without_neighbour = 0;
+};
+
+/// Nearest neighbour among the embedding's points of each point in `queries` (indices into the
+/// embedding). Runs the queries on all cores (OpenMP); the result does not depend on the thread count.
+NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
+                                        const NeighbourOptions& options);
+
+/// `max_count` indices evenly spread over [0, count) (all of them when max_count is 0 or >= count).
+std::vector<std::uint32_t> strided_indices(std::size_t count, std::size_t max_count);
+
+/// O(M^2) reference implementation with the same contract (tests and tiny series).
+NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedding,
+                                                    const std::vector<std::uint32_t>& queries,
+                                                    const NeighbourOptions& options);
+
+}  // namespace mlce

@@ -1,0 +1,79 @@
+#pragma once
+// Uniformly sampled (possibly multichannel) time series: the only data type the estimators see.
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mlce {
+
+/// Bad input data. `index` is the 0-based sample index the message is about (npos when the
+/// problem is not tied to one sample), so a caller that knows the file can name the line.
+class InputError : public std::runtime_error {
+ public:
+  static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
+  explicit InputError(const std::string& what, std::size_t index = npos)
+      : std::runtime_error(what), index_(index) {}
+  std::size_t index() const { return index_; }
+
+ private:
+  std::size_t index_;
+};
+
+/// Bad option value (names the option and the violated constraint).
+class OptionError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+struct Series {
+  /// channels[c][i]: sample i of channel c; every channel has the same length.
+  std::vector<std::vector<double>> channels;
+  /// Sampling step in time units (1 when the series has no time axis: "per sample").
+  double dt = 1.0;
+  /// Time of sample 0.
+  double t0 = 0.0;
+  /// Name of the time unit ("s"); empty means the series is indexed by sample only.
+  std::string time_unit;
+  std::vector<std::string> names;
+
+  std::size_t size() const { return channels.empty() ? 0 : channels.front().size(); }
+  std::size_t channel_count() const { return channels.size(); }
+  double time(std::size_t i) const { return t0 + dt * static_cast<double>(i); }
+};
+
+/// How a time column becomes a uniform sampling step.
+struct SamplingOptions {
+  /// Largest accepted |t[i+1]-t[i]-dt| / dt, dt = (t_last - t_0)/(n-1). 1e-2 tolerates the
+  /// rounding of times printed with 5-6 significant digits.
+  double uniformity_tolerance = 1e-2;
+  /// Resample a non-uniform time column onto the uniform grid of its median step (linear
+  /// interpolation). Off by default: a non-uniform column is an error.
+  bool resample = false;
+};
+
+/// Builds a series from an explicit time column (one value per sample). Throws InputError naming
+/// the first offending index: fewer than 2 samples, non-increasing time, a non-uniform step
+/// (unless options.resample), non-finite values.
+Series make_series_from_time(const std::vector<double>& time, std::vector<std::vector<double>> channels,
+                             const SamplingOptions& options, std::vector<std::string>* warnings = nullptr,
+                             std::string time_unit = "s");
+
+/// Builds a series with a known sampling step dt > 0.
+Series make_series_with_step(std::vector<std::vector<double>> channels, double dt, std::string time_unit = "s");
+
+/// Checks every sample is finite, channels have equal length, and no channel is constant.
+/// Throws InputError with the index of the first bad sample.
+void validate_series(const Series& series);
+
+/// The samples with t0' = time in [from, to] (inclusive, in time units). Throws InputError when
+/// the window holds fewer than 2 samples.
+Series time_window(const Series& series, double from, double to);
+
+/// Each channel shifted to zero mean and scaled to unit standard deviation, computed without
+/// overflow or underflow for any finite amplitude (1e-300 ... 1e300): the data is first divided
+/// by its largest magnitude. All estimators are scale-invariant through this step.
+Series standardized(const Series& series);
+
+}  // namespace mlce

@@ -1,0 +1,33 @@
+#pragma once
+// End of the initial transient of a run started from a perturbation.
+#include <string>
+
+#include "mlce/series.hpp"
+
+namespace mlce {
+
+struct TransientOptions {
+  /// Window length in samples for the moving RMS; 0 = max(4 * period, N / 100).
+  std::size_t window = 0;
+  /// Mean period in samples (from estimate_mean_period).
+  std::size_t period = 1;
+  /// Windows whose RMS lies within this relative band around the RMS of the last quarter of the
+  /// series count as settled.
+  double band = 0.25;
+  void validate() const;
+};
+
+struct TransientResult {
+  std::size_t end_index = 0;  ///< first sample of the settled part
+  double end_time = 0.0;
+  bool settled = true;  ///< false: amplitude drifts until the end (decay or growth): whole series kept
+  std::string rule;
+};
+
+/// Rule: RMS about the last quarter's mean in consecutive windows; the transient ends at the start of
+/// the first window from which every later window's RMS is within `band` of the last quarter's
+/// median window RMS. If the last quarter itself drifts (its first and last window RMS differ by
+/// more than `band`) the motion is a decay or a growth and nothing is cut.
+TransientResult detect_transient(const Series& series, const TransientOptions& options);
+
+}  // namespace mlce

@@ -1,0 +1,156 @@
+#include "mlce/ami.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "mlce/numerics.hpp"
+
+namespace mlce {
+namespace {
+
+std::vector<std::uint16_t> bin_indices(const std::vector<double>& x, std::size_t bins) {
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  const double width = (*hi - *lo) / static_cast<double>(bins);
+  std::vector<std::uint16_t> b(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    auto k = static_cast<std::size_t>((x[i] - *lo) / width);
+    b[i] = static_cast<std::uint16_t>(std::min(k, bins - 1));
+  }
+  return b;
+}
+
+/// Histogram estimate of I(x_t; x_{t+tau}) in nats, marginals taken over the overlapping samples.
+double mutual_information(const std::vector<std::uint16_t>& b, std::size_t bins, std::size_t tau,
+                          std::vector<std::uint32_t>& joint) {
+  const std::size_t n = b.size() - tau;
+  std::fill(joint.begin(), joint.end(), 0u);
+  for (std::size_t t = 0; t < n; ++t) ++joint[b[t] * bins + b[t + tau]];
+  std::vector<double> px(bins, 0.0), py(bins, 0.0);
+  for (std::size_t i = 0; i < bins; ++i)
+    for (std::size_t j = 0; j < bins; ++j) {
+      px[i] += joint[i * bins + j];
+      py[j] += joint[i * bins + j];
+    }
+  const double nn = static_cast<double>(n);
+  CompensatedSum sum;
+  for (std::size_t i = 0; i < bins; ++i)
+    for (std::size_t j = 0; j < bins; ++j) {
+      const double c = joint[i * bins + j];
+      if (c > 0.0) sum.add(c / nn * std::log(c * nn / (px[i] * py[j])));
+    }
+  return std::max(0.0, sum.value());
+}
+
+struct ChannelAmi {
+  std::vector<double> ami, smoothed;
+  std::size_t delay = 0;  // 0: no significant minimum
+  double floor = 0.0;
+};
+
+ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size_t max_delay,
+                       const AmiOptions& o) {
+  ChannelAmi r;
+  const auto b = bin_indices(x, bins);
+  std::vector<std::uint32_t> joint(bins * bins);
+  const std::size_t h = o.smoothing / 2;
+  r.floor = static_cast<double>((bins - 1) * (bins - 1)) / (2.0 * static_cast<double>(x.size()));
+  auto smooth_at = [&](std::size_t t) {
+    if (t < h) return r.ami[t];
+    double s = 0.0;
+    for (std::size_t k = t - h; k <= t + h; ++k) s += r.ami[k];
+    return s / static_cast<double>(2 * h + 1);
+  };
+  std::size_t candidate = 0;  // a local minimum being confirmed
+  for (std::size_t tau = 0; tau <= max_delay; ++tau) {
+    r.ami.push_back(mutual_information(b, bins, tau, joint));
+    if (tau < 2 * h) continue;
+    r.smoothed.push_back(smooth_at(tau - h));
+    const std::size_t t = r.smoothed.size() - 1;  // newest smoothed index
+    if (r.delay != 0) {
+      if (o.stop_at_minimum) break;
+      continue;
+    }
+    if (candidate != 0) {
+      const double depth = r.smoothed[0] - r.smoothed[candidate];
+      const double need = std::max(o.significance * r.floor, 0.01 * depth);
+      if (r.smoothed[t] < r.smoothed[candidate]) {
+        candidate = 0;  // the curve kept falling: not a minimum
+      } else if (r.smoothed[t] - r.smoothed[candidate] >= need) {
+        r.delay = candidate;  // significant rise after it: accepted
+        if (o.stop_at_minimum) break;
+        continue;
+      } else if (t > 2 * candidate + 2 * h + 2) {
+        candidate = 0;  // no significant rise within as many steps again: noise-floor wiggle
+      }
+    }
+    if (candidate == 0 && t >= 2 && r.smoothed[t - 1] < r.smoothed[t - 2] && r.smoothed[t - 1] <= r.smoothed[t])
+      candidate = t - 1;
+  }
+  // Smoothed values for the tail (truncated window).
+  while (r.smoothed.size() < r.ami.size()) r.smoothed.push_back(r.ami[r.smoothed.size()]);
+  return r;
+}
+
+}  // namespace
+
+const char* to_string(DelayRule rule) {
+  return rule == DelayRule::first_minimum ? "first AMI minimum" : "autocorrelation 1/e time";
+}
+
+void AmiOptions::validate() const {
+  if (smoothing == 0 || smoothing % 2 == 0)
+    throw OptionError("ami.smoothing = " + std::to_string(smoothing) + ": expected an odd width >= 1");
+  if (bins == 1 || bins > 4096) throw OptionError("ami.bins = " + std::to_string(bins) + ": expected 2..4096 (0 = auto)");
+  if (!(significance >= 0.0)) throw OptionError("ami.significance: expected >= 0");
+}
+
+std::size_t autocorrelation_time(const std::vector<double>& x, std::size_t max_lag) {
+  CompensatedSum s0;
+  for (double v : x) s0.add(v * v);
+  const double target = std::exp(-1.0) * s0.value();
+  for (std::size_t lag = 1; lag <= max_lag && lag < x.size(); ++lag) {
+    CompensatedSum s;
+    for (std::size_t t = 0; t + lag < x.size(); ++t) s.add(x[t] * x[t + lag]);
+    if (s.value() <= target) return lag;
+  }
+  return std::max<std::size_t>(1, std::min(max_lag, x.size() - 1));
+}
+
+AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
+  options.validate();
+  validate_series(series);
+  const std::size_t n = series.size();
+  if (n < 16) throw InputError("AMI needs at least 16 samples, the series has " + std::to_string(n));
+  AmiResult r;
+  r.bins = options.bins ? options.bins
+                        : std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(std::log2(double(n)))) + 1, 4, 64);
+  const std::size_t max_delay = options.max_delay ? std::min(options.max_delay, n / 2)
+                                                  : std::min<std::size_t>((n - 1) / 4, 1000);
+  const Series s = standardized(series);
+  std::size_t best = 0;
+  bool any_fallback = false;
+  for (std::size_t c = 0; c < s.channel_count(); ++c) {
+    ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, options);
+    std::size_t d = a.delay;
+    if (d == 0) {
+      any_fallback = true;
+      d = autocorrelation_time(s.channels[c], max_delay);
+      r.warnings.push_back("channel " + std::to_string(c + 1) + ": AMI has no significant minimum up to tau = " +
+                           std::to_string(max_delay) + " (decays into its noise floor, as for maps): delay = " +
+                           "autocorrelation 1/e time = " + std::to_string(d));
+    }
+    r.channel_delay.push_back(d);
+    if (c == 0) {
+      r.ami = std::move(a.ami);
+      r.smoothed = std::move(a.smoothed);
+      r.noise_floor = a.floor;
+    }
+    best = best == 0 ? d : std::min(best, d);
+  }
+  r.delay = std::max<std::size_t>(1, best);
+  r.rule = any_fallback && r.channel_delay.size() == 1 ? DelayRule::autocorrelation_1e : DelayRule::first_minimum;
+  return r;
+}
+
+}  // namespace mlce

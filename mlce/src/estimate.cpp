@@ -1,0 +1,114 @@
+#include "mlce/estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "mlce/embedding.hpp"
+
+namespace mlce {
+namespace {
+
+void report(const MlceOptions& o, std::string_view stage, double fraction) {
+  if (o.progress) o.progress(stage, fraction);
+}
+
+void append(std::vector<std::string>& to, const std::vector<std::string>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+}
+
+}  // namespace
+
+MlceResult estimate_mlce(const Series& series, const MlceOptions& options) {
+  validate_series(series);
+  if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
+  if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
+  if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
+  MlceResult r;
+  r.n_points = series.size();
+  r.dt = series.dt;
+  r.time_unit = series.time_unit;
+
+  report(options, "mean period", 0.0);
+  r.mean_period = estimate_mean_period(series, options.mean_period);
+  append(r.warnings, r.mean_period.warnings);
+  const std::size_t period = r.mean_period.mean_period;
+  r.theiler = options.theiler.value_or(period);  // eq. 20 with T from eq. 19
+
+  if (options.delay) {
+    r.delay = *options.delay;
+  } else {
+    report(options, "AMI delay", 0.0);
+    AmiOptions ao = options.ami;
+    ao.stop_at_minimum = true;
+    r.ami = estimate_delay_ami(series, ao);
+    r.delay = r.ami->delay;
+    append(r.warnings, r.ami->warnings);
+  }
+  if (options.dim) {
+    r.dim = *options.dim;
+  } else {
+    report(options, "FNN dimension", 0.0);
+    FnnOptions fo = options.fnn;
+    fo.stop_at_choice = true;
+    if (fo.theiler == 0) fo.theiler = r.theiler;
+    r.fnn = estimate_dimension_fnn(series, r.delay, fo);
+    r.dim = r.fnn->dim;
+    append(r.warnings, r.fnn->warnings);
+  }
+
+  RosensteinOptions ro;
+  ro.dim = r.dim;
+  ro.delay = r.delay;
+  ro.theiler = r.theiler;
+  ro.max_references = options.max_references;
+  ro.eps = options.eps;
+  FitOptions fo = options.fit;
+  if (fo.period == 0) fo.period = period;
+
+  const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
+  if (options.horizon) {
+    ro.horizon = *options.horizon;
+    report(options, "divergence curve", 0.0);
+    r.curve = divergence_curve(series, ro);
+    r.fit = fit_divergence(r.curve, fo);
+  } else {
+    // Adaptive horizon: double until the fit rule sees the curve's end, within a third of the points.
+    const std::size_t room = M > r.theiler + 2 ? (M - r.theiler - 2) / 3 : 0;
+    const std::size_t h_max = std::min(room, std::max<std::size_t>(64 * period, 256));
+    constexpr std::size_t h_min = 8;
+    if (h_max < h_min) {
+      throw InputError("series too short: " + std::to_string(series.size()) + " samples, but m = " +
+                       std::to_string(r.dim) + ", delay = " + std::to_string(r.delay) + " and Theiler window = " +
+                       std::to_string(r.theiler) + " leave room for a divergence curve of only " +
+                       std::to_string(h_max) + " steps (at least " + std::to_string(h_min) + " needed: about " +
+                       std::to_string((r.dim - 1) * r.delay + 3 * h_min + r.theiler + 2) + " samples)");
+    }
+    std::size_t h = std::clamp<std::size_t>(8 * period, 32, h_max);
+    for (int pass = 0;; ++pass) {
+      ro.horizon = h;
+      report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
+      r.curve = divergence_curve(series, ro);
+      r.fit = fit_divergence(r.curve, fo);
+      if (options.fit.range || r.fit.end != CurveEnd::none || h >= h_max) break;
+      h = std::min(2 * h, h_max);
+    }
+    if (r.fit.end == CurveEnd::none && r.fit.slope > 0 && r.fit.last + 1 >= r.curve.mean_log_distance.size())
+      r.warnings.push_back("the divergence curve still rises at the largest horizon (" + std::to_string(h_max) +
+                           " steps): no saturation seen, the slope may underestimate lambda");
+  }
+  r.horizon = ro.horizon;
+  append(r.warnings, r.curve.warnings);
+  append(r.warnings, r.fit.warnings);
+
+  r.lambda_per_sample = r.fit.slope;
+  r.lambda = r.fit.slope / series.dt;  // eq. 23: y(i)/dt
+  r.ci95_low = r.fit.ci_low / series.dt;
+  r.ci95_high = r.fit.ci_high / series.dt;
+  r.r2 = r.fit.r2;
+  r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
+  report(options, "done", 1.0);
+  return r;
+}
+
+}  // namespace mlce

@@ -1,0 +1,221 @@
+#include "mlce/fit.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "mlce/numerics.hpp"
+
+namespace mlce {
+namespace {
+
+/// Prefix sums giving the least-squares SSE of any straight piece [a, b] in O(1).
+class PieceCost {
+ public:
+  explicit PieceCost(const std::vector<double>& y) : n_(y.size()) {
+    long double mean = 0;
+    for (double v : y) mean += v;
+    mean /= static_cast<long double>(n_);
+    sx_.assign(n_ + 1, 0), sxx_ = sx_, sy_ = sx_, sxy_ = sx_, syy_ = sx_;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const long double x = i, v = y[i] - mean;
+      sx_[i + 1] = sx_[i] + x;
+      sxx_[i + 1] = sxx_[i] + x * x;
+      sy_[i + 1] = sy_[i] + v;
+      sxy_[i + 1] = sxy_[i] + x * v;
+      syy_[i + 1] = syy_[i] + v * v;
+    }
+  }
+  double sse(std::size_t a, std::size_t b) const {  // inclusive
+    const long double k = b - a + 1;
+    const long double sx = sx_[b + 1] - sx_[a], sxx = sxx_[b + 1] - sxx_[a];
+    const long double sy = sy_[b + 1] - sy_[a], sxy = sxy_[b + 1] - sxy_[a], syy = syy_[b + 1] - syy_[a];
+    const long double cxx = sxx - sx * sx / k, cxy = sxy - sx * sy / k, cyy = syy - sy * sy / k;
+    const long double e = cxx > 0 ? cyy - cxy * cxy / cxx : cyy;
+    return static_cast<double>(std::max<long double>(0, e));
+  }
+
+ private:
+  std::size_t n_;
+  std::vector<long double> sx_, sxx_, sy_, sxy_, syy_;
+};
+
+struct Piece {
+  std::size_t a, b;
+  double slope;
+};
+
+/// Optimal segmentation of y into at most `pieces` straight pieces of at least `min_len` points
+/// (least squares, dynamic programming over the breakpoints: O(pieces * n^2)).
+std::vector<Piece> segment(const std::vector<double>& y, std::size_t pieces, std::size_t min_len) {
+  const std::size_t n = y.size();
+  const PieceCost cost(y);
+  auto slope_of = [&](std::size_t a, std::size_t b) { return fit_line(y.data(), a, b).slope; };
+  const std::size_t K = std::max<std::size_t>(1, std::min(pieces, n / min_len));
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  // best[k][e]: least SSE of the first e points in k+1 pieces; from[k][e]: start of the last piece.
+  std::vector<std::vector<double>> best(K, std::vector<double>(n + 1, inf));
+  std::vector<std::vector<std::size_t>> from(K, std::vector<std::size_t>(n + 1, 0));
+  for (std::size_t e = min_len; e <= n; ++e) best[0][e] = cost.sse(0, e - 1);
+  for (std::size_t k = 1; k < K; ++k)
+    for (std::size_t e = (k + 1) * min_len; e <= n; ++e)
+      for (std::size_t s = k * min_len; s + min_len <= e; ++s) {
+        if (best[k - 1][s] == inf) continue;
+        const double c = best[k - 1][s] + cost.sse(s, e - 1);
+        if (c < best[k][e]) best[k][e] = c, from[k][e] = s;
+      }
+  std::size_t k = K - 1;
+  while (k > 0 && best[k][n] == inf) --k;
+  std::vector<Piece> out;
+  for (std::size_t e = n;; --k) {
+    const std::size_t s = k == 0 ? 0 : from[k][e];
+    out.insert(out.begin(), Piece{s, e - 1, slope_of(s, e - 1)});
+    if (k == 0) break;
+    e = s;
+  }
+  return out;
+}
+
+bool same_line(const Piece& p, const Piece& q, double tol) {
+  const double scale = std::max(std::abs(p.slope), std::abs(q.slope));
+  return std::abs(p.slope - q.slope) <= tol * scale;
+}
+
+/// Joins neighbouring pieces that are one line (no transient, or no plateau).
+std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<double>& y, double tol) {
+  for (std::size_t k = 0; k + 1 < pieces.size();) {
+    if (same_line(pieces[k], pieces[k + 1], tol)) {
+      pieces[k].b = pieces[k + 1].b;
+      pieces[k].slope = fit_line(y.data(), pieces[k].a, pieces[k].b).slope;
+      pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+    } else {
+      ++k;
+    }
+  }
+  return pieces;
+}
+
+}  // namespace
+
+const char* to_string(CurveEnd end) {
+  switch (end) {
+    case CurveEnd::saturation: return "saturation plateau";
+    case CurveEnd::floor: return "noise/underflow floor";
+    case CurveEnd::flat: return "flat curve";
+    default: return "none";
+  }
+}
+
+void FitOptions::validate() const {
+  if (range && !(range->first < range->second))
+    throw OptionError("fit range " + std::to_string(range->first) + ":" + std::to_string(range->second) +
+                      ": expected first < last");
+  if (!(merge_tolerance >= 0.0 && merge_tolerance < 1.0)) throw OptionError("fit.merge_tolerance: expected [0, 1)");
+  if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
+}
+
+FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
+  options.validate();
+  const auto& y = curve.mean_log_distance;
+  const std::size_t n = y.size();
+  if (n < 3) throw InputError("divergence curve has " + std::to_string(n) + " points: expected at least 3");
+  FitResult r;
+  std::ostringstream rule;
+  if (options.range) {
+    if (options.range->second >= n)
+      throw OptionError("fit range " + std::to_string(options.range->first) + ":" + std::to_string(options.range->second) +
+                        " exceeds the curve (steps 0.." + std::to_string(n - 1) + ")");
+    r.first = options.range->first;
+    r.last = options.range->second;
+    r.automatic = false;
+    rule << "given range";
+  } else {
+    const std::size_t period = std::max<std::size_t>(1, options.period);
+    const std::size_t min_len = std::max<std::size_t>(3, period / 2 + 1);
+    const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+    auto pick_largest_change = [](const std::vector<Piece>& pieces) {
+      std::size_t pick = 0;
+      double best_change = -1.0;
+      for (std::size_t k = 0; k < pieces.size(); ++k) {
+        const double change = std::abs(pieces[k].slope) * static_cast<double>(pieces[k].b - pieces[k].a);
+        if (change > best_change) best_change = change, pick = k;
+      }
+      return pick;
+    };
+    auto describe = [&](const char* stage, const std::vector<Piece>& pieces) {
+      rule << stage << " [";
+      for (std::size_t k = 0; k < pieces.size(); ++k)
+        rule << (k ? ", " : "") << pieces[k].a << ".." << pieces[k].b << " slope " << pieces[k].slope;
+      rule << "]";
+    };
+    if (*hi - *lo < 0.25) {
+      // The distances change by less than a factor e^0.25 over the whole curve: lambda ~ 0
+      // (limit cycle, quasi-periodic motion). Any sub-region would fit wiggles: fit it all.
+      r.first = 0;
+      r.last = n - 1;
+      r.end = CurveEnd::flat;
+      r.end_index = n - 1;
+      rule << "flat curve (range " << *hi - *lo << " < 0.25): whole curve fitted";
+    } else {
+      // Stage 1: where does the curve stop changing (plateau for lambda > 0, floor for lambda < 0)?
+      auto pieces = merge_collinear(segment(y, 3, min_len), y, options.merge_tolerance);
+      std::size_t pick = pick_largest_change(pieces);
+      std::size_t stop = n - 1;
+      for (std::size_t k = pick + 1; k < pieces.size(); ++k)
+        if (std::abs(pieces[k].slope) < options.end_tolerance * std::abs(pieces[pick].slope)) {
+          r.end = pieces[pick].slope > 0 ? CurveEnd::saturation : CurveEnd::floor;
+          r.end_index = pieces[k].a;
+          stop = pieces[k].a - 1;
+          break;
+        }
+      describe("curve pieces", pieces);
+      // Stage 2: before that end, split off a start-up transient and the bend into the end.
+      std::vector<double> head(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop) + 1);
+      auto inner = merge_collinear(segment(head, options.pieces, min_len), head, options.merge_tolerance);
+      pick = pick_largest_change(inner);
+      r.first = inner[pick].a;
+      r.last = inner[pick].b;
+      rule << "; ";
+      describe("before the end", inner);
+      rule << "; fitted the piece of largest |slope| x length";
+      if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
+    }
+  }
+  const LineFit f = fit_line(y.data(), r.first, r.last);
+  r.slope = f.slope;
+  r.intercept = f.intercept;
+  r.r2 = f.r2;
+  // 95 % interval from batch means: slope of every batch's curve over the same region.
+  std::vector<double> slopes;
+  for (const auto& bm : curve.batch_mean) {
+    bool ok = true;
+    for (std::size_t i = r.first; i <= r.last && ok; ++i) ok = std::isfinite(bm[i]);
+    if (ok) slopes.push_back(fit_line(bm.data(), r.first, r.last).slope);
+  }
+  if (slopes.size() >= 2) {
+    double mean = 0.0;
+    for (double s : slopes) mean += s;
+    mean /= static_cast<double>(slopes.size());
+    double var = 0.0;
+    for (double s : slopes) var += (s - mean) * (s - mean);
+    var /= static_cast<double>(slopes.size() - 1);
+    const double half = student_t95(slopes.size() - 1) * std::sqrt(var / static_cast<double>(slopes.size()));
+    r.ci_low = r.slope - half;
+    r.ci_high = r.slope + half;
+  } else {
+    const double half = student_t95(f.n > 2 ? f.n - 2 : 1) * f.slope_stderr;
+    r.ci_low = r.slope - half;
+    r.ci_high = r.slope + half;
+    r.warnings.push_back("too few batches for a batch-means interval: formal least-squares interval reported");
+  }
+  if (r.last - r.first + 1 < 5)
+    r.warnings.push_back("fit region has only " + std::to_string(r.last - r.first + 1) + " points");
+  if (r.r2 < 0.9 && std::abs(r.slope) * static_cast<double>(r.last - r.first) > 0.5)
+    r.warnings.push_back("the fitted region is not straight (R^2 = " + std::to_string(r.r2) + ")");
+  r.rule = rule.str();
+  return r;
+}
+
+}  // namespace mlce

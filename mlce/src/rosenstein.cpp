@@ -1,0 +1,111 @@
+#include "mlce/rosenstein.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+#include "mlce/embedding.hpp"
+#include "mlce/neighbours.hpp"
+#include "mlce/numerics.hpp"
+
+namespace mlce {
+
+void RosensteinOptions::validate() const {
+  if (dim < 1) throw OptionError("rosenstein.dim = 0: expected >= 1");
+  if (delay < 1) throw OptionError("rosenstein.delay = 0: expected >= 1");
+  if (horizon < 1) throw OptionError("rosenstein.horizon = 0: expected >= 1");
+  if (batches < 2) throw OptionError("rosenstein.batches: expected >= 2");
+  if (!(eps >= 0.0)) throw OptionError("rosenstein.eps: expected >= 0");
+}
+
+std::size_t minimum_length(const RosensteinOptions& o) { return (o.dim - 1) * o.delay + o.horizon + o.theiler + 2; }
+
+DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options) {
+  options.validate();
+  validate_series(series);
+  const std::size_t n = series.size();
+  if (n < minimum_length(options))
+    throw InputError("series too short: " + std::to_string(n) + " samples, but m = " + std::to_string(options.dim) +
+                     ", delay = " + std::to_string(options.delay) + ", horizon = " + std::to_string(options.horizon) +
+                     " and Theiler window = " + std::to_string(options.theiler) + " need at least " +
+                     std::to_string(minimum_length(options)) + " ((m-1)*delay + horizon + theiler + 2)");
+  const Series s = standardized(series);
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
+  const std::size_t H = options.horizon;
+  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
+  const std::size_t L = M - H;  // points whose trajectory can be followed for H steps
+  const DelayEmbedding admissible(channels, options.dim, options.delay, L);
+  const DelayEmbedding all(channels, options.dim, options.delay, M);
+
+  DivergenceCurve curve;
+  curve.dt = s.dt;
+  curve.admissible_points = L;
+  const auto refs = strided_indices(L, options.max_references);
+  curve.references = refs.size();
+  NeighbourOptions nopt;
+  nopt.theiler = options.theiler;
+  nopt.eps = options.eps;
+  const NeighbourResult nn = find_nearest_neighbours(admissible, refs, nopt);  // eq. 18 with eq. 20
+  curve.zero_distance_candidates = nn.zero_distance_candidates;
+  curve.pairs = refs.size() - nn.without_neighbour;
+  if (curve.pairs == 0)
+    throw InputError("no reference point has a neighbour outside the Theiler window of " +
+                     std::to_string(options.theiler) + " samples: the series is too short for it");
+
+  // Per batch of contiguous references: sums of ln d_j(i) (eq. 22), computed batch by batch so the
+  // result is the same whatever the thread count.
+  const std::size_t B = std::min(options.batches, refs.size());
+  std::vector<std::vector<double>> batch_sum(B, std::vector<double>(H + 1, 0.0));
+  std::vector<std::vector<std::size_t>> batch_terms(B, std::vector<std::size_t>(H + 1, 0));
+  std::size_t zero_terms = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : zero_terms)
+  for (std::ptrdiff_t bb = 0; bb < static_cast<std::ptrdiff_t>(B); ++bb) {
+    const auto b = static_cast<std::size_t>(bb);
+    std::vector<CompensatedSum> sum(H + 1);
+    const std::size_t k0 = b * refs.size() / B, k1 = (b + 1) * refs.size() / B;
+    for (std::size_t k = k0; k < k1; ++k) {
+      if (nn.neighbour[k] == NeighbourResult::none) continue;
+      const std::size_t j = refs[k], jn = nn.neighbour[k];
+      for (std::size_t i = 0; i <= H; ++i) {
+        const double d2 = all.squared_distance(j + i, jn + i);
+        if (d2 > 0.0) {
+          sum[i].add(0.5 * std::log(d2));  // ln d = ln(d^2)/2
+          ++batch_terms[b][i];
+        } else {
+          ++zero_terms;  // the pair's trajectories coincide: no log(0), term left out
+        }
+      }
+    }
+    for (std::size_t i = 0; i <= H; ++i) batch_sum[b][i] = sum[i].value();
+  }
+  curve.zero_distance_terms = zero_terms;
+  curve.mean_log_distance.assign(H + 1, 0.0);
+  curve.terms.assign(H + 1, 0);
+  curve.batch_mean.assign(B, std::vector<double>(H + 1, std::nan("")));
+  for (std::size_t i = 0; i <= H; ++i) {
+    CompensatedSum total;
+    for (std::size_t b = 0; b < B; ++b) {
+      total.add(batch_sum[b][i]);
+      curve.terms[i] += batch_terms[b][i];
+      if (batch_terms[b][i] > 0) curve.batch_mean[b][i] = batch_sum[b][i] / static_cast<double>(batch_terms[b][i]);
+    }
+    if (curve.terms[i] == 0)
+      throw InputError("every neighbour pair is at zero distance " + std::to_string(i) +
+                       " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
+    curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
+  }
+  if (nn.zero_distance_candidates > 0)
+    curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
+                             " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "
+                             "passed over; the nearest neighbour at a positive distance was used");
+  if (zero_terms > 0)
+    curve.warnings.push_back(std::to_string(zero_terms) +
+                             " zero distances along the followed pairs were left out of the mean log-distance "
+                             "(never log 0); the trajectories coincide there");
+  if (nn.without_neighbour > 0)
+    curve.warnings.push_back(std::to_string(nn.without_neighbour) +
+                             " reference points had no neighbour outside the Theiler window");
+  return curve;
+}
+
+}  // namespace mlce

@@ -1,0 +1,62 @@
+#include "mlce/transient.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace mlce {
+
+void TransientOptions::validate() const {
+  if (!(band > 0.0)) throw OptionError("transient.band: expected > 0");
+}
+
+TransientResult detect_transient(const Series& series, const TransientOptions& options) {
+  options.validate();
+  validate_series(series);
+  const Series s = standardized(series);
+  const std::size_t n = s.size();
+  TransientResult r;
+  const std::size_t w = options.window ? options.window : std::max<std::size_t>(4 * options.period, n / 100);
+  const std::size_t windows = n / std::max<std::size_t>(w, 1);
+  if (windows < 8) {
+    r.rule = "series shorter than 8 RMS windows of " + std::to_string(w) + " samples: nothing cut";
+    r.end_time = s.time(0);
+    return r;
+  }
+  const std::size_t tail_from = windows - windows / 4;
+  // Mean of the last quarter: the centre of the settled motion.
+  std::vector<double> rms(windows);
+  for (std::size_t k = 0; k < windows; ++k) {
+    double acc = 0.0;
+    for (const auto& x : s.channels) {
+      double mean_tail = 0.0;
+      for (std::size_t i = tail_from * w; i < windows * w; ++i) mean_tail += x[i];
+      mean_tail /= static_cast<double>((windows - tail_from) * w);
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) acc += (x[i] - mean_tail) * (x[i] - mean_tail);
+    }
+    rms[k] = std::sqrt(acc / static_cast<double>(w));
+  }
+  std::vector<double> tail(rms.begin() + static_cast<std::ptrdiff_t>(tail_from), rms.end());
+  std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
+  const double ref = tail[tail.size() / 2];
+  auto inside = [&](double v) { return std::abs(v - ref) <= options.band * ref; };
+  std::ostringstream rule;
+  if (ref == 0.0 || !inside(rms[tail_from]) || !inside(rms[windows - 1])) {
+    r.settled = false;
+    rule << "RMS still drifts in the last quarter (decay or growth): no settled part, nothing cut";
+    r.rule = rule.str();
+    r.end_time = s.time(0);
+    return r;
+  }
+  std::size_t k = windows;
+  while (k > 0 && inside(rms[k - 1])) --k;
+  r.end_index = k * w;
+  r.end_time = s.time(r.end_index);
+  rule << "moving RMS in windows of " << w << " samples settles within " << options.band * 100
+       << " % of the last quarter's median from sample " << r.end_index;
+  r.rule = rule.str();
+  return r;
+}
+
+}  // namespace mlce

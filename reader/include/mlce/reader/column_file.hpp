@@ -1,0 +1,24 @@
+#pragma once
+// Plain column files: whitespace- or comma-separated numbers, '#' starts a comment, one row per
+// line, every row with the same number of columns.
+#include <string>
+#include <vector>
+
+#include "mlce/reader/table.hpp"
+
+namespace mlce::reader {
+
+struct ColumnFileOptions {
+  /// 1-based columns to keep; empty = all. Parsing still checks every field of every row.
+  std::vector<std::size_t> keep;
+};
+
+/// Reads the whole file. Throws ReadError for a missing or unreadable file, a file without data,
+/// a field that is not a number, a non-finite value (nan, inf), and a row with a different number
+/// of columns than the first.
+Table read_column_file(const std::string& path, const ColumnFileOptions& options = {});
+
+/// Same, from text already in memory (`source` names it in messages).
+Table parse_column_text(std::string_view text, const std::string& source, const ColumnFileOptions& options = {});
+
+}  // namespace mlce::reader

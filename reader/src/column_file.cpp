@@ -1,0 +1,102 @@
+#include "mlce/reader/column_file.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace mlce::reader {
+
+std::string Table::where(std::size_t row) const {
+  return row < line.size() ? source + ":" + std::to_string(line[row]) : source;
+}
+
+namespace {
+
+bool is_separator(char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; }
+
+std::string shorten(std::string_view s) {
+  std::string t(s.substr(0, 40));
+  if (s.size() > 40) t += "...";
+  return t;
+}
+
+}  // namespace
+
+Table parse_column_text(std::string_view text, const std::string& source, const ColumnFileOptions& options) {
+  Table t;
+  t.source = source;
+  std::size_t ncols = 0;
+  std::size_t line_no = 0;
+  std::vector<double> row;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    row.clear();
+    std::size_t i = 0, field = 0;
+    while (true) {
+      while (i < line.size() && is_separator(line[i])) ++i;
+      if (i >= line.size()) break;
+      std::size_t j = i;
+      while (j < line.size() && !is_separator(line[j])) ++j;
+      ++field;
+      const std::string_view tok = line.substr(i, j - i);
+      const char* first = tok.data();
+      if (!tok.empty() && tok.front() == '+') ++first;  // from_chars rejects a leading '+'
+      double v = 0.0;
+      const auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
+      if (ec == std::errc::result_out_of_range)
+        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
+                        shorten(tok) + "' is out of the range of a double");
+      if (ec != std::errc() || ptr != tok.data() + tok.size())
+        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
+                        shorten(tok) + "' is not a number");
+      if (!std::isfinite(v))
+        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
+                        shorten(tok) + "': expected a finite number");
+      row.push_back(v);
+      i = j;
+    }
+    if (row.empty()) continue;  // blank or comment-only line
+    if (ncols == 0) {
+      ncols = row.size();
+      for (std::size_t k : options.keep)
+        if (k == 0 || k > ncols)
+          throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(k) +
+                          " requested, but the file has " + std::to_string(ncols) + " column(s)");
+      const std::size_t kept = options.keep.empty() ? ncols : options.keep.size();
+      t.columns.assign(kept, {});
+      if (options.keep.empty())
+        for (std::size_t k = 1; k <= ncols; ++k) t.names.push_back("column " + std::to_string(k));
+      else
+        for (std::size_t k : options.keep) t.names.push_back("column " + std::to_string(k));
+    } else if (row.size() != ncols) {
+      throw ReadError(source + ":" + std::to_string(line_no) + ": " + std::to_string(row.size()) +
+                      " column(s), expected " + std::to_string(ncols) + " as on the first data line");
+    }
+    if (options.keep.empty())
+      for (std::size_t k = 0; k < ncols; ++k) t.columns[k].push_back(row[k]);
+    else
+      for (std::size_t k = 0; k < options.keep.size(); ++k) t.columns[k].push_back(row[options.keep[k] - 1]);
+    t.line.push_back(line_no);
+  }
+  if (t.line.empty()) throw ReadError(source + ": no data (the file is empty or holds only comments)");
+  return t;
+}
+
+Table read_column_file(const std::string& path, const ColumnFileOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ReadError(path + ": cannot open the file (missing or unreadable)");
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw ReadError(path + ": read error");
+  return parse_column_text(buf.str(), path, options);
+}
+
+}  // namespace mlce::reader

@@ -1,0 +1,106 @@
+#pragma once
+// Reference dynamical systems with known Lyapunov exponents, generated in the tests themselves
+// (never read from files): a fixed-step RK4 for flows, direct iteration for maps.
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+namespace mlce::reference {
+
+template <std::size_t N, class F>
+std::array<double, N> rk4_step(const F& f, const std::array<double, N>& x, double h) {
+  auto axpy = [](const std::array<double, N>& a, double s, const std::array<double, N>& b) {
+    std::array<double, N> r;
+    for (std::size_t i = 0; i < N; ++i) r[i] = a[i] + s * b[i];
+    return r;
+  };
+  const auto k1 = f(x);
+  const auto k2 = f(axpy(x, h / 2, k1));
+  const auto k3 = f(axpy(x, h / 2, k2));
+  const auto k4 = f(axpy(x, h, k3));
+  std::array<double, N> r;
+  for (std::size_t i = 0; i < N; ++i) r[i] = x[i] + h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+  return r;
+}
+
+/// Samples component `component` of a flow every dt after discarding `transient` time units.
+template <std::size_t N, class F>
+std::vector<double> sample_flow(const F& f, std::array<double, N> x, double dt, std::size_t n, double transient,
+                                std::size_t substeps, std::size_t component = 0) {
+  const double h = dt / static_cast<double>(substeps);
+  for (double t = 0; t < transient; t += h) x = rk4_step(f, x, h);
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = x[component];
+    for (std::size_t s = 0; s < substeps; ++s) x = rk4_step(f, x, h);
+  }
+  return out;
+}
+
+/// Lorenz sigma = 10, rho = 28, beta = 8/3; lambda_1 = 0.9056.
+inline std::vector<double> lorenz_x(std::size_t n, double dt = 0.01) {
+  auto f = [](const std::array<double, 3>& s) {
+    return std::array<double, 3>{10.0 * (s[1] - s[0]), s[0] * (28.0 - s[2]) - s[1], s[0] * s[1] - 8.0 / 3.0 * s[2]};
+  };
+  return sample_flow<3>(f, {1.0, 1.0, 1.0}, dt, n, 50.0, 10);
+}
+
+/// Roessler a = b = 0.2, c = 5.7; lambda_1 = 0.0714.
+inline std::vector<double> roessler_x(std::size_t n, double dt = 0.1) {
+  auto f = [](const std::array<double, 3>& s) {
+    return std::array<double, 3>{-s[1] - s[2], s[0] + 0.2 * s[1], 0.2 + s[2] * (s[0] - 5.7)};
+  };
+  return sample_flow<3>(f, {1.0, 1.0, 0.0}, dt, n, 500.0, 10);
+}
+
+/// van der Pol mu = 1 on its limit cycle; lambda_1 = 0.
+inline std::vector<double> van_der_pol_x(std::size_t n, double dt = 0.01, double mu = 1.0) {
+  auto f = [mu](const std::array<double, 2>& s) {
+    return std::array<double, 2>{s[1], mu * (1.0 - s[0] * s[0]) * s[1] - s[0]};
+  };
+  return sample_flow<2>(f, {2.0, 0.0}, dt, n, 200.0, 10);
+}
+
+/// x'' + 2 zeta omega x' + omega^2 x = 0 from x = 1, v = 0, exact solution; lambda = -zeta omega.
+inline std::vector<double> damped_oscillator(std::size_t n, double dt, double zeta, double omega) {
+  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = dt * static_cast<double>(i);
+    out[i] = std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
+  }
+  return out;
+}
+
+/// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration.
+inline std::vector<double> henon_x(std::size_t n) {
+  double x = 0.1, y = 0.1;
+  for (int i = 0; i < 1000; ++i) {
+    const double xn = 1.0 - 1.4 * x * x + y;
+    y = 0.3 * x;
+    x = xn;
+  }
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = x;
+    const double xn = 1.0 - 1.4 * x * x + y;
+    y = 0.3 * x;
+    x = xn;
+  }
+  return out;
+}
+
+/// Logistic map r = 4; lambda = ln 2 per iteration.
+inline std::vector<double> logistic(std::size_t n, double x0 = 0.1234567) {
+  double x = x0;
+  for (int i = 0; i < 100; ++i) x = 4.0 * x * (1.0 - x);
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = x;
+    x = 4.0 * x * (1.0 - x);
+  }
+  return out;
+}
+
+}  // namespace mlce::reference
