@@ -1,2 +1,49 @@
 #include <gtest/gtest.h>
-TEST(Placeholder, Builds) { SUCCEED(); }
+
+#include "mlce/reader/column_file.hpp"
+
+using namespace mlce::reader;
+
+TEST(ColumnFile, ParsesWhitespaceCommasAndComments) {
+  const Table t = parse_column_text("# header\n0 1.5\n\n0.1,\t-2e-3  # trailing\n+0.2 3\n", "mem");
+  ASSERT_EQ(t.columns.size(), 2u);
+  ASSERT_EQ(t.rows(), 3u);
+  EXPECT_DOUBLE_EQ(t.columns[1][1], -2e-3);
+  EXPECT_DOUBLE_EQ(t.columns[0][2], 0.2);
+  EXPECT_EQ(t.line[1], 4u);
+  EXPECT_EQ(t.where(2), "mem:5");
+}
+
+TEST(ColumnFile, KeepsRequestedColumns) {
+  ColumnFileOptions o;
+  o.keep = {3, 1};
+  const Table t = parse_column_text("1 2 3\n4 5 6\n", "mem", o);
+  ASSERT_EQ(t.columns.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.columns[0][1], 6.0);
+  EXPECT_DOUBLE_EQ(t.columns[1][1], 4.0);
+}
+
+namespace {
+std::string error_of(const std::string& text) {
+  try {
+    parse_column_text(text, "f.txt");
+  } catch (const ReadError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(ColumnFile, ErrorsNameFileLineAndExpectation) {
+  EXPECT_EQ(error_of("1 2\n3 abc\n"), "f.txt:2: column 2: 'abc' is not a number");
+  EXPECT_EQ(error_of("1 2\n3 nan\n"), "f.txt:2: column 2: 'nan': expected a finite number");
+  EXPECT_EQ(error_of("1 2\ninf 2\n"), "f.txt:2: column 1: 'inf': expected a finite number");
+  EXPECT_EQ(error_of("1 2\n3\n"), "f.txt:2: 1 column(s), expected 2 as on the first data line");
+  EXPECT_EQ(error_of("# only comments\n\n"), "f.txt: no data (the file is empty or holds only comments)");
+  EXPECT_EQ(error_of(""), "f.txt: no data (the file is empty or holds only comments)");
+  EXPECT_EQ(error_of("1 1e999\n"), "f.txt:1: column 2: '1e999' is out of the range of a double");
+}
+
+TEST(ColumnFile, MissingFileIsAnError) {
+  EXPECT_THROW(read_column_file("/nonexistent/file.txt"), ReadError);
+}

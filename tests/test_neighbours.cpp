@@ -1,2 +1,83 @@
 #include <gtest/gtest.h>
-TEST(Placeholder, Builds) { SUCCEED(); }
+
+#include <random>
+
+#include "mlce/neighbours.hpp"
+#include "reference_systems.hpp"
+
+using namespace mlce;
+
+namespace {
+void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler) {
+  const std::size_t M = DelayEmbedding::max_points(x.size(), dim, delay);
+  const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < M; i += 7) q.push_back(static_cast<std::uint32_t>(i));
+  NeighbourOptions o;
+  o.theiler = theiler;
+  const auto fast = find_nearest_neighbours(emb, q, o);
+  const auto slow = find_nearest_neighbours_brute_force(emb, q, o);
+  ASSERT_EQ(fast.neighbour.size(), slow.neighbour.size());
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k];  // exact search: same distance
+    const std::size_t j = fast.neighbour[k];
+    EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
+  }
+}
+}  // namespace
+
+TEST(Neighbours, KdTreeMatchesBruteForceOnRandomData) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<double> x(3000);
+  for (double& v : x) v = u(rng);
+  for (std::size_t dim : {1u, 2u, 5u}) expect_same_as_brute_force(x, dim, 1, 0);
+  expect_same_as_brute_force(x, 3, 2, 25);
+}
+
+TEST(Neighbours, KdTreeMatchesBruteForceOnEmbeddedData) {
+  const auto x = reference::lorenz_x(3000);
+  for (std::size_t w : {0u, 10u, 100u}) expect_same_as_brute_force(x, 3, 17, w);
+  expect_same_as_brute_force(reference::henon_x(3000), 2, 1, 3);
+}
+
+TEST(Neighbours, EmbeddingIsAViewWithIndexArithmetic) {
+  std::vector<double> x(50);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i);
+  const std::vector<double> y(x.rbegin(), x.rend());
+  const DelayEmbedding emb({std::span<const double>(x), std::span<const double>(y)}, 3, 4, 42);
+  EXPECT_EQ(emb.dimension(), 6u);
+  EXPECT_EQ(DelayEmbedding::max_points(50, 3, 4), 42u);  // eq. 17
+  double p[6];
+  emb.point(5, p);
+  EXPECT_DOUBLE_EQ(p[0], 5);
+  EXPECT_DOUBLE_EQ(p[1], 9);
+  EXPECT_DOUBLE_EQ(p[2], 13);
+  EXPECT_DOUBLE_EQ(p[3], 44);
+  EXPECT_DOUBLE_EQ(p[5], 36);
+}
+
+TEST(Neighbours, RepeatedPointsAreSkippedNotReturnedAtZeroDistance) {
+  // A periodic, quantised signal: every point repeats exactly one period later.
+  std::vector<double> x;
+  for (int rep = 0; rep < 40; ++rep)
+    for (int i = 0; i < 10; ++i) x.push_back(static_cast<double>((i * 7) % 10));
+  const std::size_t M = DelayEmbedding::max_points(x.size(), 2, 1);
+  const DelayEmbedding emb({std::span<const double>(x)}, 2, 1, M);
+  std::vector<std::uint32_t> q(M);
+  for (std::size_t i = 0; i < M; ++i) q[i] = static_cast<std::uint32_t>(i);
+  NeighbourOptions o;
+  o.theiler = 3;
+  const auto r = find_nearest_neighbours(emb, q, o);
+  EXPECT_GT(r.zero_distance_candidates, 0u);
+  for (std::size_t k = 0; k < q.size(); ++k) EXPECT_GT(r.distance[k], 0.0);
+}
+
+TEST(Neighbours, WindowLargerThanSeriesLeavesNoNeighbour) {
+  std::vector<double> x{1, 2, 3, 4, 5, 6};
+  const DelayEmbedding emb({std::span<const double>(x)}, 1, 1, 6);
+  NeighbourOptions o;
+  o.theiler = 10;
+  const auto r = find_nearest_neighbours(emb, {0, 1, 2}, o);
+  EXPECT_EQ(r.without_neighbour, 3u);
+}

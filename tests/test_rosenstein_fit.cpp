@@ -1,2 +1,120 @@
 #include <gtest/gtest.h>
-TEST(Placeholder, Builds) { SUCCEED(); }
+
+#include <cmath>
+
+#include "mlce/fit.hpp"
+#include "mlce/rosenstein.hpp"
+#include "reference_systems.hpp"
+
+using namespace mlce;
+
+namespace {
+DivergenceCurve synthetic(const std::vector<double>& y) {
+  DivergenceCurve c;
+  c.mean_log_distance = y;
+  c.terms.assign(y.size(), 100);
+  // Four batches with small independent-looking perturbations around the same curve.
+  for (int b = 0; b < 4; ++b) {
+    auto yb = y;
+    for (std::size_t i = 0; i < yb.size(); ++i) yb[i] += 1e-3 * std::sin(0.7 * i + b) * (b - 1.5);
+    c.batch_mean.push_back(yb);
+  }
+  return c;
+}
+}  // namespace
+
+TEST(Fit, TransientLinearPlateauRecoversTheSlope) {
+  // transient (steep, 10 steps), linear region slope 0.05 (200 steps), smooth bend, plateau.
+  std::vector<double> y;
+  for (int i = 0; i <= 600; ++i) {
+    if (i < 10) y.push_back(-6.0 + 0.2 * i);
+    else if (i <= 210) y.push_back(-4.0 + 0.05 * (i - 10));
+    else y.push_back(6.0 + 1.0 * (1.0 - std::exp(-(i - 210) / 20.0)));  // smooth bend, slope continuous
+  }
+  FitOptions o;
+  o.period = 10;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_NEAR(r.slope, 0.05, 0.05 * 0.03);
+  EXPECT_EQ(r.end, CurveEnd::saturation);
+  EXPECT_GE(r.first, 5u);
+  EXPECT_LE(r.last, 230u);
+}
+
+TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
+  std::vector<double> y;
+  for (int i = 0; i <= 800; ++i) y.push_back(std::max(-0.02 * i, -10.0) + 1e-3 * std::sin(0.3 * i));
+  FitOptions o;
+  o.period = 20;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_NEAR(r.slope, -0.02, 0.02 * 0.02);
+  EXPECT_EQ(r.end, CurveEnd::floor);
+  EXPECT_LE(r.last, 510u);
+}
+
+TEST(Fit, FlatCurveFitsEverythingAndGivesZero) {
+  std::vector<double> y;
+  for (int i = 0; i <= 500; ++i) y.push_back(-3.0 + 0.05 * std::sin(0.2 * i));
+  const FitResult r = fit_divergence(synthetic(y), {});
+  EXPECT_EQ(r.end, CurveEnd::flat);
+  EXPECT_NEAR(r.slope, 0.0, 1e-4);
+}
+
+TEST(Fit, ExplicitRangeIsUsedAsGiven) {
+  std::vector<double> y;
+  for (int i = 0; i <= 100; ++i) y.push_back(0.3 * i);
+  FitOptions o;
+  o.range = std::make_pair<std::size_t, std::size_t>(10, 20);
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(r.first, 10u);
+  EXPECT_EQ(r.last, 20u);
+  EXPECT_FALSE(r.automatic);
+  EXPECT_NEAR(r.slope, 0.3, 1e-9);
+  o.range = std::make_pair<std::size_t, std::size_t>(10, 200);
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+}
+
+TEST(Rosenstein, LinearOscillatorCurveIsExactlyExponential) {
+  // The difference of two solutions of a linear ODE is a solution: d_j(i) decays as e^{-zeta w i dt}
+  // for every pair, so the mean log-distance is a straight line of slope -zeta w dt.
+  const double dt = 0.01, zeta = 0.05, w = 2 * M_PI;
+  const Series s = make_series_with_step({reference::damped_oscillator(3000, dt, zeta, w)}, dt);
+  RosensteinOptions o;
+  o.dim = 2;
+  o.delay = 25;
+  o.theiler = 100;
+  o.horizon = 500;
+  const auto c = divergence_curve(s, o);
+  const auto f = fit_divergence(c, FitOptions{.range = std::make_pair<std::size_t, std::size_t>(0, 500)});
+  EXPECT_NEAR(f.slope / dt, -zeta * w, 1e-3 * zeta * w);
+  EXPECT_LE(f.ci_low, f.slope);
+  EXPECT_GE(f.ci_high, f.slope);
+}
+
+TEST(Rosenstein, ExactlyRepeatingSignalNeverTakesLogOfZero) {
+  std::vector<double> x;
+  for (int rep = 0; rep < 300; ++rep)
+    for (int i = 0; i < 20; ++i) x.push_back(std::round(8 * std::sin(2 * M_PI * i / 20.0)));
+  RosensteinOptions o;
+  o.dim = 2;
+  o.delay = 5;
+  o.theiler = 20;
+  o.horizon = 40;
+  const auto c = divergence_curve(make_series_with_step({x}, 1.0), o);
+  for (double v : c.mean_log_distance) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_FALSE(c.warnings.empty());
+}
+
+TEST(Rosenstein, TooShortSeriesIsAClearError) {
+  const Series s = make_series_with_step({reference::henon_x(50)}, 1.0);
+  RosensteinOptions o;
+  o.dim = 3;
+  o.delay = 10;
+  o.horizon = 40;
+  o.theiler = 5;
+  try {
+    divergence_curve(s, o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 67"), std::string::npos) << e.what();
+  }
+}

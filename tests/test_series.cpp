@@ -1,2 +1,92 @@
 #include <gtest/gtest.h>
-TEST(Placeholder, Builds) { SUCCEED(); }
+
+#include <cmath>
+
+#include "mlce/series.hpp"
+
+using namespace mlce;
+
+TEST(Series, UniformTimeColumnGivesItsStep) {
+  std::vector<double> t, x;
+  for (int i = 0; i < 100; ++i) t.push_back(2.0 + 0.05 * i), x.push_back(std::sin(0.3 * i));
+  const Series s = make_series_from_time(t, {x}, {});
+  EXPECT_NEAR(s.dt, 0.05, 1e-15);
+  EXPECT_DOUBLE_EQ(s.t0, 2.0);
+  EXPECT_EQ(s.size(), 100u);
+}
+
+TEST(Series, NonUniformTimeIsAnErrorNamingTheSample) {
+  std::vector<double> t, x;
+  for (int i = 0; i < 100; ++i) t.push_back(0.1 * i + (i >= 40 ? 0.05 : 0.0)), x.push_back(std::sin(0.3 * i));
+  try {
+    make_series_from_time(t, {x}, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.index(), 40u);
+    EXPECT_NE(std::string(e.what()).find("non-uniform"), std::string::npos);
+  }
+}
+
+TEST(Series, ExplicitResamplingInterpolatesLinearly) {
+  std::vector<double> t, x;
+  for (int i = 0; i < 200; ++i) {
+    const double ti = 0.1 * i + (i % 2 ? 0.03 : 0.0);  // jittered clock
+    t.push_back(ti);
+    x.push_back(3.0 * ti - 1.0);  // linear: interpolation is exact
+  }
+  SamplingOptions o;
+  o.resample = true;
+  std::vector<std::string> warnings;
+  const Series s = make_series_from_time(t, {x}, o, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  for (std::size_t i = 0; i < s.size(); ++i) EXPECT_NEAR(s.channels[0][i], 3.0 * s.time(i) - 1.0, 1e-12);
+}
+
+TEST(Series, DecreasingTimeIsAnError) {
+  EXPECT_THROW(make_series_from_time({0.0, 1.0, 0.5}, {{1.0, 2.0, 3.0}}, {}), InputError);
+}
+
+TEST(Series, NonFiniteSampleIsAnErrorNamingTheIndex) {
+  Series s = make_series_with_step({{1.0, 2.0, NAN, 4.0}}, 1.0);
+  try {
+    validate_series(s);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.index(), 2u);
+  }
+  s.channels[0][2] = INFINITY;
+  EXPECT_THROW(validate_series(s), InputError);
+}
+
+TEST(Series, ConstantSeriesIsAnError) {
+  const Series s = make_series_with_step({std::vector<double>(50, 3.25)}, 0.1);
+  try {
+    validate_series(s);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("constant"), std::string::npos);
+  }
+}
+
+TEST(Series, StandardizationIsScaleFreeAtTheExtremes) {
+  std::vector<double> x;
+  for (int i = 0; i < 1000; ++i) x.push_back(std::sin(0.1 * i) + 0.3 * std::cos(0.37 * i) + 2.0);
+  const Series ref = standardized(make_series_with_step({x}, 1.0));
+  for (double scale : {1e-300, 1e-200, 1e200, 1e300}) {
+    std::vector<double> y = x;
+    for (double& v : y) v *= scale;
+    const Series s = standardized(make_series_with_step({y}, 1.0));
+    for (std::size_t i = 0; i < x.size(); ++i) ASSERT_NEAR(s.channels[0][i], ref.channels[0][i], 1e-12) << scale;
+  }
+}
+
+TEST(Series, TimeWindowSelectsInclusiveRange) {
+  std::vector<double> x(100);
+  for (int i = 0; i < 100; ++i) x[i] = i;
+  const Series s = make_series_with_step({x}, 0.5);
+  const Series w = time_window(s, 10.0, 20.0);
+  EXPECT_EQ(w.size(), 21u);
+  EXPECT_DOUBLE_EQ(w.channels[0].front(), 20.0);
+  EXPECT_DOUBLE_EQ(w.t0, 10.0);
+  EXPECT_THROW(time_window(s, 100.0, 200.0), InputError);
+}

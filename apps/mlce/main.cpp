@@ -92,7 +92,7 @@ void print_warnings(const std::vector<std::string>& w) {
 
 int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
-  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "100000";
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000";
   std::string curve_path, plot_path;
   bool json = false, quiet = false;
   po::options_description d("mlce estimate FILE [options]");
@@ -123,7 +123,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
   o.theiler = auto_or_count(theiler, "theiler");
   o.horizon = auto_or_count(horizon, "horizon");
   if (refs == "all") o.max_references = 0;
-  else o.max_references = auto_or_count(refs, "refs").value_or(100000);
+  else o.max_references = auto_or_count(refs, "refs").value_or(20000);
   if (fit != "auto") {
     const auto colon = fit.find(':');
     if (colon == std::string::npos) throw po::error("--fit '" + fit + "': expected auto or A:B");

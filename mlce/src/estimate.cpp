@@ -33,6 +33,10 @@ MlceResult estimate_mlce(const Series& series, const MlceOptions& options) {
   r.mean_period = estimate_mean_period(series, options.mean_period);
   append(r.warnings, r.mean_period.warnings);
   const std::size_t period = r.mean_period.mean_period;
+  if (r.mean_period.clamped || series.size() < 20 * period)
+    r.warnings.push_back("the series spans only " + std::to_string(series.size() / std::max<std::size_t>(period, 1)) +
+                         " mean periods (" + std::to_string(period) +
+                         " samples each): too few for a reliable exponent; analyse a longer run");
   r.theiler = options.theiler.value_or(period);  // eq. 20 with T from eq. 19
 
   if (options.delay) {

@@ -31,7 +31,7 @@ struct MlceOptions {
   FitOptions fit;
   /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
   /// error of the mean curve negligible while bounding the cost for very long series.
-  std::size_t max_references = 100000;
+  std::size_t max_references = 20000;
   double eps = 0.0;
   ProgressCallback progress;
 };
