@@ -22,7 +22,7 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
       "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
       "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
       "plot '{}' every ::1 using 2:3 with lines lw 2 title 'mean log divergence', "
-      "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 2 dt 2 title 'least-squares fit'\n",
+      "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'\n",
       tmp_png.string(), u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data.string());
   FILE* gp = popen("gnuplot 2>&1", "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
