@@ -174,12 +174,19 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       // Stage 2: before that end, split off a start-up transient and the bend into the end.
       std::vector<double> head(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop) + 1);
       auto inner = merge_collinear(segment(head, options.pieces, min_len), head, options.merge_tolerance);
-      pick = pick_largest_change(inner);
+      // A first piece steeper and shorter than the next is the start-up transient (neighbour
+      // separations still aligning with the unstable direction): it is never the linear region.
+      std::size_t skip = 0;
+      if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
+          inner[0].b - inner[0].a < inner[1].b - inner[1].a)
+        skip = 1;
+      const std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
+      pick = skip + pick_largest_change(candidates);
       r.first = inner[pick].a;
       r.last = inner[pick].b;
       rule << "; ";
       describe("before the end", inner);
-      rule << "; fitted the piece of largest |slope| x length";
+      rule << (skip ? "; start-up transient skipped" : "") << "; fitted the piece of largest |slope| x length";
       if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
     }
   }

@@ -50,7 +50,8 @@ struct FitResult {
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
-///     bend into the plateau); the linear region is again the piece of largest |slope| x length. The 95 % interval comes from batch means: the slope of each batch's curve over
+///     bend into the plateau). A first piece steeper and shorter than the next is the start-up
+///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length. The 95 % interval comes from batch means: the slope of each batch's curve over
 /// the same region, t-distributed over the batches.
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
 
