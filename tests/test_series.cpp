@@ -90,3 +90,30 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
   EXPECT_DOUBLE_EQ(w.t0, 10.0);
   EXPECT_THROW(time_window(s, 100.0, 200.0), InputError);
 }
+
+#include "mlce/transient.hpp"
+
+TEST(Transient, DecayOntoASteadyOscillationIsCutWhereItSettles) {
+  // amplitude 1 + 4 e^{-t/5}: within 25 % of the settled amplitude 1 after t = 5 ln 16 = 13.9
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) {
+    const double t = 0.01 * i;
+    x.push_back((1.0 + 4.0 * std::exp(-t / 5.0)) * std::sin(2 * M_PI * t));
+  }
+  TransientOptions o;
+  o.period = 100;
+  const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_TRUE(r.settled);
+  EXPECT_GT(r.end_time, 8.0);
+  EXPECT_LT(r.end_time, 18.0);
+}
+
+TEST(Transient, PureDecayIsNotCut) {
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) x.push_back(std::exp(-0.02 * i * 0.01) * std::sin(2 * M_PI * 0.01 * i));
+  TransientOptions o;
+  o.period = 100;
+  const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_FALSE(r.settled);
+  EXPECT_EQ(r.end_index, 0u);
+}

@@ -26,15 +26,19 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   }
   const std::size_t tail_from = windows - windows / 4;
   // Mean of the last quarter: the centre of the settled motion.
+  std::vector<double> mean_tail(s.channel_count(), 0.0);  // once per channel, not once per window
+  for (std::size_t c = 0; c < s.channel_count(); ++c) {
+    for (std::size_t i = tail_from * w; i < windows * w; ++i) mean_tail[c] += s.channels[c][i];
+    mean_tail[c] /= static_cast<double>((windows - tail_from) * w);
+  }
   std::vector<double> rms(windows);
   for (std::size_t k = 0; k < windows; ++k) {
     double acc = 0.0;
-    for (const auto& x : s.channels) {
-      double mean_tail = 0.0;
-      for (std::size_t i = tail_from * w; i < windows * w; ++i) mean_tail += x[i];
-      mean_tail /= static_cast<double>((windows - tail_from) * w);
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) acc += (x[i] - mean_tail) * (x[i] - mean_tail);
-    }
+    for (std::size_t c = 0; c < s.channel_count(); ++c)
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) {
+        const double e = s.channels[c][i] - mean_tail[c];
+        acc += e * e;
+      }
     rms[k] = std::sqrt(acc / static_cast<double>(w));
   }
   std::vector<double> tail(rms.begin() + static_cast<std::ptrdiff_t>(tail_from), rms.end());
