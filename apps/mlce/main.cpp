@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/reader/format.hpp"
 #include "mlce/reader/table.hpp"
 #include "plot.hpp"
 #include "report.hpp"
@@ -30,6 +31,11 @@ const char* kUsage =
     "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic\n"
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
+    "  channels SET    what an MBDyn output set (prefix or .nc) or column file holds\n"
+    "  extract SET     write the selected channels with their time as CSV\n"
+    "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
+    "Channels (--channel, repeatable): node:L:x|y|z|r1..r9|vx..|wx.., joint:L:K, EXT:L:K (ine:11:2),\n"
+    "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
     "Run 'mlce <command> --help' for the options of a command.\n";
 
 /// "auto" -> nullopt, else a positive integer.
@@ -47,6 +53,7 @@ std::optional<std::size_t> auto_or_count(const std::string& value, const char* o
 po::options_description series_options(cli::SeriesInput& in) {
   po::options_description d("series");
   d.add_options()
+      ("channel", po::value(&in.channels)->composing(), "channel spec (repeat for a multivariate series): node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, col:K")
       ("column", po::value(&in.columns)->composing(), "1-based column(s) to analyse (repeat for a multivariate series)")
       ("time-column", po::value<std::size_t>(), "1-based column holding time (must be uniform)")
       ("dt", po::value<double>(), "sampling step when the file has no time column")
@@ -224,6 +231,86 @@ int cmd_fnn(const std::vector<std::string>& args) {
   return 0;
 }
 
+int cmd_channels(const std::vector<std::string>& args) {
+  bool json = false;
+  po::options_description d("mlce channels SET [options]");
+  d.add_options()("json", po::bool_switch(&json), "print one JSON object")("help", "this help");
+  const auto vm = parse(args, d);
+  if (vm.count("help")) {
+    std::cout << d;
+    return 0;
+  }
+  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix, a .nc file or a column file)");
+  const std::string file = vm["file"].as<std::string>();
+  const reader::Inventory inv = reader::default_registry().for_path(file).describe(file);
+  if (json) {
+    nlohmann::json j;
+    j["source"] = inv.source;
+    j["format"] = inv.format;
+    j["blocks"] = inv.blocks;
+    j["time"] = {inv.t_first, inv.t_last};
+    j["nodes"] = nlohmann::json::array();
+    for (const auto& n : inv.nodes)
+      j["nodes"].push_back({{"label", n.label}, {"kind", n.kind}, {"orientation", n.orientation}, {"columns", n.columns}});
+    j["entities"] = nlohmann::json::array();
+    for (const auto& e : inv.entities)
+      j["entities"].push_back({{"file", e.file}, {"label", e.label}, {"type", e.type}, {"columns", e.columns}});
+    if (!inv.columns.empty()) j["columns"] = inv.columns;
+    j["warnings"] = inv.warnings;
+    std::cout << j.dump() << "\n";
+    return 0;
+  }
+  std::cout << fmt::format("{} ({})\n", inv.source, inv.format);
+  if (!inv.columns.empty()) {
+    std::cout << fmt::format("{} rows, {} columns (col:1 .. col:{})\n", inv.blocks, inv.columns.size(), inv.columns.size());
+  } else {
+    std::cout << fmt::format("{} output blocks, t = {:.6g} .. {:.6g}\n", inv.blocks, inv.t_first, inv.t_last);
+    std::cout << "structural nodes (node:L:x|y|z|r1..|vx..|wx..; rel:A:B:AXIS):\n";
+    for (const auto& n : inv.nodes)
+      std::cout << fmt::format("  node {:>6}  {:<13} orientation {:<9}{}\n", n.label, n.kind, n.orientation,
+                               n.columns ? fmt::format(" {} columns", n.columns) : "");
+    std::cout << "entities (EXT:L:K; joint:L:K for .jnt):\n";
+    for (const auto& e : inv.entities)
+      std::cout << fmt::format("  {:<4}{:>7}  {:<30}{}\n", e.file, e.label, e.type,
+                               e.columns ? fmt::format(" {} columns", e.columns) : "");
+  }
+  print_warnings(inv.warnings);
+  return 0;
+}
+
+int cmd_extract(const std::vector<std::string>& args) {
+  std::vector<std::string> channels;
+  std::string csv_path;
+  po::options_description d("mlce extract SET --channel SPEC... [options]");
+  d.add_options()
+      ("channel", po::value(&channels)->composing(), "channel spec (repeatable)")
+      ("csv", po::value(&csv_path), "write to this file instead of stdout")
+      ("help", "this help");
+  const auto vm = parse(args, d);
+  if (vm.count("help")) {
+    std::cout << d;
+    return 0;
+  }
+  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix, a .nc file or a column file)");
+  if (channels.empty()) throw po::error("give at least one --channel SPEC");
+  const std::string file = vm["file"].as<std::string>();
+  const reader::ChannelSet cs = cli::load_channels(file, channels);
+  std::string out = cs.time.empty() ? "sample" : "time";
+  for (const auto& n : cs.names) out += "," + n;
+  out += "\n";
+  const std::size_t n = cs.values.empty() ? 0 : cs.values[0].size();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (cs.time.empty()) out += fmt::format("{}", k);
+    else out += fmt::format("{}", cs.time[k]);
+    for (const auto& v : cs.values) out += fmt::format(",{}", v[k]);
+    out += '\n';
+  }
+  if (csv_path.empty()) std::cout << out;
+  else cli::write_file_atomically(csv_path, out);
+  print_warnings(cs.warnings);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -237,6 +324,8 @@ int main(int argc, char** argv) {
     if (cmd == "estimate") return cmd_estimate(args);
     if (cmd == "ami") return cmd_ami(args);
     if (cmd == "fnn") return cmd_fnn(args);
+    if (cmd == "channels") return cmd_channels(args);
+    if (cmd == "extract") return cmd_extract(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;

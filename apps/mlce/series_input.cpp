@@ -4,11 +4,70 @@
 
 #include "mlce/mean_period.hpp"
 #include "mlce/reader/column_file.hpp"
+#include "mlce/reader/format.hpp"
 #include "mlce/transient.hpp"
 
 namespace mlce::cli {
 
-LoadedSeries load_series(const SeriesInput& in) {
+reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs) {
+  std::vector<reader::ChannelSpec> parsed;
+  for (const auto& s : specs) parsed.push_back(reader::parse_channel_spec(s));
+  const auto& format = reader::default_registry().for_path(file);
+  return format.read(file, parsed);
+}
+
+namespace {
+
+/// A solver result set (MBDyn text or NetCDF): time comes with the channels.
+LoadedSeries load_solver_channels(const SeriesInput& in) {
+  using reader::ReadError;
+  if (in.time_column || in.dt || !in.columns.empty())
+    throw OptionError(in.file + " is a solver output set: select channels with --channel SPEC "
+                      "(--column/--time-column/--dt are for column files)");
+  if (in.channels.empty())
+    throw OptionError(in.file + ": say which channel(s) to analyse with --channel SPEC "
+                      "(e.g. rel:13:4:z, node:2:x, joint:33:14; 'mlce channels " + in.file + "' lists them)");
+  reader::ChannelSet cs = load_channels(in.file, in.channels);
+  LoadedSeries out;
+  out.warnings = cs.warnings;
+  try {
+    SamplingOptions so;
+    so.resample = in.resample;
+    out.series = make_series_from_time(cs.time, std::move(cs.values), so, &out.warnings, in.time_unit);
+    out.series.names = cs.names;
+    validate_series(out.series);
+  } catch (const InputError& e) {
+    if (e.index() != InputError::npos && e.index() < cs.time.size())
+      throw ReadError(fmt::format("{}: output block {} (t = {}): {}", cs.source, e.index(), cs.time[e.index()], e.what()));
+    throw ReadError(cs.source + ": " + e.what());
+  }
+  return out;
+}
+
+}  // namespace
+
+LoadedSeries load_column_series(const SeriesInput& in);
+LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out);
+
+LoadedSeries load_series(const SeriesInput& in_) {
+  using reader::ReadError;
+  SeriesInput in = in_;
+  LoadedSeries out;
+  if (reader::default_registry().for_path(in.file).name() != "column") {
+    out = load_solver_channels(in);
+  } else {
+    for (const auto& spec : in.channels) {
+      const auto c = reader::parse_channel_spec(spec);
+      if (c.kind != reader::ChannelSpec::Kind::column)
+        throw OptionError(in.file + " is a column file: channel '" + spec + "' does not apply (use col:K or --column K)");
+      in.columns.push_back(c.column);
+    }
+    out = load_column_series(in);
+  }
+  return apply_window(in, std::move(out));
+}
+
+LoadedSeries load_column_series(const SeriesInput& in) {
   using reader::ReadError;
   if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
   reader::Table table = reader::read_column_file(in.file);
@@ -51,6 +110,11 @@ LoadedSeries load_series(const SeriesInput& in) {
     if (e.index() != InputError::npos) throw ReadError(table.where(e.index()) + ": " + e.what());
     throw ReadError(in.file + ": " + e.what());
   }
+  return out;
+}
+
+LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out) {
+  using reader::ReadError;
 
   if (in.from == "auto") {
     TransientOptions to;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/reader/channel_set.hpp"
 #include "mlce/series.hpp"
 
 namespace mlce::cli {
@@ -11,6 +12,7 @@ namespace mlce::cli {
 struct SeriesInput {
   std::string file;
   std::vector<std::size_t> columns;        ///< 1-based; empty: the file's only column
+  std::vector<std::string> channels;       ///< channel specs (node:, joint:, rel:, EXT:, col:)
   std::optional<std::size_t> time_column;  ///< 1-based
   std::optional<double> dt;
   std::string time_unit = "s";
@@ -24,6 +26,9 @@ struct LoadedSeries {
   std::vector<std::string> warnings;
   std::string transient_rule;  ///< how --from auto decided, when used
 };
+
+/// The channels of an MBDyn prefix / NetCDF file (or col:K of a column file) with their time.
+reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs);
 
 /// Throws std::runtime_error with a one-line message naming the file (and line) on bad input.
 LoadedSeries load_series(const SeriesInput& in);

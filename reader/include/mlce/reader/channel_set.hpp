@@ -1,0 +1,40 @@
+#pragma once
+// What a format reader hands to the rest of the toolchain: a time axis and named channels on it.
+#include <string>
+#include <vector>
+
+namespace mlce::reader {
+
+struct ChannelSet {
+  std::string source;                        ///< file or output prefix, for messages
+  std::vector<double> time;                  ///< one per sample; empty when the format has none
+  std::vector<std::string> names;            ///< one per channel (the spec text)
+  std::vector<std::vector<double>> values;   ///< values[c][k]: channel c at sample k
+  std::vector<std::string> warnings;
+};
+
+/// What `mlce channels` lists: the entities a result set holds and its time span.
+struct Inventory {
+  std::string source;
+  std::string format;
+  struct Node {
+    long label;
+    std::string kind;         ///< dynamic, static, modal, dummy, ... or "unknown"
+    std::string orientation;  ///< euler123, euler313, euler321, phi, mat, none
+    std::size_t columns;      ///< columns of its rows (text) or 0
+  };
+  struct Entity {
+    std::string file;  ///< jnt, ine, frc, ...
+    long label;
+    std::string type;  ///< element type when the set says it, else ""
+    std::size_t columns;
+  };
+  std::vector<Node> nodes;
+  std::vector<Entity> entities;
+  std::size_t blocks = 0;
+  double t_first = 0.0, t_last = 0.0;
+  std::vector<std::string> columns;  ///< column files: the column names
+  std::vector<std::string> warnings;
+};
+
+}  // namespace mlce::reader

@@ -1,0 +1,30 @@
+#pragma once
+// One channel-spec syntax for every input format:
+//   node:L:F       F = x y z | r1 r2 r3 (r1..r9 for a matrix node) | vx vy vz | wx wy wz
+//                  | ax ay az | alphax alphay alphaz   (structural node L, as the file writes it)
+//   joint:L:K      K-th column (1-based, as in the .jnt file) of joint L's rows
+//   EXT:L:K        K-th column of entity L's rows in any other per-entity file (ine:11:2, frc:7:3)
+//   rel:A:B:AXIS   rotation of node A relative to node B about AXIS (x|y|z of B's frame), rad,
+//                  from the initial configuration, unwrapped in time
+//   col:K          K-th column of a plain column file
+#include <string>
+#include <string_view>
+
+namespace mlce::reader {
+
+struct ChannelSpec {
+  enum class Kind { node, entity, relative, column };
+  Kind kind = Kind::column;
+  std::string text;       ///< the spec as the user wrote it (used as the channel name)
+  std::string extension;  ///< entity: "jnt", "ine", "frc", ...
+  long label = 0;         ///< node / entity label; rel: node A
+  long reference = 0;     ///< rel: node B
+  std::string field;      ///< node: x, r1, vx, ...
+  int axis = 2;           ///< rel: 0 x, 1 y, 2 z
+  std::size_t column = 0; ///< entity / column: 1-based
+};
+
+/// Throws ReadError("channel 'SPEC': expected ...") for a malformed spec.
+ChannelSpec parse_channel_spec(std::string_view spec);
+
+}  // namespace mlce::reader

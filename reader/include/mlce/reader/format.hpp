@@ -1,0 +1,46 @@
+#pragma once
+// Format readers are plug-ins: each implements FormatReader and registers under a name and the
+// file extensions it owns. Adding another solver's format is one new file plus one add() call.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mlce/reader/channel_set.hpp"
+#include "mlce/reader/channel_spec.hpp"
+
+namespace mlce::reader {
+
+class FormatReader {
+ public:
+  virtual ~FormatReader() = default;
+  virtual std::string name() const = 0;
+  /// Extensions (without the dot) this format owns; "" = an output prefix with no extension.
+  virtual std::vector<std::string> extensions() const = 0;
+  /// True when `path` (a file or an output prefix) looks like this format.
+  virtual bool recognizes(const std::string& path) const = 0;
+  virtual Inventory describe(const std::string& path) const = 0;
+  virtual ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const = 0;
+};
+
+class FormatRegistry {
+ public:
+  void add(std::unique_ptr<FormatReader> reader);
+  /// By name ("column", "mbdyn-text", "mbdyn-netcdf"); nullptr when unknown.
+  const FormatReader* by_name(const std::string& name) const;
+  /// The reader for a path: by extension first, then by asking each reader. Throws ReadError
+  /// naming the path when no reader takes it.
+  const FormatReader& for_path(const std::string& path) const;
+  std::vector<std::string> names() const;
+
+ private:
+  std::vector<std::unique_ptr<FormatReader>> readers_;
+};
+
+/// A registry holding the built-in formats: column files, MBDyn text output, MBDyn NetCDF.
+const FormatRegistry& default_registry();
+
+std::unique_ptr<FormatReader> make_column_format();
+std::unique_ptr<FormatReader> make_mbdyn_text_format();
+std::unique_ptr<FormatReader> make_mbdyn_netcdf_format();
+
+}  // namespace mlce::reader

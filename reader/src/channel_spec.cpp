@@ -1,0 +1,95 @@
+#include "mlce/reader/channel_spec.hpp"
+
+#include <charconv>
+#include <vector>
+
+#include "mlce/reader/table.hpp"
+#include "node_fields.hpp"
+
+namespace mlce::reader {
+namespace detail {
+
+std::optional<NodeField> parse_node_field(std::string_view f) {
+  auto xyz = [](char c) -> std::optional<std::size_t> {
+    if (c == 'x') return 0;
+    if (c == 'y') return 1;
+    if (c == 'z') return 2;
+    return std::nullopt;
+  };
+  if (f.size() == 1 && xyz(f[0])) return NodeField{NodeGroup::position, *xyz(f[0])};
+  if (f.size() == 2 && f[0] == 'r' && f[1] >= '1' && f[1] <= '9')
+    return NodeField{NodeGroup::orientation, static_cast<std::size_t>(f[1] - '1')};
+  if (f.size() == 2 && xyz(f[1])) {
+    if (f[0] == 'v') return NodeField{NodeGroup::velocity, *xyz(f[1])};
+    if (f[0] == 'w') return NodeField{NodeGroup::angular_velocity, *xyz(f[1])};
+    if (f[0] == 'a') return NodeField{NodeGroup::acceleration, *xyz(f[1])};
+  }
+  if (f.size() == 6 && f.substr(0, 5) == "alpha" && xyz(f[5])) return NodeField{NodeGroup::angular_acceleration, *xyz(f[5])};
+  return std::nullopt;
+}
+
+}  // namespace detail
+
+namespace {
+
+std::vector<std::string_view> split(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t c = s.find(':', pos);
+    out.push_back(s.substr(pos, c == std::string_view::npos ? std::string_view::npos : c - pos));
+    if (c == std::string_view::npos) return out;
+    pos = c + 1;
+  }
+}
+
+template <class T>
+bool to_number(std::string_view s, T& v) {
+  if (s.empty()) return false;
+  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+}  // namespace
+
+ChannelSpec parse_channel_spec(std::string_view text) {
+  ChannelSpec c;
+  c.text = std::string(text);
+  const auto fail = [&](const std::string& expected) {
+    return ReadError("channel '" + c.text + "': expected " + expected);
+  };
+  const auto parts = split(text);
+  const std::string_view kind = parts[0];
+  if (kind == "node") {
+    if (parts.size() != 3 || !to_number(parts[1], c.label))
+      throw fail("node:LABEL:FIELD (FIELD one of x y z r1..r9 vx vy vz wx wy wz ax ay az alphax alphay alphaz)");
+    if (!detail::parse_node_field(parts[2]))
+      throw fail("a node field among x y z r1..r9 vx vy vz wx wy wz ax ay az alphax alphay alphaz, not '" +
+                 std::string(parts[2]) + "'");
+    c.kind = ChannelSpec::Kind::node;
+    c.field = std::string(parts[2]);
+  } else if (kind == "rel") {
+    if (parts.size() != 4 || !to_number(parts[1], c.label) || !to_number(parts[2], c.reference) ||
+        parts[3].size() != 1 || parts[3][0] < 'x' || parts[3][0] > 'z')
+      throw fail("rel:NODE_A:NODE_B:AXIS with AXIS one of x y z");
+    c.kind = ChannelSpec::Kind::relative;
+    c.axis = parts[3][0] - 'x';
+  } else if (kind == "col") {
+    if (parts.size() != 2 || !to_number(parts[1], c.column) || c.column == 0) throw fail("col:K with K >= 1");
+    c.kind = ChannelSpec::Kind::column;
+  } else if (!kind.empty() && parts.size() == 3) {
+    // joint:L:K or any per-entity file EXT:L:K.
+    for (char ch : kind)
+      if (!(ch >= 'a' && ch <= 'z')) throw fail("node:, joint:, rel:, col: or EXT:LABEL:COLUMN");
+    if (!to_number(parts[1], c.label) || !to_number(parts[2], c.column) || c.column < 2)
+      throw fail(std::string(kind) + ":LABEL:COLUMN with COLUMN >= 2 (column 1 is the label)");
+    c.kind = ChannelSpec::Kind::entity;
+    c.extension = kind == "joint" ? "jnt" : std::string(kind);
+    if (c.extension == "mov") throw fail("node:LABEL:FIELD for .mov rows");
+  } else {
+    throw fail("node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K or col:K");
+  }
+  return c;
+}
+
+}  // namespace mlce::reader

@@ -1,0 +1,128 @@
+// The format registry and the built-in plug-ins.
+#include "mlce/reader/format.hpp"
+
+#include <filesystem>
+
+#include "mlce/reader/column_file.hpp"
+#include "mlce/reader/mbdyn_netcdf.hpp"
+#include "mlce/reader/mbdyn_text.hpp"
+#include "mlce/reader/table.hpp"
+
+namespace mlce::reader {
+namespace {
+
+bool is_file(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(p, ec);
+}
+
+std::string extension_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  const auto slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  return path.substr(dot + 1);
+}
+
+class ColumnFormat final : public FormatReader {
+ public:
+  std::string name() const override { return "column"; }
+  std::vector<std::string> extensions() const override { return {"txt", "csv", "dat", "tsv"}; }
+  bool recognizes(const std::string& path) const override { return is_file(path); }
+  Inventory describe(const std::string& path) const override {
+    const Table t = read_column_file(path);
+    Inventory inv;
+    inv.source = path;
+    inv.format = name();
+    inv.columns = t.names;
+    inv.blocks = t.rows();
+    inv.warnings = t.warnings;
+    return inv;
+  }
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
+    ColumnFileOptions o;
+    for (const auto& c : channels) {
+      if (c.kind != ChannelSpec::Kind::column)
+        throw ReadError(path + ": channel '" + c.text + "': a column file takes col:K channels");
+      o.keep.push_back(c.column);
+    }
+    Table t = read_column_file(path, o);
+    ChannelSet s;
+    s.source = path;
+    for (const auto& c : channels) s.names.push_back(c.text);
+    s.values = std::move(t.columns);
+    s.warnings = std::move(t.warnings);
+    return s;
+  }
+};
+
+class MbdynTextFormat final : public FormatReader {
+ public:
+  std::string name() const override { return "mbdyn-text"; }
+  std::vector<std::string> extensions() const override { return {"out", "log", "mov", "jnt", "ine", "frc", ""}; }
+  bool recognizes(const std::string& path) const override { return is_file(mbdyn_prefix(path) + ".out"); }
+  Inventory describe(const std::string& path) const override { return describe_mbdyn_text(path); }
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
+    return read_mbdyn_text(path, channels);
+  }
+};
+
+class MbdynNetcdfFormat final : public FormatReader {
+ public:
+  std::string name() const override { return "mbdyn-netcdf"; }
+  std::vector<std::string> extensions() const override { return {"nc"}; }
+  bool recognizes(const std::string& path) const override { return extension_of(path) == "nc" && is_file(path); }
+  Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(path); }
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
+    return read_mbdyn_netcdf(path, channels);
+  }
+};
+
+}  // namespace
+
+void FormatRegistry::add(std::unique_ptr<FormatReader> reader) { readers_.push_back(std::move(reader)); }
+
+const FormatReader* FormatRegistry::by_name(const std::string& n) const {
+  for (const auto& r : readers_)
+    if (r->name() == n) return r.get();
+  return nullptr;
+}
+
+const FormatReader& FormatRegistry::for_path(const std::string& path) const {
+  const std::string ext = extension_of(path);
+  // An extension a format owns decides, when that format also recognizes the path.
+  if (!ext.empty())
+    for (const auto& r : readers_)
+      for (const auto& e : r->extensions())
+        if (e == ext && r->recognizes(path)) return *r;
+  // An output prefix (no file of that name): a format that recognizes it.
+  if (!is_file(path))
+    for (const auto& r : readers_)
+      if (r->recognizes(path)) return *r;
+  if (is_file(path))
+    for (const auto& r : readers_)
+      if (r->name() == "column") return *r;
+  throw ReadError(path + ": cannot open (no such file, and no MBDyn output set " + path + ".out)");
+}
+
+std::vector<std::string> FormatRegistry::names() const {
+  std::vector<std::string> out;
+  for (const auto& r : readers_) out.push_back(r->name());
+  return out;
+}
+
+std::unique_ptr<FormatReader> make_column_format() { return std::make_unique<ColumnFormat>(); }
+std::unique_ptr<FormatReader> make_mbdyn_text_format() { return std::make_unique<MbdynTextFormat>(); }
+std::unique_ptr<FormatReader> make_mbdyn_netcdf_format() { return std::make_unique<MbdynNetcdfFormat>(); }
+
+const FormatRegistry& default_registry() {
+  static const FormatRegistry registry = [] {
+    FormatRegistry r;
+    r.add(make_mbdyn_netcdf_format());
+    r.add(make_mbdyn_text_format());
+    r.add(make_column_format());
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace mlce::reader

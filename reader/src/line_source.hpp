@@ -1,0 +1,43 @@
+#pragma once
+// Streams the lines of a file in one pass with a fixed buffer (memory independent of file size).
+// Lines are views into the buffer, valid until the next call. A final line without '\n' (a run
+// killed mid-write) is not returned: partial_tail() reports it.
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mlce::reader::detail {
+
+class LineSource {
+ public:
+  /// Throws ReadError naming the path when it cannot be opened.
+  static LineSource open(const std::string& path);
+  /// Reads from memory (tests, fuzzers).
+  static LineSource from_memory(std::string_view text, std::string name);
+
+  bool next(std::string_view& line);
+  std::size_t line_number() const { return line_no_; }  ///< 1-based number of the last line returned
+  bool partial_tail() const { return partial_tail_; }
+  const std::string& name() const { return name_; }
+  std::string where() const { return name_ + ":" + std::to_string(line_no_); }
+
+ private:
+  LineSource(std::FILE* f, std::string name);
+  struct Closer {
+    void operator()(std::FILE* f) const { if (f) std::fclose(f); }
+  };
+  std::unique_ptr<std::FILE, Closer> file_;
+  std::string_view memory_;
+  bool from_memory_ = false;
+  std::string name_;
+  std::vector<char> buf_;
+  std::size_t begin_ = 0, end_ = 0;
+  bool eof_ = false;
+  bool partial_tail_ = false;
+  std::size_t line_no_ = 0;
+};
+
+}  // namespace mlce::reader::detail

@@ -1,0 +1,284 @@
+#include "mlce/reader/mbdyn_netcdf.hpp"
+
+#include <netcdf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "mlce/reader/mbdyn_text.hpp"
+#include "mlce/reader/orientation.hpp"
+#include "mlce/reader/table.hpp"
+#include "node_fields.hpp"
+
+namespace mlce::reader {
+namespace {
+
+class NcFile {
+ public:
+  explicit NcFile(const std::string& path) : path_(path) {
+    const int rc = nc_open(path.c_str(), NC_NOWRITE, &id_);
+    if (rc != NC_NOERR) throw ReadError(path + ": cannot open as NetCDF (" + nc_strerror(rc) + ")");
+  }
+  ~NcFile() { nc_close(id_); }
+  NcFile(const NcFile&) = delete;
+  NcFile& operator=(const NcFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  std::optional<int> var(const std::string& name) const {
+    int v = 0;
+    if (nc_inq_varid(id_, name.c_str(), &v) != NC_NOERR) return std::nullopt;
+    return v;
+  }
+  int require(const std::string& name, const std::string& why) const {
+    const auto v = var(name);
+    if (!v) throw ReadError(path_ + ": no variable '" + name + "' (" + why + ")");
+    return *v;
+  }
+  std::vector<std::size_t> shape(int v) const {
+    int nd = 0;
+    nc_inq_varndims(id_, v, &nd);
+    std::vector<int> dims(static_cast<std::size_t>(nd));
+    nc_inq_vardimid(id_, v, dims.data());
+    std::vector<std::size_t> out;
+    for (int d : dims) {
+      std::size_t len = 0;
+      nc_inq_dimlen(id_, d, &len);
+      out.push_back(len);
+    }
+    return out;
+  }
+  /// Component `comp` of a (time[, n]) variable, first `n` records.
+  std::vector<double> column(int v, std::size_t comp, std::size_t n, const std::string& name) const {
+    const auto sh = shape(v);
+    std::vector<double> out(n);
+    if (n == 0) return out;
+    std::size_t start[2] = {0, comp}, count[2] = {n, 1};
+    if (sh.empty() || (sh.size() == 1 && comp > 0) || (sh.size() == 2 && comp >= sh[1]) || sh.size() > 2)
+      throw ReadError(path_ + ": variable '" + name + "' has no component " + std::to_string(comp + 1));
+    const int rc = nc_get_vara_double(id_, v, start, count, out.data());
+    if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
+    for (std::size_t k = 0; k < n; ++k)
+      if (!std::isfinite(out[k]))
+        throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) + ": expected a finite number");
+    return out;
+  }
+  std::string text_attribute(int v, const char* att) const {
+    std::size_t len = 0;
+    if (nc_inq_attlen(id_, v, att, &len) != NC_NOERR) return {};
+    std::string s(len, '\0');
+    if (nc_get_att_text(id_, v, att, s.data()) != NC_NOERR) return {};
+    while (!s.empty() && s.back() == '\0') s.pop_back();
+    return s;
+  }
+  std::vector<std::string> variable_names() const {
+    int n = 0;
+    nc_inq_nvars(id_, &n);
+    std::vector<std::string> out;
+    char name[NC_MAX_NAME + 1];
+    for (int v = 0; v < n; ++v)
+      if (nc_inq_varname(id_, v, name) == NC_NOERR) out.emplace_back(name);
+    return out;
+  }
+  std::vector<long> labels(const std::string& var_name) const {
+    const auto v = var(var_name);
+    if (!v) return {};
+    const auto sh = shape(*v);
+    if (sh.size() != 1) return {};
+    std::vector<int> l(sh[0]);
+    if (!l.empty() && nc_get_var_int(id_, *v, l.data()) != NC_NOERR) return {};
+    return {l.begin(), l.end()};
+  }
+
+ private:
+  std::string path_;
+  int id_ = -1;
+};
+
+struct NodeOrientation {
+  Orientation kind;
+  std::string var;  ///< full variable name
+};
+
+NodeOrientation node_orientation(const NcFile& nc, long label) {
+  const std::string base = "node.struct." + std::to_string(label);
+  if (auto v = nc.var(base + ".E")) {
+    const std::string d = nc.text_attribute(*v, "description");
+    Orientation o = Orientation::euler123;
+    if (d.find("313") != std::string::npos) o = Orientation::euler313;
+    else if (d.find("321") != std::string::npos) o = Orientation::euler321;
+    return {o, base + ".E"};
+  }
+  if (nc.var(base + ".Phi")) return {Orientation::phi, base + ".Phi"};
+  if (nc.var(base + ".R")) return {Orientation::mat, base + ".R"};
+  if (!nc.var(base + ".X")) throw ReadError(nc.path() + ": no structural node " + std::to_string(label));
+  return {Orientation::none, ""};
+}
+
+/// Orientation numbers of every record as the text file would write them (matrix row by row;
+/// NetCDF stores R column-major, format doc section 11).
+std::vector<std::vector<double>> orientation_columns(const NcFile& nc, const NodeOrientation& o, std::size_t n) {
+  std::vector<std::vector<double>> cols;
+  const int v = nc.require(o.var, "orientation");
+  if (o.kind == Orientation::mat) {
+    for (std::size_t i = 0; i < 3; ++i)
+      for (std::size_t j = 0; j < 3; ++j) cols.push_back(nc.column(v, 3 * j + i, n, o.var));
+  } else {
+    for (std::size_t k = 0; k < 3; ++k) cols.push_back(nc.column(v, k, n, o.var));
+  }
+  return cols;
+}
+
+/// (variable, component) of column K (1-based) of a joint row as the .jnt file would hold it.
+std::pair<std::string, std::size_t> joint_column(const NcFile& nc, long label, std::size_t K) {
+  const std::string base = "elem.joint." + std::to_string(label);
+  if (!nc.var(base + ".f")) throw ReadError(nc.path() + ": no joint " + std::to_string(label));
+  std::vector<std::string> order = {base + ".f", base + ".m", base + ".F", base + ".M"};
+  const std::string prefix = base + ".";
+  for (const auto& name : nc.variable_names())
+    if (name.rfind(prefix, 0) == 0 && std::find(order.begin(), order.end(), name) == order.end() &&
+        name.find('.', prefix.size()) == std::string::npos)
+      order.push_back(name);
+  std::size_t col = 2;
+  for (const auto& name : order) {
+    const auto sh = nc.shape(*nc.var(name));
+    const std::size_t width = sh.size() == 2 ? sh[1] : 1;
+    if (K < col + width) return {name, K - col};
+    col += width;
+  }
+  throw ReadError(nc.path() + ": joint " + std::to_string(label) + " has " + std::to_string(col - 1) +
+                  " columns, column " + std::to_string(K) + " requested");
+}
+
+const char* node_group_suffix(detail::NodeGroup g) {
+  switch (g) {
+    case detail::NodeGroup::position: return ".X";
+    case detail::NodeGroup::velocity: return ".XP";
+    case detail::NodeGroup::angular_velocity: return ".Omega";
+    case detail::NodeGroup::acceleration: return ".XPP";
+    case detail::NodeGroup::angular_acceleration: return ".OmegaP";
+    default: return "";
+  }
+}
+
+}  // namespace
+
+ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels) {
+  if (channels.empty()) throw ReadError(path + ": no channel requested (give --channel SPEC)");
+  const NcFile nc(path);
+  ChannelSet out;
+  out.source = path;
+  const int tv = nc.require("time", "the time of each record");
+  const auto tsh = nc.shape(tv);
+  const std::size_t n = tsh.empty() ? 0 : tsh[0];
+  if (n == 0) throw ReadError(path + ": no records");
+  out.time = nc.column(tv, 0, n, "time");
+
+  std::optional<MbdynLog> log;
+  bool log_tried = false;
+  for (const ChannelSpec& s : channels) {
+    out.names.push_back(s.text);
+    switch (s.kind) {
+      case ChannelSpec::Kind::node: {
+        const auto f = *detail::parse_node_field(s.field);
+        const std::string base = "node.struct." + std::to_string(s.label);
+        if (f.group == detail::NodeGroup::orientation) {
+          const auto o = node_orientation(nc, s.label);
+          if (o.kind == Orientation::none || f.component >= orientation_size(o.kind))
+            throw ReadError(path + ": channel '" + s.text + "': node " + std::to_string(s.label) + " has " +
+                            (o.kind == Orientation::none ? std::string("no orientation") :
+                             std::to_string(orientation_size(o.kind)) + " orientation numbers"));
+          out.values.push_back(std::move(orientation_columns(nc, o, n)[f.component]));
+        } else {
+          const std::string name = base + node_group_suffix(f.group);
+          out.values.push_back(nc.column(nc.require(name, "channel '" + s.text + "'"), f.component, n, name));
+        }
+        break;
+      }
+      case ChannelSpec::Kind::entity: {
+        if (s.extension == "jnt") {
+          const auto [name, comp] = joint_column(nc, s.label, s.column);
+          out.values.push_back(nc.column(*nc.var(name), comp, n, name));
+        } else if (s.extension == "ine") {
+          static const char* groups[] = {".B", ".G", ".BP", ".GP"};
+          if (s.column > 13) throw ReadError(path + ": channel '" + s.text + "': inertia rows have 13 columns");
+          const std::string name = "node.struct." + std::to_string(s.label) + groups[(s.column - 2) / 3];
+          out.values.push_back(nc.column(nc.require(name, "channel '" + s.text + "'"), (s.column - 2) % 3, n, name));
+        } else {
+          throw ReadError(path + ": channel '" + s.text + "': the NetCDF reader knows node:, joint:, ine: and rel: channels");
+        }
+        break;
+      }
+      case ChannelSpec::Kind::relative: {
+        const auto oa = node_orientation(nc, s.label), ob = node_orientation(nc, s.reference);
+        if (oa.kind == Orientation::none || ob.kind == Orientation::none)
+          throw ReadError(path + ": channel '" + s.text + "': both nodes need an orientation");
+        const auto ca = orientation_columns(nc, oa, n), cb = orientation_columns(nc, ob, n);
+        auto at = [](const std::vector<std::vector<double>>& c, std::size_t k) {
+          std::vector<double> v;
+          for (const auto& col : c) v.push_back(col[k]);
+          return v;
+        };
+        // Initial configuration from the .log beside the file, else the first record.
+        if (!log_tried) {
+          log_tried = true;
+          std::filesystem::path lp(path);
+          lp.replace_extension(".log");
+          std::error_code ec;
+          if (std::filesystem::is_regular_file(lp, ec)) log = read_mbdyn_log(lp.string());
+        }
+        Matrix3 RA0 = rotation_matrix(oa.kind, at(ca, 0)), RB0 = rotation_matrix(ob.kind, at(cb, 0));
+        const auto* la = log ? log->node(s.label) : nullptr;
+        const auto* lb = log ? log->node(s.reference) : nullptr;
+        if (la && lb && la->orientation != Orientation::none && lb->orientation != Orientation::none) {
+          RA0 = rotation_matrix(la->orientation, la->values);
+          RB0 = rotation_matrix(lb->orientation, lb->values);
+        } else {
+          out.warnings.push_back(path + ": channel '" + s.text +
+                                 "': no .log beside the file with both nodes; angle measured from the first record");
+        }
+        std::vector<double> angle(n);
+        for (std::size_t k = 0; k < n; ++k)
+          angle[k] = relative_twist(rotation_matrix(oa.kind, at(ca, k)), rotation_matrix(ob.kind, at(cb, k)), RA0, RB0, s.axis);
+        unwrap(angle);
+        out.values.push_back(std::move(angle));
+        break;
+      }
+      case ChannelSpec::Kind::column:
+        throw ReadError(path + ": channel '" + s.text + "' addresses a column file; NetCDF takes node:, joint:, ine: or rel:");
+    }
+  }
+  return out;
+}
+
+Inventory describe_mbdyn_netcdf(const std::string& path) {
+  const NcFile nc(path);
+  Inventory inv;
+  inv.source = path;
+  inv.format = "mbdyn-netcdf";
+  const int tv = nc.require("time", "the time of each record");
+  const auto sh = nc.shape(tv);
+  inv.blocks = sh.empty() ? 0 : sh[0];
+  if (inv.blocks > 0) {
+    const auto t = nc.column(tv, 0, inv.blocks, "time");
+    inv.t_first = t.front();
+    inv.t_last = t.back();
+  }
+  for (long l : nc.labels("node.struct")) {
+    const auto v = nc.var("node.struct." + std::to_string(l));
+    if (!nc.var("node.struct." + std::to_string(l) + ".X")) {
+      inv.nodes.push_back({l, "output off", "none", 0});
+      continue;
+    }
+    const auto o = node_orientation(nc, l);
+    inv.nodes.push_back({l, v ? nc.text_attribute(*v, "type") : "unknown", orientation_name(o.kind), 0});
+  }
+  for (long l : nc.labels("elem.joint")) {
+    const auto v = nc.var("elem.joint." + std::to_string(l));
+    inv.entities.push_back({"jnt", l, v ? nc.text_attribute(*v, "type") : "", 0});
+  }
+  return inv;
+}
+
+}  // namespace mlce::reader

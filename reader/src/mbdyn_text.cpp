@@ -1,0 +1,473 @@
+// MBDyn text output (format doc ../shared/docs/mbdyn-output-format.md, sections 1-3, 5, 9, 12).
+#include "mlce/reader/mbdyn_text.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "line_source.hpp"
+#include "mlce/reader/table.hpp"
+#include "node_fields.hpp"
+
+namespace mlce::reader {
+namespace {
+
+using detail::LineSource;
+
+bool is_blank(char c) { return c == ' ' || c == '\t'; }
+
+/// Next whitespace-separated token of `s` from `pos` (empty at the end).
+std::string_view next_token(std::string_view s, std::size_t& pos) {
+  while (pos < s.size() && is_blank(s[pos])) ++pos;
+  const std::size_t start = pos;
+  while (pos < s.size() && !is_blank(s[pos])) ++pos;
+  return s.substr(start, pos - start);
+}
+
+std::vector<std::string_view> tokens(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t pos = 0;
+  for (auto t = next_token(s, pos); !t.empty(); t = next_token(s, pos)) out.push_back(t);
+  return out;
+}
+
+std::string shorten(std::string_view s) {
+  std::string t(s.substr(0, 32));
+  if (s.size() > 32) t += "...";
+  return t;
+}
+
+bool parse_long(std::string_view t, long& v) {
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return ec == std::errc() && p == t.data() + t.size();
+}
+
+/// strtod-compatible numbers (MBDyn writes `-0.000000e+00`, `inf`, `nan`, `-nan`).
+bool parse_double(std::string_view t, double& v) {
+  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+  if (t == "-nan" || t == "nan") {
+    v = std::nan("");
+    return true;
+  }
+  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  return (ec == std::errc() || ec == std::errc::result_out_of_range) && p == t.data() + t.size();
+}
+
+MbdynLog parse_log(LineSource& src) {
+  MbdynLog log;
+  std::string_view line;
+  while (src.next(line)) {
+    if (line.empty() || is_blank(line.front())) continue;  // continuation lines, symbol table
+    const std::size_t colon = line.find(':');
+    if (colon == std::string_view::npos) continue;
+    const std::string_view key = line.substr(0, colon);
+    const std::string_view rest = line.substr(colon + 1);
+    if (key == "output frequency") {
+      long f = 0;
+      const auto t = tokens(rest);
+      if (!t.empty() && parse_long(t[0], f) && f > 0) log.output_frequency = static_cast<std::size_t>(f);
+      continue;
+    }
+    if (key == "structural node" || key == "relative frame structural node") {
+      const auto t = tokens(rest);
+      MbdynLog::Node n;
+      n.relative_frame = key != "structural node";
+      if (t.size() < 4 || !parse_long(t[0], n.label))
+        throw ReadError(src.where() + ": expected 'structural node: LABEL X Y Z [DESCRIPTION VALUES]'");
+      for (int k = 0; k < 3; ++k)
+        if (!parse_double(t[1 + static_cast<std::size_t>(k)], n.position[k]))
+          throw ReadError(src.where() + ": node " + std::to_string(n.label) + ": position is not a number");
+      if (t.size() == 4) {
+        n.orientation = Orientation::none;  // displacement-only node: no description
+      } else {
+        const auto o = orientation_from_name(t[4]);
+        if (!o || *o == Orientation::none)
+          throw ReadError(src.where() + ": node " + std::to_string(n.label) + ": orientation description '" +
+                          shorten(t[4]) + "', expected euler123, euler313, euler321, phi or mat");
+        n.orientation = *o;
+        const std::size_t need = orientation_size(*o);
+        if (t.size() != 5 + need)
+          throw ReadError(src.where() + ": node " + std::to_string(n.label) + ": " + std::to_string(t.size() - 5) +
+                          " orientation numbers, expected " + std::to_string(need) + " for " + orientation_name(*o));
+        for (std::size_t k = 0; k < need; ++k) {
+          double v = 0.0;
+          if (!parse_double(t[5 + k], v) || !std::isfinite(v))
+            throw ReadError(src.where() + ": node " + std::to_string(n.label) + ": orientation number '" +
+                            shorten(t[5 + k]) + "' is not a finite number");
+          n.values.push_back(v);
+        }
+      }
+      log.nodes.push_back(std::move(n));
+      continue;
+    }
+    // Element lines `keyword: label ...` (joints, bodies, ...): remembered for listings.
+    if (key.find(' ') == std::string_view::npos) {
+      std::size_t pos = 0;
+      long label = 0;
+      if (parse_long(next_token(rest, pos), label)) log.elements.emplace(label, std::string(key));
+    }
+  }
+  return log;
+}
+
+MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
+  MbdynTimes t;
+  std::string_view line;
+  long last_step = -1;
+  while (src.next(line)) {
+    if (line.size() < 5 || line.substr(0, 5) != "Step ") continue;
+    const auto f = tokens(line);
+    long step = 0;
+    double time = 0.0;
+    if ((f.size() != 8 && f.size() != 9) || !parse_long(f[1], step) || !parse_double(f[2], time) || !std::isfinite(time))
+      throw ReadError(src.where() + ": expected 'Step STEP TIME TSTEP NITER RESERR SOLERR SOLCONV [OUT]'");
+    if (step <= last_step && !t.step.empty()) continue;  // out-of-sequence lines of debug builds
+    bool out = false;
+    if (f.size() == 9) {
+      long flag = 0;
+      if (!parse_long(f[8], flag) || (flag != 0 && flag != 1))
+        throw ReadError(src.where() + ": output flag '" + shorten(f[8]) + "', expected 0 or 1");
+      out = flag == 1;
+    } else {
+      t.seven_fields = true;
+      if (frequency == 0)
+        throw ReadError(src.where() + ": 7-field Step line (MBDyn before 2011) and the .log states no numeric "
+                        "output frequency: cannot tell which steps were written");
+      out = step % static_cast<long>(frequency) == 0;
+    }
+    last_step = step;
+    if (out) {
+      t.time.push_back(time);
+      t.step.push_back(step);
+    }
+  }
+  if (src.partial_tail()) {
+    // A Step line cut mid-write carries no reliable time: ignored (the block count check reports it).
+  }
+  return t;
+}
+
+BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& requests) {
+  BlockRead r;
+  r.source = src.name();
+  r.values.assign(requests.size(), {});
+  std::string_view line;
+  // Per row position: which requests it serves (request index, column).
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> wants;
+  std::vector<double> pending(requests.size(), 0.0);
+  std::vector<std::string_view> fields;
+  std::size_t row = 0;  // row index within the current block
+  bool layout_done = false;
+  // The first block fixes the layout (labels in order, columns per row); it is kept (a few rows)
+  // until the first repeated label ends it, then served like every other block.
+  std::vector<std::string> first_lines;
+  std::vector<std::size_t> first_numbers;
+  auto where = [&](std::size_t line_no) { return r.source + ":" + std::to_string(line_no); };
+  auto label_of = [&](std::string_view l, std::size_t line_no) {
+    std::size_t pos = 0;
+    const std::string_view tok = next_token(l, pos);
+    long label = 0;
+    if (!parse_long(tok, label))
+      throw ReadError(where(line_no) + ": expected an integer label at the start of the row, found '" + shorten(tok) + "'");
+    return label;
+  };
+  auto take_row = [&](std::size_t p, std::string_view l, std::size_t line_no) {
+    fields.clear();
+    std::size_t pos = 0;
+    for (auto t = next_token(l, pos); !t.empty(); t = next_token(l, pos)) fields.push_back(t);
+    if (fields.size() != r.columns[p])
+      throw ReadError(where(line_no) + ": label " + std::to_string(r.labels[p]) + ": " + std::to_string(fields.size()) +
+                      " columns, expected " + std::to_string(r.columns[p]) + " as in the first block");
+    for (const auto& [q, col] : wants[p]) {
+      double v = 0.0;
+      const std::string_view tok = fields[col - 1];
+      if (!parse_double(tok, v))
+        throw ReadError(where(line_no) + ": column " + std::to_string(col) + ": '" + shorten(tok) + "' is not a number");
+      if (!std::isfinite(v))
+        throw ReadError(where(line_no) + ": column " + std::to_string(col) + ": '" + shorten(tok) +
+                        "': expected a finite number (did the run diverge?)");
+      pending[q] = v;
+    }
+  };
+  auto commit = [&]() {
+    for (std::size_t q = 0; q < requests.size(); ++q) r.values[q].push_back(pending[q]);
+    ++r.blocks;
+  };
+  auto finish_layout = [&]() {
+    layout_done = true;
+    wants.assign(r.labels.size(), {});
+    for (std::size_t q = 0; q < requests.size(); ++q) {
+      const auto it = std::find(r.labels.begin(), r.labels.end(), requests[q].label);
+      if (it == r.labels.end()) {
+        std::string have;
+        for (std::size_t k = 0; k < r.labels.size() && k < 16; ++k) {
+          if (k) have += ' ';
+          have += std::to_string(r.labels[k]);
+        }
+        throw ReadError(r.source + ": no rows of label " + std::to_string(requests[q].label) + " (labels in a block: " +
+                        have + (r.labels.size() > 16 ? " ..." : "") + ")");
+      }
+      const std::size_t p = static_cast<std::size_t>(it - r.labels.begin());
+      if (requests[q].column < 2 || requests[q].column > r.columns[p])
+        throw ReadError(where(first_numbers[p]) + ": label " + std::to_string(requests[q].label) + " has " +
+                        std::to_string(r.columns[p]) + " columns, column " + std::to_string(requests[q].column) +
+                        " requested");
+      wants[p].emplace_back(q, requests[q].column);
+    }
+    for (std::size_t p = 0; p < first_lines.size(); ++p)
+      if (!wants[p].empty()) take_row(p, first_lines[p], first_numbers[p]);
+    commit();
+    first_lines.clear();
+  };
+
+  while (src.next(line)) {
+    if (line.find_first_not_of(" \t") == std::string_view::npos)
+      throw ReadError(src.where() + ": empty line inside the output blocks");
+    const long label = label_of(line, src.line_number());
+    if (!layout_done) {
+      if (std::find(r.labels.begin(), r.labels.end(), label) == r.labels.end()) {
+        r.labels.push_back(label);
+        r.columns.push_back(tokens(line).size());
+        first_lines.emplace_back(line);
+        first_numbers.push_back(src.line_number());
+        continue;
+      }
+      finish_layout();
+      row = 0;
+    }
+    if (label != r.labels[row]) {
+      throw ReadError(src.where() + ": expected the row of label " + std::to_string(r.labels[row]) + " (row " +
+                      std::to_string(row + 1) + " of " + std::to_string(r.labels.size()) + " in a block), found label " +
+                      std::to_string(label));
+    }
+    if (!wants[row].empty()) take_row(row, line, src.line_number());
+    if (++row == r.labels.size()) {
+      commit();
+      row = 0;
+    }
+  }
+  // A file holding a single block: the layout ends with the file.
+  if (!layout_done && !r.labels.empty()) finish_layout();
+  if (src.partial_tail())
+    r.warnings.push_back(r.source + ": the last line has no end of line (run interrupted mid-write): dropped");
+  if (row != 0)
+    r.warnings.push_back(r.source + ": the last block is incomplete (" + std::to_string(row) + " of " +
+                         std::to_string(r.labels.size()) + " rows, run interrupted?): read " +
+                         std::to_string(r.blocks) + " complete blocks");
+  if (r.labels.empty()) throw ReadError(r.source + ": no rows (empty file)");
+  return r;
+}
+
+}  // namespace
+
+const MbdynLog::Node* MbdynLog::node(long label) const {
+  for (const auto& n : nodes)
+    if (n.label == label) return &n;
+  return nullptr;
+}
+
+MbdynLog parse_mbdyn_log(std::string_view text, const std::string& source) {
+  auto src = LineSource::from_memory(text, source);
+  return parse_log(src);
+}
+MbdynLog read_mbdyn_log(const std::string& path) {
+  auto src = LineSource::open(path);
+  return parse_log(src);
+}
+MbdynTimes parse_mbdyn_out(std::string_view text, const std::string& source, std::size_t frequency) {
+  auto src = LineSource::from_memory(text, source);
+  return parse_out(src, frequency);
+}
+MbdynTimes read_mbdyn_out(const std::string& path, std::size_t frequency) {
+  auto src = LineSource::open(path);
+  return parse_out(src, frequency);
+}
+BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, const std::vector<BlockRequest>& req) {
+  auto src = LineSource::from_memory(text, source);
+  return parse_blocks(src, req);
+}
+BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& req) {
+  auto src = LineSource::open(path);
+  return parse_blocks(src, req);
+}
+
+std::string mbdyn_prefix(const std::string& path) {
+  static const std::set<std::string> ext = {"out", "log", "mov", "jnt", "ine", "frc", "act", "aer", "prm",
+                                            "drv", "abs", "ele", "prs", "hyd", "rot", "usr", "gen", "mod"};
+  const auto dot = path.rfind('.');
+  const auto slash = path.rfind('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
+  return ext.count(path.substr(dot + 1)) ? path.substr(0, dot) : path;
+}
+
+namespace {
+
+/// Block count of every file read and of the .out must agree; an interrupted run may differ by
+/// one (entity rows are written before the Step line; format doc section 12).
+std::size_t common_blocks(const MbdynTimes& times, const std::string& out_path, const std::vector<BlockRead>& files,
+                          std::vector<std::string>& warnings) {
+  std::size_t n = times.time.size();
+  std::size_t lo = n, hi = n;
+  for (const auto& f : files) lo = std::min(lo, f.blocks), hi = std::max(hi, f.blocks);
+  if (hi - lo > 1) {
+    std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
+    for (const auto& f : files) counts += ", " + f.source + ": " + std::to_string(f.blocks) + " blocks";
+    throw ReadError("inconsistent output set: " + counts + " (expected equal counts, or one fewer for an interrupted run)");
+  }
+  if (hi != lo) {
+    std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
+    for (const auto& f : files) counts += ", " + f.source + ": " + std::to_string(f.blocks);
+    warnings.push_back("block counts differ by one (" + counts + "): using the first " + std::to_string(lo));
+  }
+  if (lo == 0) throw ReadError(out_path + ": no output blocks (no Step line with the output flag set)");
+  n = lo;
+  return n;
+}
+
+bool file_exists(const std::string& p) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(p, ec);
+}
+
+}  // namespace
+
+ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<ChannelSpec>& channels) {
+  const std::string prefix = mbdyn_prefix(prefix_in);
+  if (channels.empty()) throw ReadError(prefix + ": no channel requested (give --channel SPEC)");
+  ChannelSet out;
+  out.source = prefix;
+  const std::string log_path = prefix + ".log", out_path = prefix + ".out";
+  const MbdynLog log = read_mbdyn_log(log_path);
+  const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
+
+  // Requests per file; each channel remembers where its numbers come from.
+  std::map<std::string, std::vector<BlockRequest>> requests;
+  auto request = [&](const std::string& ext, long label, std::size_t column) {
+    auto& v = requests[ext];
+    for (std::size_t k = 0; k < v.size(); ++k)
+      if (v[k].label == label && v[k].column == column) return std::make_pair(ext, k);
+    v.push_back({label, column});
+    return std::make_pair(ext, v.size() - 1);
+  };
+  auto node_info = [&](const ChannelSpec& c, long label) -> const MbdynLog::Node& {
+    const auto* n = log.node(label);
+    if (!n) throw ReadError(log_path + ": channel '" + c.text + "': no structural node " + std::to_string(label));
+    return *n;
+  };
+  struct Plan {
+    std::vector<std::pair<std::string, std::size_t>> sources;  // (file, request index)
+  };
+  std::vector<Plan> plans(channels.size());
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    const ChannelSpec& s = channels[c];
+    switch (s.kind) {
+      case ChannelSpec::Kind::node: {
+        const auto& n = node_info(s, s.label);
+        const auto f = *detail::parse_node_field(s.field);
+        if (f.group == detail::NodeGroup::orientation && f.component >= orientation_size(n.orientation))
+          throw ReadError(log_path + ": channel '" + s.text + "': node " + std::to_string(s.label) + " writes " +
+                          std::to_string(orientation_size(n.orientation)) + " orientation numbers (" +
+                          orientation_name(n.orientation) + ")");
+        plans[c].sources.push_back(request("mov", s.label, detail::mov_column(f, n.orientation)));
+        break;
+      }
+      case ChannelSpec::Kind::relative: {
+        for (long l : {s.label, s.reference}) {
+          const auto& n = node_info(s, l);
+          if (n.orientation == Orientation::none)
+            throw ReadError(log_path + ": channel '" + s.text + "': node " + std::to_string(l) +
+                            " has no orientation (displacement-only node)");
+          for (std::size_t k = 0; k < orientation_size(n.orientation); ++k)
+            plans[c].sources.push_back(request("mov", l, 5 + k));
+        }
+        break;
+      }
+      case ChannelSpec::Kind::entity:
+        plans[c].sources.push_back(request(s.extension, s.label, s.column));
+        break;
+      case ChannelSpec::Kind::column:
+        throw ReadError(prefix + ": channel '" + s.text + "' addresses a column file; MBDyn output takes node:, joint:, rel: or EXT: channels");
+    }
+  }
+  std::map<std::string, BlockRead> read;
+  std::vector<BlockRead> all;
+  for (const auto& [ext, req] : requests) {
+    const std::string path = prefix + "." + ext;
+    if (!file_exists(path)) throw ReadError(path + ": cannot open the file (missing or unreadable)");
+    read.emplace(ext, read_mbdyn_blocks(path, req));
+    all.push_back(read.at(ext));
+  }
+  for (const auto& b : all) out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
+  const std::size_t n = common_blocks(times, out_path, all, out.warnings);
+  out.time.assign(times.time.begin(), times.time.begin() + static_cast<std::ptrdiff_t>(n));
+
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    const ChannelSpec& s = channels[c];
+    out.names.push_back(s.text);
+    auto column = [&](std::size_t k) -> const std::vector<double>& {
+      const auto& [ext, q] = plans[c].sources[k];
+      return read.at(ext).values[q];
+    };
+    if (s.kind != ChannelSpec::Kind::relative) {
+      const auto& v = column(0);
+      out.values.emplace_back(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n));
+      continue;
+    }
+    const auto& a = *log.node(s.label);
+    const auto& b = *log.node(s.reference);
+    const std::size_t na = orientation_size(a.orientation), nb = orientation_size(b.orientation);
+    const Matrix3 RA0 = rotation_matrix(a.orientation, a.values), RB0 = rotation_matrix(b.orientation, b.values);
+    std::vector<double> angle(n), va(na), vb(nb);
+    for (std::size_t k = 0; k < n; ++k) {
+      for (std::size_t i = 0; i < na; ++i) va[i] = column(i)[k];
+      for (std::size_t i = 0; i < nb; ++i) vb[i] = column(na + i)[k];
+      angle[k] = relative_twist(rotation_matrix(a.orientation, va), rotation_matrix(b.orientation, vb), RA0, RB0, s.axis);
+    }
+    unwrap(angle);
+    out.values.push_back(std::move(angle));
+  }
+  return out;
+}
+
+Inventory describe_mbdyn_text(const std::string& prefix_in) {
+  const std::string prefix = mbdyn_prefix(prefix_in);
+  Inventory inv;
+  inv.source = prefix;
+  inv.format = "mbdyn-text";
+  const MbdynLog log = read_mbdyn_log(prefix + ".log");
+  const MbdynTimes times = read_mbdyn_out(prefix + ".out", log.output_frequency);
+  std::vector<BlockRead> all;
+  std::set<long> dynamic;
+  for (const char* ext : {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"}) {
+    const std::string path = prefix + "." + ext;
+    if (!file_exists(path)) continue;
+    BlockRead b = read_mbdyn_blocks(path, {});
+    inv.warnings.insert(inv.warnings.end(), b.warnings.begin(), b.warnings.end());
+    if (std::string(ext) == "mov") {
+      for (std::size_t k = 0; k < b.labels.size(); ++k) {
+        const auto* n = log.node(b.labels[k]);
+        inv.nodes.push_back({b.labels[k], "", n ? orientation_name(n->orientation) : "unknown", b.columns[k]});
+      }
+    } else {
+      if (std::string(ext) == "ine") dynamic.insert(b.labels.begin(), b.labels.end());
+      for (std::size_t k = 0; k < b.labels.size(); ++k) {
+        std::string type;
+        for (auto [it, end] = log.elements.equal_range(b.labels[k]); it != end; ++it)
+          if (it->second != "body") type = it->second;
+        inv.entities.push_back({ext, b.labels[k], std::string(ext) == "ine" ? "inertia" : type, b.columns[k]});
+      }
+    }
+    all.push_back(std::move(b));
+  }
+  const bool have_ine = file_exists(prefix + ".ine");
+  for (auto& n : inv.nodes) n.kind = dynamic.count(n.label) ? "dynamic" : have_ine ? "static/dummy" : "unknown";
+  inv.blocks = common_blocks(times, prefix + ".out", all, inv.warnings);
+  inv.t_first = times.time.front();
+  inv.t_last = times.time[inv.blocks - 1];
+  return inv;
+}
+
+}  // namespace mlce::reader
