@@ -101,7 +101,7 @@ const FormatReader& FormatRegistry::for_path(const std::string& path) const {
   if (is_file(path))
     for (const auto& r : readers_)
       if (r->name() == "column") return *r;
-  throw ReadError(path + ": cannot open (no such file, and no MBDyn output set " + path + ".out)");
+  throw ReadError(path + ": cannot open the file (missing or unreadable, and no MBDyn output set " + path + ".out)");
 }
 
 std::vector<std::string> FormatRegistry::names() const {
