@@ -9,49 +9,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_harness.hpp"
 #include "reference_systems.hpp"
-
-namespace fs = std::filesystem;
 
 namespace {
 
-struct CliRun {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class Cli : public ::testing::Test {
+class Cli : public mlce::testing::CliFixture {
  protected:
-  fs::path dir;
-  void SetUp() override {
-    dir = fs::temp_directory_path() / ("mlce_cli_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
-
-  fs::path write(const std::string& name, const std::string& content) {
-    const fs::path p = dir / name;
-    std::ofstream(p) << content;
-    return p;
-  }
-  CliRun run(const std::string& args) {
-    const std::string cmd = std::string(MLCE_CLI) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                            (dir / "err").string() + " </dev/null";
-    const int rc = std::system(cmd.c_str());
-    CliRun r;
-    r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    r.out = slurp(dir / "out");
-    r.err = slurp(dir / "err");
-    return r;
-  }
   std::string series_file(const std::vector<double>& x, double dt) {
     std::ostringstream s;
     s.precision(17);
@@ -61,13 +25,10 @@ class Cli : public ::testing::Test {
   }
 };
 
-/// One line on stderr, containing `what`, and exit status `status`.
-void expect_one_line_error(const CliRun& r, const std::string& what, int status = 1) {
-  EXPECT_EQ(r.status, status) << r.err;
-  EXPECT_NE(r.err.find(what), std::string::npos) << "stderr: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_TRUE(r.out.empty()) << r.out;
-}
+using mlce::testing::CliRun;
+using mlce::testing::expect_one_line_error;
+using mlce::testing::slurp;
+namespace fs = std::filesystem;
 
 }  // namespace
 

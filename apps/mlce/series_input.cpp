@@ -11,7 +11,13 @@ namespace mlce::cli {
 
 reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs) {
   std::vector<reader::ChannelSpec> parsed;
-  for (const auto& s : specs) parsed.push_back(reader::parse_channel_spec(s));
+  for (const auto& s : specs) {
+    try {
+      parsed.push_back(reader::parse_channel_spec(s));
+    } catch (const reader::ReadError& e) {
+      throw OptionError(e.what());  // a command-line mistake, not bad data
+    }
+  }
   const auto& format = reader::default_registry().for_path(file);
   return format.read(file, parsed);
 }
@@ -57,7 +63,12 @@ LoadedSeries load_series(const SeriesInput& in_) {
     out = load_solver_channels(in);
   } else {
     for (const auto& spec : in.channels) {
-      const auto c = reader::parse_channel_spec(spec);
+      reader::ChannelSpec c;
+      try {
+        c = reader::parse_channel_spec(spec);
+      } catch (const reader::ReadError& e) {
+        throw OptionError(e.what());
+      }
       if (c.kind != reader::ChannelSpec::Kind::column)
         throw OptionError(in.file + " is a column file: channel '" + spec + "' does not apply (use col:K or --column K)");
       in.columns.push_back(c.column);

@@ -1,0 +1,164 @@
+// MBDyn output sets through the command line: the real samples work, and every malformed set
+// gives one line naming the file (and line) and a non-zero exit.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "cli_harness.hpp"
+
+namespace fs = std::filesystem;
+using mlce::testing::CliRun;
+using mlce::testing::expect_one_line_error;
+using mlce::testing::slurp;
+
+namespace {
+
+const std::string kIso = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_1s/iso_200rpm";
+const std::string kC3 = std::string(MLCE_DATA_DIR) + "/mbdyn/c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf";
+
+std::vector<std::string> lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> v;
+  for (std::string l; std::getline(in, l);) v.push_back(l);
+  return v;
+}
+
+class MbdynCli : public mlce::testing::CliFixture {
+ protected:
+  std::string prefix;
+  void SetUp() override {
+    CliFixture::SetUp();
+    for (const char* e : {".log", ".out", ".mov", ".jnt"}) {
+      fs::copy_file(kIso + e, dir / (std::string("run") + e));
+      fs::permissions(dir / (std::string("run") + e), fs::perms::owner_read | fs::perms::owner_write);
+    }
+    prefix = (dir / "run").string();
+  }
+  /// Replaces line `n` (1-based) of run.EXT by `edit(line)`.
+  template <class F>
+  void edit_line(const std::string& ext, std::size_t n, F edit) {
+    auto v = lines_of(prefix + ext);
+    v.at(n - 1) = edit(v.at(n - 1));
+    std::ofstream o(prefix + ext, std::ios::trunc);
+    for (const auto& l : v) o << l << "\n";
+  }
+};
+
+}  // namespace
+
+TEST_F(MbdynCli, EstimateOnTheFailedDamperRunPrintsAnMlce) {
+  const CliRun r = run("estimate " + kC3 + " --channel rel:13:4:z --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(std::isfinite(j["lambda"].get<double>()));
+  EXPECT_NEAR(j["dt"].get<double>(), 0.005, 1e-12);
+  EXPECT_EQ(j["n_points"].get<std::size_t>(), 2001u);
+}
+
+TEST_F(MbdynCli, ExtractWritesTimeAndChannelsAsCsv) {
+  const CliRun r = run("extract " + kIso + ".nc --channel joint:33:14 --channel rel:13:4:z");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream s(r.out);
+  std::string header, first;
+  std::getline(s, header);
+  std::getline(s, first);
+  EXPECT_EQ(header, "time,joint:33:14,rel:13:4:z");
+  EXPECT_EQ(first, "0,0,0");
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 202);
+  const fs::path csv = dir / "lag.csv";
+  ASSERT_EQ(run("extract " + prefix + " --channel joint:33:14 --csv " + csv.string()).status, 0);
+  EXPECT_EQ(slurp(csv).substr(0, 26), "time,joint:33:14\n0,0\n0.005");
+}
+
+TEST_F(MbdynCli, ChannelsListsNodesJointsAndTimeSpan) {
+  const CliRun r = run("channels " + prefix + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["blocks"], 201);
+  EXPECT_EQ(j["nodes"].size(), 7u);
+  EXPECT_EQ(j["nodes"][0]["orientation"], "euler123");
+  EXPECT_EQ(j["entities"].size(), 9u);  // joints 2 3 4 5 6 31..34
+  EXPECT_NEAR(j["time"][1].get<double>(), 1.0, 1e-9);
+}
+
+TEST_F(MbdynCli, RowOutOfOrder) {
+  auto v = lines_of(prefix + ".mov");
+  std::swap(v[7], v[8]);
+  std::ofstream o(prefix + ".mov", std::ios::trunc);
+  for (const auto& l : v) o << l << "\n";
+  o.close();
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov:8: expected the row of label 2");
+}
+
+TEST_F(MbdynCli, WrongColumnCount) {
+  edit_line(".mov", 15, [](std::string l) { return l.substr(0, l.rfind(' ')); });
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov:15: label 2: 12 columns, expected 13");
+}
+
+TEST_F(MbdynCli, TextInANumericField) {
+  // Line 50 is row 5 of block 6: joint 6 (axial rotation), 20 columns.
+  edit_line(".jnt", 50, [](std::string l) { return l.substr(0, l.rfind(' ')) + " abc"; });
+  expect_one_line_error(run("extract " + prefix + " --channel joint:6:20"), "run.jnt:50: column 20: 'abc' is not a number");
+}
+
+TEST_F(MbdynCli, NonFiniteValue) {
+  edit_line(".mov", 8, [](std::string l) { return "       2 nan" + l.substr(l.find(' ', 9)); });
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov:8: column 2: 'nan': expected a finite number");
+}
+
+TEST_F(MbdynCli, UnknownLabels) {
+  expect_one_line_error(run("extract " + prefix + " --channel node:99:x"), "run.log: channel 'node:99:x': no structural node 99");
+  expect_one_line_error(run("extract " + prefix + " --channel joint:99:2"), "run.jnt: no rows of label 99");
+  expect_one_line_error(run("extract " + kIso + ".nc --channel joint:99:2"), "no joint 99");
+}
+
+TEST_F(MbdynCli, ColumnBeyondTheRow) {
+  expect_one_line_error(run("extract " + prefix + " --channel joint:33:20"), "label 33 has 15 columns, column 20 requested");
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:r4"), "writes 3 orientation numbers");
+}
+
+TEST_F(MbdynCli, BlockCountsDisagree) {
+  auto v = lines_of(prefix + ".out");
+  v.resize(v.size() - 5);
+  std::ofstream o(prefix + ".out", std::ios::trunc);
+  for (const auto& l : v) o << l << "\n";
+  o.close();
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "inconsistent output set");
+}
+
+TEST_F(MbdynCli, MissingFilesOfTheSet) {
+  fs::remove(prefix + ".jnt");
+  expect_one_line_error(run("extract " + prefix + " --channel joint:33:14"), "run.jnt: cannot open the file");
+  fs::remove(prefix + ".log");
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.log: cannot open the file");
+}
+
+TEST_F(MbdynCli, MalformedLogAndOut) {
+  edit_line(".log", 3, [](std::string) { return std::string("structural node: 2 0.1 zero 0 euler123 0 0 0"); });
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.log:3: node 2: position is not a number");
+  fs::copy_file(kIso + ".log", prefix + ".log", fs::copy_options::overwrite_existing);
+  edit_line(".out", 10, [](std::string) { return std::string("Step 6 0.006 0.001"); });
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.out:10: expected 'Step");
+}
+
+TEST_F(MbdynCli, EmptyEntityFile) {
+  std::ofstream(prefix + ".mov", std::ios::trunc).close();
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov: no rows");
+}
+
+TEST_F(MbdynCli, UsageErrors) {
+  expect_one_line_error(run("estimate " + prefix), "--channel", 2);
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:q"), "channel 'node:2:q': expected", 2);
+  expect_one_line_error(run("estimate " + prefix + " --channel node:2:x --column 3"), "--channel", 2);
+}
+
+TEST_F(MbdynCli, NoPartialCsvOnError) {
+  const fs::path csv = dir / "x.csv";
+  expect_one_line_error(run("extract " + prefix + " --channel node:99:x --csv " + csv.string()), "no structural node 99");
+  EXPECT_FALSE(fs::exists(csv));
+}

@@ -1,0 +1,277 @@
+// MBDyn readers against the files' own numbers read another way, synthetic sets in every
+// orientation parametrization, and interrupted runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "mlce/reader/format.hpp"
+#include "mlce/reader/mbdyn_netcdf.hpp"
+#include "mlce/reader/mbdyn_text.hpp"
+#include "mlce/reader/orientation.hpp"
+#include "mlce/reader/table.hpp"
+
+namespace fs = std::filesystem;
+using namespace mlce::reader;
+
+namespace {
+
+const std::string kIso = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_1s/iso_200rpm";
+const std::string kC3 = std::string(MLCE_DATA_DIR) + "/mbdyn/c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf";
+
+std::vector<ChannelSpec> specs(std::initializer_list<const char*> s) {
+  std::vector<ChannelSpec> out;
+  for (const char* t : s) out.push_back(parse_channel_spec(t));
+  return out;
+}
+
+/// The .mov read by a test that knows the layout: rows of `per_block` lines, whitespace fields.
+std::vector<std::vector<double>> mov_rows_of(const std::string& path, long label) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    long l = 0;
+    s >> l;
+    if (l != label) continue;
+    std::vector<double> v{static_cast<double>(l)};
+    double x = 0;
+    while (s >> x) v.push_back(x);
+    rows.push_back(v);
+  }
+  return rows;
+}
+
+/// Output times read another way: the last field of each Step line is the output flag.
+std::vector<double> out_times(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, word;
+  std::vector<double> t;
+  while (std::getline(in, line)) {
+    if (line.rfind("Step ", 0) != 0) continue;
+    std::istringstream s(line);
+    std::vector<std::string> f;
+    while (s >> word) f.push_back(word);
+    if (f.back() == "1") t.push_back(std::stod(f[2]));
+  }
+  return t;
+}
+
+double wrap_pi(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+}  // namespace
+
+TEST(MbdynText, TimesComeFromTheOutputFlagOfStepLines) {
+  const auto cs = read_mbdyn_text(kIso, specs({"node:2:x"}));
+  const auto t = out_times(kIso + ".out");
+  ASSERT_EQ(cs.time.size(), 201u);
+  ASSERT_EQ(t.size(), cs.time.size());
+  for (std::size_t k = 0; k < t.size(); ++k) EXPECT_EQ(cs.time[k], t[k]);
+  EXPECT_DOUBLE_EQ(cs.time[1], 0.005);  // output every 5 steps of 1 ms
+  EXPECT_TRUE(cs.warnings.empty());
+}
+
+TEST(MbdynText, NodeFieldsAreTheFileColumns) {
+  const auto cs = read_mbdyn_text(kIso + ".mov", specs({"node:2:x", "node:13:r3", "node:13:vy", "node:4:wz"}));
+  const auto hub = mov_rows_of(kIso + ".mov", 4), blade = mov_rows_of(kIso + ".mov", 13), x = mov_rows_of(kIso + ".mov", 2);
+  ASSERT_EQ(x.size(), cs.time.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    EXPECT_EQ(cs.values[0][k], x[k][1]);
+    EXPECT_EQ(cs.values[1][k], blade[k][6]);
+    EXPECT_EQ(cs.values[2][k], blade[k][8]);
+    EXPECT_EQ(cs.values[3][k], hub[k][12]);
+  }
+}
+
+TEST(MbdynText, LagAngleFromAbsoluteBodiesMatchesTheDamperAndTheEulerFormula) {
+  // rel:13:4:z is blade 3's lag; the damper joint 33 writes the same angle in column 14; the
+  // data README's formula is zeta = wrap(E3(blade) - E3(hub) - 180 deg).
+  const auto cs = read_mbdyn_text(kC3, specs({"rel:13:4:z"}));
+  const auto hub = mov_rows_of(kC3 + ".mov", 4), blade = mov_rows_of(kC3 + ".mov", 13);
+  ASSERT_EQ(cs.time.size(), 2001u);
+  double early = 0.0, late = 0.0;
+  for (std::size_t k = 0; k < hub.size(); ++k) {
+    const double euler = wrap_pi((blade[k][6] - hub[k][6] - 180.0) * std::numbers::pi / 180.0);
+    EXPECT_NEAR(cs.values[0][k], euler, 1e-9) << "block " << k;
+    (k < 400 ? early : late) = std::max(k < 400 ? early : late, std::abs(cs.values[0][k]));
+  }
+  EXPECT_GT(late, 3.0 * early);  // without blade 3's damper the lag motion grows towards its limit cycle
+
+  const auto both = read_mbdyn_text(kIso, specs({"rel:13:4:z", "joint:33:14", "rel:11:4:z", "joint:31:14"}));
+  for (std::size_t k = 0; k < both.time.size(); ++k) {
+    // Two angles rounded to 7 significant digits in degrees: 2 x 0.5e-4 deg ~ 1.8e-6 rad.
+    EXPECT_NEAR(both.values[0][k], both.values[1][k], 2e-6) << "block " << k;
+    EXPECT_NEAR(both.values[2][k], both.values[3][k], 2e-6) << "block " << k;
+  }
+}
+
+TEST(MbdynNetcdf, SameChannelsAsTheTextSetToPrintedPrecision) {
+  const auto spec = specs({"joint:33:14", "node:2:x", "node:13:r3", "node:3:vy", "joint:2:14", "ine:11:3"});
+  const auto text = read_mbdyn_text(kIso, spec);
+  const auto nc = read_mbdyn_netcdf(kIso + ".nc", spec);
+  ASSERT_EQ(text.time.size(), nc.time.size());
+  for (std::size_t k = 0; k < text.time.size(); ++k) {
+    EXPECT_NEAR(text.time[k], nc.time[k], 1e-9);
+    for (std::size_t c = 0; c < spec.size(); ++c)  // %.6e in the text files: 7 significant digits
+      EXPECT_NEAR(text.values[c][k], nc.values[c][k], 5e-7 * std::abs(nc.values[c][k]) + 1e-300)
+          << spec[c].text << " block " << k;
+  }
+  // The lag from the absolute bodies in the NetCDF file equals the damper's own angle.
+  const auto rel = read_mbdyn_netcdf(kIso + ".nc", specs({"rel:13:4:z", "joint:33:14"}));
+  for (std::size_t k = 0; k < rel.time.size(); ++k) EXPECT_NEAR(rel.values[0][k], rel.values[1][k], 1e-9);
+  EXPECT_TRUE(rel.warnings.empty());  // the .log beside the file gives the initial configuration
+}
+
+TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {
+  const auto& reg = default_registry();
+  EXPECT_EQ(reg.for_path(kIso).name(), "mbdyn-text");
+  EXPECT_EQ(reg.for_path(kIso + ".mov").name(), "mbdyn-text");
+  EXPECT_EQ(reg.for_path(kIso + ".nc").name(), "mbdyn-netcdf");
+  EXPECT_EQ(reg.for_path(std::string(MLCE_DATA_DIR) + "/lorenz_x.txt").name(), "column");
+  EXPECT_THROW(reg.for_path("/nonexistent/run"), ReadError);
+  const auto inv = reg.for_path(kIso).describe(kIso);
+  EXPECT_EQ(inv.blocks, 201u);
+  EXPECT_EQ(inv.nodes.size(), 7u);
+  EXPECT_EQ(inv.nodes[3].label, 11);
+  EXPECT_EQ(inv.nodes[3].kind, "dynamic");
+  EXPECT_EQ(inv.nodes[2].kind, "static/dummy");  // the massless hub has no .ine rows
+}
+
+// ---- synthetic sets: every orientation parametrization, unwrapping, interruption ----------
+
+namespace {
+
+Matrix3 mul(const Matrix3& a, const Matrix3& b) {
+  Matrix3 c{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) c[3 * i + j] += a[3 * i + k] * b[3 * k + j];
+  return c;
+}
+Matrix3 axis_rot(int axis, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+  Matrix3 r{};
+  r[3 * axis + axis] = 1;
+  r[3 * i + i] = c, r[3 * i + j] = -s, r[3 * j + i] = s, r[3 * j + j] = c;
+  return r;
+}
+
+struct SyntheticSet {
+  fs::path dir;
+  std::string prefix;
+  std::vector<double> zeta;
+};
+
+/// Node 1 (B) turns about a tilted axis; node 2 (A) = B * R_axis(zeta(t)) * R_rel0, zeta sweeping
+/// beyond +-pi, written in parametrization `o` with 16 digits.
+SyntheticSet make_set(Orientation o, int axis, const std::string& name) {
+  SyntheticSet s;
+  s.dir = fs::temp_directory_path() / ("mlce_syn_" + std::to_string(::getpid()) + "_" + name);
+  fs::create_directories(s.dir);
+  s.prefix = (s.dir / "run").string();
+  const Matrix3 rel0 = axis_rot(2, 0.5 * std::numbers::pi);
+  auto B = [](double t) { return mul(axis_rot(0, 0.2), axis_rot(2, 3.0 * t)); };
+  auto A = [&](double t, double z) { return mul(mul(B(t), axis_rot(axis, z)), rel0); };
+  auto values = [&](const Matrix3& R) {
+    std::string out;
+    char buf[40];
+    for (double v : orientation_values(o, R)) std::snprintf(buf, sizeof buf, " %.16e", v), out += buf;
+    return out;
+  };
+  std::ofstream log(s.prefix + ".log"), out(s.prefix + ".out"), mov(s.prefix + ".mov");
+  log << "output frequency: 1\n";
+  log << "structural node: 1 0 0 0 " << orientation_name(o) << values(B(0)) << "\n";
+  log << "structural node: 2 1 0 0 " << orientation_name(o) << values(A(0, 0)) << "\n";
+  out << "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
+  const std::size_t n = 400;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = 0.05 * static_cast<double>(k), z = 5.0 * std::sin(0.7 * t);
+    s.zeta.push_back(z);
+    out << "Step " << k << " " << t << " 0.05 1 0 0 0 1\n";
+    for (int node = 1; node <= 2; ++node) {
+      mov << "       " << node << " 0 0 0" << values(node == 1 ? B(t) : A(t, z)) << " 0 0 0 0 0 0\n";
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+class OrientationRoundTrip : public ::testing::TestWithParam<std::tuple<Orientation, int>> {};
+
+TEST_P(OrientationRoundTrip, KnownRelativeRotationReadsBackUnwrapped) {
+  const auto [o, axis] = GetParam();
+  const std::string axis_name(1, static_cast<char>('x' + axis));
+  const auto set = make_set(o, axis, std::string(orientation_name(o)) + axis_name);
+  const auto cs = read_mbdyn_text(set.prefix, specs({("rel:2:1:" + axis_name).c_str()}));
+  ASSERT_EQ(cs.values[0].size(), set.zeta.size());
+  for (std::size_t k = 0; k < set.zeta.size(); ++k)
+    ASSERT_NEAR(cs.values[0][k], set.zeta[k], 1e-9) << orientation_name(o) << " sample " << k;
+  fs::remove_all(set.dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryParametrization, OrientationRoundTrip,
+                         ::testing::Combine(::testing::Values(Orientation::euler123, Orientation::euler313,
+                                                              Orientation::euler321, Orientation::phi,
+                                                              Orientation::mat),
+                                            ::testing::Values(0, 2)));
+
+TEST(Orientation, ParametrizationsRoundTrip) {
+  const Matrix3 R = mul(mul(axis_rot(2, 0.4), axis_rot(0, -0.7)), axis_rot(1, 1.1));
+  for (auto o : {Orientation::euler123, Orientation::euler313, Orientation::euler321, Orientation::phi, Orientation::mat}) {
+    const Matrix3 back = rotation_matrix(o, orientation_values(o, R));
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(back[i], R[i], 1e-12) << orientation_name(o);
+  }
+}
+
+TEST(MbdynText, InterruptedRunReadsEveryCompleteBlockWithWarnings) {
+  const fs::path dir = fs::temp_directory_path() / ("mlce_cut_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const char* e : {".log", ".out", ".mov"}) fs::copy_file(kIso + e, dir / (std::string("run") + e));
+  // Cut the .mov mid-line in the last block (row 4 of 7, 20 characters in).
+  std::ifstream in(kIso + ".mov");
+  std::ostringstream keep;
+  std::string line;
+  std::size_t n = 0;
+  const std::size_t stop = 200 * 7 + 3;
+  while (std::getline(in, line) && n < stop) keep << line << "\n", ++n;
+  std::getline(in, line);
+  keep << line.substr(0, 20);
+  std::ofstream(dir / "run.mov", std::ios::trunc) << keep.str();
+  const auto cs = read_mbdyn_text((dir / "run").string(), specs({"node:2:x", "rel:13:4:z"}));
+  EXPECT_EQ(cs.time.size(), 200u);
+  std::string all;
+  for (const auto& w : cs.warnings) all += w + "\n";
+  EXPECT_NE(all.find("no end of line"), std::string::npos) << all;
+  EXPECT_NE(all.find("last block is incomplete"), std::string::npos) << all;
+  EXPECT_NE(all.find("using the first 200"), std::string::npos) << all;
+  fs::remove_all(dir);
+}
+
+TEST(ChannelSpec, ParsesEveryKindAndRejectsMalformedSpecs) {
+  EXPECT_EQ(parse_channel_spec("node:12:wz").kind, ChannelSpec::Kind::node);
+  const auto j = parse_channel_spec("joint:33:14");
+  EXPECT_EQ(j.extension, "jnt");
+  EXPECT_EQ(j.column, 14u);
+  const auto r = parse_channel_spec("rel:13:4:z");
+  EXPECT_EQ(r.label, 13);
+  EXPECT_EQ(r.reference, 4);
+  EXPECT_EQ(r.axis, 2);
+  EXPECT_EQ(parse_channel_spec("ine:11:2").extension, "ine");
+  EXPECT_EQ(parse_channel_spec("col:3").column, 3u);
+  for (const char* bad : {"", "node:2", "node:x:x", "node:2:q", "rel:1:2:w", "joint:3:1", "joint:3:k", "col:0", "mov:1:2",
+                          "Node:1:2"})
+    EXPECT_THROW(parse_channel_spec(bad), ReadError) << bad;
+}
+
+TEST(MbdynOut, SevenFieldStepLinesUseTheOutputFrequency) {
+  const auto t = parse_mbdyn_out("Step 0 0 0 1 0 0 0\nStep 1 0.1 0.1 1 0 0 0\nStep 2 0.2 0.1 1 0 0 0\n", "x.out", 2);
+  ASSERT_EQ(t.time.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.time[1], 0.2);
+  EXPECT_THROW(parse_mbdyn_out("Step 0 0 0 1 0 0 0\n", "x.out", 0), ReadError);
+}
