@@ -18,6 +18,7 @@ target_link_libraries(consumer PRIVATE mlce::mlce mlce::reader)
 ]=])
 file(WRITE ${consumer}/main.cpp [=[
 #include <mlce/mean_period.hpp>
+#include <mlce/reader/format.hpp>
 #include <cmath>
 #include <cstdio>
 int main() {
@@ -27,6 +28,8 @@ int main() {
   for (int i = 0; i < 1000; ++i) s.channels[0].push_back(std::sin(2 * M_PI * 5.0 * i * 0.01));
   auto r = mlce::estimate_mean_period(s, {});
   std::printf("%g\n", r.mean_frequency);
+  if (mlce::reader::parse_channel_spec("rel:13:4:z").axis != 2) return 1;
+  if (mlce::reader::default_registry().names().size() != 3) return 1;
   return std::abs(r.mean_frequency - 5.0) < 1e-6 ? 0 : 1;
 }
 ]=])

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Parse throughput and peak memory of the MBDyn text reader on large .mov files made by repeating
+# the blocks of a real sample (times continue from the .out of the sample).
+#   bench/reader_throughput.sh [BUILD_DIR] [SAMPLE_PREFIX] [REPEATS...]
+# Files are written to a temporary directory first, so the read comes from the page cache: this
+# measures parsing, not the disk.
+set -euo pipefail
+build="${1:-build}"
+sample="${2:-data/mbdyn/c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf}"
+shift 2 2>/dev/null || shift $#
+repeats=("${@:-10 50}")
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+echo "| .mov size | blocks | channel | seconds | MB/s | peak RSS |"
+echo "|---|---|---|---|---|---|"
+for r in ${repeats[@]}; do
+  p="$work/big$r"
+  cp "$sample.log" "$p.log"
+  : > "$p.mov"
+  for ((k = 0; k < r; k++)); do cat "$sample.mov" >> "$p.mov"; done
+  blocks=$(( $(wc -l < "$p.mov") / 7 ))
+  awk -v n="$blocks" 'BEGIN { print "# Step Time TStep NIter ResErr SolErr SolConv Out";
+       for (k = 0; k < n; k++) printf "Step %d %.17g 0.005 2 1e-08 0 0 1\n", k, 0.005 * k }' > "$p.out"
+  for spec in node:13:x rel:13:4:z; do
+    line=$( { /usr/bin/time -f "RSS %M" "$build/read_channel" "$p" "$spec"; } 2>&1 )
+    secs=$(sed -nE 's/.*seconds ([0-9.]+).*/\1/p' <<<"$line")
+    mbs=$(sed -nE 's/.*throughput ([0-9]+) MB.*/\1/p' <<<"$line")
+    rss=$(sed -nE 's/.*RSS ([0-9]+).*/\1/p' <<<"$line")
+    echo "| $(( $(stat -c %s "$p.mov") / 1000000 )) MB | $blocks | $spec | $secs | $mbs | $(( rss / 1024 )) MB |"
+  done
+  rm -f "$p".*
+done
