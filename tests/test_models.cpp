@@ -1,0 +1,243 @@
+// Ad-hoc models and integrators against independent truth: complex-step derivatives, known
+// solutions (convergence order), Boost.Odeint's dopri5, and real MBDyn runs of the same model.
+#include <gtest/gtest.h>
+
+#include <boost/numeric/odeint.hpp>
+#include <cmath>
+#include <complex>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "mlce/models/flapping.hpp"
+#include "mlce/models/hammond.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/models/simulate.hpp"
+#include "mlce/ode/runge_kutta.hpp"
+#include "mlce/reader/channel_spec.hpp"
+#include "mlce/reader/mbdyn_text.hpp"
+
+using namespace mlce;
+using Eigen::VectorXd;
+
+namespace {
+
+const std::string kIso = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_1s/iso_200rpm";
+const std::string kC3 = std::string(MLCE_DATA_DIR) + "/mbdyn/c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf";
+
+/// Complex-step Jacobian (Squire & Trapp): J e_j = Im f(x + i h e_j) / h, exact to rounding.
+Eigen::MatrixXd complex_step_jacobian(const models::HammondModel& m, const VectorXd& x, double t) {
+  const Eigen::Index n = x.size();
+  Eigen::MatrixXd J(n, n);
+  const double h = 1e-30;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    Eigen::VectorXcd xc = x.cast<std::complex<double>>(), f(n);
+    xc(j) += std::complex<double>(0.0, h);
+    m.rhs(xc, f, t);
+    J.col(j) = f.imag() / h;
+  }
+  return J;
+}
+
+models::Scene scene(std::vector<std::string> overrides) { return models::load_scene("", overrides); }
+
+}  // namespace
+
+TEST(Hammond, AnalyticJacobianMatchesComplexStep) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (const char* damper : {"linear", "nonlinear"}) {
+    models::HammondParameters p;
+    p.damper.assign(4, damper == std::string("linear") ? models::DamperLaw::linear : models::DamperLaw::nonlinear);
+    p.k = {100.0, 0.0, 2500.0, 0.0};
+    const models::HammondModel m(p);
+    for (int trial = 0; trial < 20; ++trial) {
+      VectorXd x(12);
+      for (int i = 0; i < 12; ++i) x(i) = U(rng);
+      // Rates on both damper branches (|zetadot| below and above 1 deg/s), never at the kink.
+      for (int i = 6; i < 10; ++i) x(i) = (trial % 2 ? 0.01 : 0.5) * U(rng);
+      const double t = 3.0 * U(rng);
+      const auto Ja = m.jacobian(x, t), Jc = complex_step_jacobian(m, x, t);
+      const double scale = Jc.cwiseAbs().maxCoeff();
+      for (int i = 0; i < 12; ++i)
+        for (int j = 0; j < 12; ++j)
+          ASSERT_NEAR(Ja(i, j), Jc(i, j), 1e-8 * std::max(std::abs(Jc(i, j)), 1e-6 * scale))
+              << damper << " trial " << trial << " (" << i << "," << j << ")";
+    }
+  }
+}
+
+TEST(Hammond, NonlinearDamperIsContinuousAtSaturation) {
+  const double zL = 0.017453292519943295, chibar = 1.2203e6;
+  for (double CL : {0.0, 4067.5}) {
+    const double below = models::nonlinear_damper_moment(zL * (1 - 1e-12), CL, chibar, zL);
+    const double above = models::nonlinear_damper_moment(zL * (1 + 1e-12), CL, chibar, zL);
+    EXPECT_NEAR(below, above, 1e-6 * std::abs(above));
+    EXPECT_NEAR(above, -chibar * zL * zL, 1e-9);
+    EXPECT_GT(models::nonlinear_damper_moment(-0.5 * zL, CL, chibar, zL), 0.0);  // opposes the rate
+  }
+}
+
+TEST(Hammond, MassMatrixIsSymmetricAndEnergyIsConservedWithoutDampingAtRest) {
+  // No dampers, no rotation: the free system conserves T + V; a sign error in the coupling
+  // (as printed in eq. 25b) breaks this.
+  models::HammondParameters p;
+  p.rpm = 0.0;
+  p.c.assign(4, 0.0);
+  p.c_x = p.c_y = 0.0;
+  p.k = {3e4, 2e4, 3e4, 1e4};
+  const models::HammondModel m(p);
+  auto energy = [&](const VectorXd& x) {
+    double T = 0.5 * (p.m_x + 4 * p.m_b) * x(10) * x(10) + 0.5 * (p.m_y + 4 * p.m_b) * x(11) * x(11);
+    double V = 0.5 * p.k_x * x(4) * x(4) + 0.5 * p.k_y * x(5) * x(5);
+    for (int i = 0; i < 4; ++i) {
+      const double u = p.azimuth0(i) + x(i);
+      T += 0.5 * p.I_b * x(6 + i) * x(6 + i) + p.S_b * x(6 + i) * (-x(10) * std::sin(u) + x(11) * std::cos(u));
+      V += 0.5 * p.k[static_cast<std::size_t>(i)] * x(i) * x(i);
+    }
+    return T + V;
+  };
+  VectorXd x0 = VectorXd::Zero(12);
+  x0 << 0.3, -0.2, 0.1, 0.4, 0.05, -0.03, 0.5, 0.0, -0.4, 0.2, 0.1, 0.2;
+  ode::IntegratorOptions o;
+  o.rtol = 1e-11, o.atol = 1e-13;
+  const double e0 = energy(x0);
+  ode::integrate_uniform(m, x0, 0.0, 0.1, 101, o, [&](std::size_t, double, const VectorXd& x) {
+    EXPECT_NEAR(energy(x), e0, 1e-7 * std::abs(e0));
+  });
+}
+
+TEST(Integrators, EachSchemeShowsItsOrder) {
+  // y' = y cos t, y(0) = 1: y = exp(sin t). Fixed steps h and h/2, error at t = 2 (a step point).
+  auto f = [](const VectorXd& y, VectorXd& dy, double t) { dy = y * std::cos(t); };
+  for (auto [scheme, order] : {std::pair{ode::Scheme::bs23, 3}, {ode::Scheme::dp45, 5}, {ode::Scheme::rk4, 4}}) {
+    double err[2];
+    for (int r = 0; r < 2; ++r) {
+      ode::IntegratorOptions o;
+      o.scheme = scheme;
+      o.fixed_step = true;
+      o.h_fixed = 0.1 / (1 << r) / 2;
+      VectorXd y(1);
+      y << 1.0;
+      double last = 0;
+      ode::integrate_uniform(f, y, 0.0, 0.1, 21, o, [&](std::size_t, double, const VectorXd& x) { last = x(0); });
+      err[r] = std::abs(last - std::exp(std::sin(2.0)));
+    }
+    const double observed = std::log2(err[0] / err[1]);
+    EXPECT_NEAR(observed, order, 0.3) << ode::scheme_name(scheme) << " errors " << err[0] << " " << err[1];
+  }
+}
+
+TEST(Integrators, AdaptiveDp45AgreesWithBoostOdeintDopri5) {
+  const auto s = scene({"--rpm", "242.4", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "5"});
+  const models::HammondModel m(s.hammond);
+  const auto ours = models::simulate(s);
+  // Boost.Odeint's dense-output dopri5 on the same system (std::vector state).
+  using state = std::vector<double>;
+  auto sys = [&](const state& x, state& dx, double t) {
+    VectorXd xe = Eigen::Map<const VectorXd>(x.data(), 12), fe(12);
+    m(xe, fe, t);
+    dx.assign(fe.data(), fe.data() + 12);
+  };
+  state x(s.x0.data(), s.x0.data() + 12);
+  std::vector<state> theirs;
+  std::vector<double> times;
+  for (std::size_t k = 0; k < ours.time.size(); ++k) times.push_back(ours.time[k]);
+  namespace odeint = boost::numeric::odeint;
+  odeint::integrate_times(odeint::make_dense_output(1e-12, 1e-12, odeint::runge_kutta_dopri5<state>()), sys, x,
+                          times.begin(), times.end(), 1e-4, [&](const state& xs, double) { theirs.push_back(xs); });
+  ASSERT_EQ(theirs.size(), ours.states.size());
+  for (std::size_t k = 0; k < theirs.size(); k += 50)
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(ours.states[k](i), theirs[k][static_cast<std::size_t>(i)], 1e-6) << k << " " << i;
+}
+
+namespace {
+
+/// Lag of blade 3 from an MBDyn output set (the damper joint's own angle would need the .jnt:
+/// the bundled 10-s sample has the .mov, so use the relative rotation of the bodies).
+std::vector<double> mbdyn_lag3(const std::string& prefix, std::vector<double>& time) {
+  auto cs = reader::read_mbdyn_text(prefix, {reader::parse_channel_spec("rel:13:4:z")});
+  time = cs.time;
+  return cs.values[0];
+}
+
+}  // namespace
+
+TEST(Hammond, AgreesWithTheRealMbdynRunOfTheIsotropicRotor) {
+  // iso_200rpm: c_y = 51078.7 (Table 1), all dampers, x_h(0) = 0.1 m; first second.
+  std::vector<double> t;
+  const auto lag = mbdyn_lag3(kIso, t);
+  const auto s = scene({"--rpm", "200", "--cy", "51078.7", "--t_end", "1", "--dt_out", "0.005"});
+  const auto ours = models::simulate(s);
+  ASSERT_EQ(ours.time.size(), lag.size());
+  double peak = 0, worst = 0;
+  for (std::size_t k = 0; k < lag.size(); ++k) {
+    peak = std::max(peak, std::abs(lag[k]));
+    worst = std::max(worst, std::abs(ours.states[k](2) - lag[k]));
+  }
+  EXPECT_GT(peak, 0.01);
+  EXPECT_LT(worst, 0.03 * peak) << "peak " << peak;
+}
+
+TEST(Hammond, FailedDamperAt242rpmGrowsLikeTheRealMbdynRun) {
+  // c3zero_242rpm_cyhalf: c_3 = 0, c_y = 25539.35, first 10 s (the limit cycle builds up).
+  std::vector<double> t;
+  const auto lag = mbdyn_lag3(kC3, t);
+  const auto s = scene({"--rpm", "242.4", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "10"});
+  const auto ours = models::simulate(s);
+  ASSERT_EQ(ours.time.size(), lag.size());
+  auto peak = [&](auto get, double a, double b) {
+    double m = 0;
+    for (std::size_t k = 0; k < t.size(); ++k)
+      if (t[k] >= a && t[k] < b) m = std::max(m, std::abs(get(k)));
+    return m;
+  };
+  for (double a : {2.0, 5.0, 8.0}) {
+    const double theirs = peak([&](std::size_t k) { return lag[k]; }, a, a + 2);
+    const double mine = peak([&](std::size_t k) { return ours.states[k](2); }, a, a + 2);
+    EXPECT_NEAR(mine, theirs, 0.1 * theirs) << "window " << a;
+  }
+}
+
+TEST(Hammond, FailedDamperLimitCycleAt242rpmAndDecayAt124rpm) {
+  // Paper 001 Figs. 7-8; the shared MBDyn run: -1.939 .. 1.555 rad over 20-30 s.
+  const auto hi = models::simulate(scene({"--rpm", "242.4", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "30"}));
+  double lo3 = 0, hi3 = 0;
+  for (std::size_t k = 0; k < hi.time.size(); ++k)
+    if (hi.time[k] >= 20) lo3 = std::min(lo3, hi.states[k](2)), hi3 = std::max(hi3, hi.states[k](2));
+  EXPECT_NEAR(lo3, -1.939, 0.05);
+  EXPECT_NEAR(hi3, 1.555, 0.05);
+  const auto low = models::simulate(scene({"--rpm", "124.2", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "30"}));
+  double early = 0, late = 0;
+  for (std::size_t k = 0; k < low.time.size(); ++k)
+    (low.time[k] < 5 ? early : low.time[k] > 25 ? late : early) =
+        std::max(low.time[k] < 5 ? early : low.time[k] > 25 ? late : early, std::abs(low.states[k](2)));
+  EXPECT_LT(late, 0.05 * early);
+}
+
+TEST(Flapping, HoverIsADampedOscillatorWithKnownExponent) {
+  // mu = 0: beta'' + (gamma/8) beta' + nu^2 beta = 0; with gamma = 8, nu = 1 the roots are
+  // -1/2 +- i sqrt(3)/2, so beta = e^{-t/2}(cos(sqrt3/2 t) + (1/sqrt3) sin(sqrt3/2 t)) beta0.
+  const auto s = scene({"--model", "flapping", "--mu", "0", "--t_end", "10", "--dt_out", "0.5"});
+  const auto tr = models::simulate(s);
+  const double w = std::sqrt(3.0) / 2;
+  for (std::size_t k = 0; k < tr.time.size(); ++k) {
+    const double t = tr.time[k];
+    EXPECT_NEAR(tr.states[k](0), 0.1 * std::exp(-t / 2) * (std::cos(w * t) + std::sin(w * t) / std::sqrt(3.0)), 1e-9);
+  }
+}
+
+TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
+  const std::string path = ::testing::TempDir() + "/s.scene";
+  std::ofstream(path) << "# failed damper\nmodel = hammond\nrpm = 124.2\nc = 4067.5,4067.5,0,4067.5\ndamper = nonlinear\n";
+  auto s = models::load_scene(path, {"--rpm", "242.4"});
+  EXPECT_DOUBLE_EQ(s.hammond.rpm, 242.4);  // the command line wins
+  EXPECT_DOUBLE_EQ(s.hammond.c[2], 0.0);
+  EXPECT_EQ(s.hammond.damper[3], models::DamperLaw::nonlinear);
+  EXPECT_DOUBLE_EQ(s.hammond.c_y, 25539.35);
+  EXPECT_THROW(models::load_scene(path, {"--c", "1,2"}), std::invalid_argument);
+  EXPECT_THROW(models::load_scene(path, {"--rpm", "fast"}), std::invalid_argument);
+  EXPECT_THROW(models::load_scene(path, {"--integrator", "euler"}), std::invalid_argument);
+  EXPECT_THROW(models::load_scene(path, {"--colour", "red"}), std::invalid_argument);
+  EXPECT_THROW(models::load_scene("/nonexistent.scene", {}), std::invalid_argument);
+}
