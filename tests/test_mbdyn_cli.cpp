@@ -202,3 +202,43 @@ TEST_F(MbdynCli, SimulateErrors) {
   EXPECT_FALSE(fs::exists(dir / "x.log"));
   expect_one_line_error(run("simulate /nonexistent.scene --out " + (dir / "x").string()), "cannot open the scene file");
 }
+
+TEST_F(MbdynCli, TruncatedSetReadsCompleteBlocksWithWarnings) {
+  // Cut the .mov mid-line in its last block: exit 0, 200 of 201 blocks, warnings on stderr.
+  const std::string mov = slurp(prefix + ".mov");
+  std::ofstream(prefix + ".mov", std::ios::trunc) << mov.substr(0, mov.size() - 150);
+  const CliRun r = run("extract " + prefix + " --channel node:2:x");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 201);  // header + 200 blocks
+  EXPECT_NE(r.err.find("no end of line"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("last block is incomplete"), std::string::npos) << r.err;
+}
+
+TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {
+  fs::copy_file(kIso + ".nc", dir / "alone.nc");
+  const CliRun r = run("extract " + (dir / "alone.nc").string() + " --channel rel:13:4:z --channel joint:33:14");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("angle measured from the first record"), std::string::npos) << r.err;
+  std::istringstream s(r.out);
+  std::string line;
+  std::getline(s, line);
+  double worst = 0;
+  while (std::getline(s, line)) {  // the run starts at zero lag: same angle as the damper's
+    const auto a = line.find(','), b = line.find(',', a + 1);
+    worst = std::max(worst, std::abs(std::stod(line.substr(a + 1, b - a - 1)) - std::stod(line.substr(b + 1))));
+  }
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST_F(MbdynCli, EveryCommandHasHelp) {
+  for (const char* c : {"estimate", "ami", "fnn", "simulate", "channels", "extract"}) {
+    const CliRun r = run(std::string(c) + " --help");
+    EXPECT_EQ(r.status, 0) << c;
+    EXPECT_EQ(r.out.rfind(std::string("mlce ") + c, 0), 0u) << r.out;
+  }
+}
+
+TEST_F(MbdynCli, SimulateRefusesAnOutputTooLargeToHold) {
+  expect_one_line_error(run("simulate --t_end 1e6 --dt_out 1e-6 --out " + (dir / "x").string()),
+                        "output samples: expected at most 5e7");
+}

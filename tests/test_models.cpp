@@ -176,7 +176,10 @@ TEST(Hammond, AgreesWithTheRealMbdynRunOfTheIsotropicRotor) {
     worst = std::max(worst, std::abs(ours.states[k](2) - lag[k]));
   }
   EXPECT_GT(peak, 0.01);
-  EXPECT_LT(worst, 0.03 * peak) << "peak " << peak;
+  // Measured 1.1e-5 rad at a peak of 0.026 rad. Bound: 1e-3 of the peak, the phase error MBDyn's
+  // multistep scheme (rho_inf 0.6, 1 ms) accumulates over 1 s plus 7-digit output; the ad-hoc run
+  // (rk45, rtol 1e-8) is ~1e-6 rad accurate (bench_models).
+  EXPECT_LT(worst, 1e-3 * peak) << "peak " << peak;
 }
 
 TEST(Hammond, FailedDamperAt242rpmGrowsLikeTheRealMbdynRun) {
@@ -195,8 +198,14 @@ TEST(Hammond, FailedDamperAt242rpmGrowsLikeTheRealMbdynRun) {
   for (double a : {2.0, 5.0, 8.0}) {
     const double theirs = peak([&](std::size_t k) { return lag[k]; }, a, a + 2);
     const double mine = peak([&](std::size_t k) { return ours.states[k](2); }, a, a + 2);
-    EXPECT_NEAR(mine, theirs, 0.1 * theirs) << "window " << a;
+    EXPECT_NEAR(mine, theirs, 0.02 * theirs) << "window " << a;
   }
+  // Pointwise: measured 3.6e-3 rad at a peak of 0.55 rad after 10 s of growth (0.7 %); bound 1.5 %
+  // of the peak, the multistep scheme's phase error growing with the amplitude.
+  double worst = 0, top = 0;
+  for (std::size_t k = 0; k < t.size(); ++k)
+    worst = std::max(worst, std::abs(ours.states[k](2) - lag[k])), top = std::max(top, std::abs(lag[k]));
+  EXPECT_LT(worst, 0.015 * top) << "peak " << top;
 }
 
 TEST(Hammond, FailedDamperLimitCycleAt242rpmAndDecayAt124rpm) {

@@ -75,13 +75,20 @@ void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
   in.file = vm["file"].as<std::string>();
 }
 
-po::variables_map parse(const std::vector<std::string>& args, const po::options_description& d) {
+/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
+/// --help was given: the description is then printed and the command has nothing else to do.
+std::optional<po::variables_map> parse(const std::vector<std::string>& args, po::options_description& d) {
+  d.add_options()("help", "this help");
   po::positional_options_description pos;
   pos.add("file", 1);
   po::options_description all = d;
   all.add_options()("file", po::value<std::string>(), "input file");
   po::variables_map vm;
   po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  if (vm.count("help")) {
+    std::cout << d;
+    return std::nullopt;
+  }
   po::notify(vm);
   return vm;
 }
@@ -118,14 +125,11 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
-      ("quiet", po::bool_switch(&quiet), "no progress messages")
-      ("help", "this help");
+      ("quiet", po::bool_switch(&quiet), "no progress messages");
   d.add(e);
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   MlceOptions o;
   o.delay = auto_or_count(delay, "delay");
@@ -172,13 +176,10 @@ int cmd_ami(const std::vector<std::string>& args) {
   d.add_options()
       ("max-delay", po::value(&o.max_delay), "largest delay (0 = auto)")
       ("bins", po::value(&o.bins), "histogram bins (0 = Sturges)")
-      ("json", po::bool_switch(&json), "print one JSON object")
-      ("help", "this help");
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+      ("json", po::bool_switch(&json), "print one JSON object");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const AmiResult r = estimate_delay_ami(loaded.series, o);
@@ -202,13 +203,10 @@ int cmd_fnn(const std::vector<std::string>& args) {
       ("rtol", po::value(&o.rtol), "Kennel R_tol")
       ("atol", po::value(&o.atol), "Kennel A_tol")
       ("threshold", po::value(&o.threshold), "false fraction that accepts m")
-      ("json", po::bool_switch(&json), "print one JSON object")
-      ("help", "this help");
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+      ("json", po::bool_switch(&json), "print one JSON object");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const auto period = estimate_mean_period(loaded.series, {}).mean_period;
@@ -241,15 +239,12 @@ int cmd_simulate(const std::vector<std::string>& args) {
   d.add_options()
       ("out", po::value(&out_prefix), "output prefix: PREFIX.{log,out,mov} (mbdyn) or PREFIX.txt (columns)")
       ("format", po::value(&format), "mbdyn (MBDyn text set, Hammond only) | columns (time and every state)")
-      ("quiet", po::bool_switch(&quiet), "no progress messages")
-      ("help", "this help");
+      ("quiet", po::bool_switch(&quiet), "no progress messages");
   const auto scene_keys = models::scene_options();
   d.add(scene_keys);
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   if (out_prefix.empty()) throw po::error("give --out PREFIX");
   if (format != "mbdyn" && format != "columns") throw po::error("--format '" + format + "': expected mbdyn or columns");
   std::vector<std::string> overrides;
@@ -281,12 +276,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
 int cmd_channels(const std::vector<std::string>& args) {
   bool json = false;
   po::options_description d("mlce channels SET [options]");
-  d.add_options()("json", po::bool_switch(&json), "print one JSON object")("help", "this help");
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+  d.add_options()("json", po::bool_switch(&json), "print one JSON object");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix, a .nc file or a column file)");
   const std::string file = vm["file"].as<std::string>();
   const reader::Inventory inv = reader::default_registry().for_path(file).describe(file);
@@ -331,13 +324,10 @@ int cmd_extract(const std::vector<std::string>& args) {
   po::options_description d("mlce extract SET --channel SPEC... [options]");
   d.add_options()
       ("channel", po::value(&channels)->composing(), "channel spec (repeatable)")
-      ("csv", po::value(&csv_path), "write to this file instead of stdout")
-      ("help", "this help");
-  const auto vm = parse(args, d);
-  if (vm.count("help")) {
-    std::cout << d;
-    return 0;
-  }
+      ("csv", po::value(&csv_path), "write to this file instead of stdout");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
   if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix, a .nc file or a column file)");
   if (channels.empty()) throw po::error("give at least one --channel SPEC");
   const std::string file = vm["file"].as<std::string>();

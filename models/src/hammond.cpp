@@ -73,8 +73,9 @@ void HammondModel::evaluate(const Vec& x, Vec& dxdt, double t) const {
   Eigen::Matrix<T, 2, 2> S;
   S << T(p_.m_x + N * p_.m_b), T(0), T(0), T(p_.m_y + N * p_.m_b);
   Eigen::Matrix<T, 2, 1> Fh(-p_.c_x * xd - p_.k_x * x(N), -p_.c_y * yd - p_.k_y * x(N + 1));
-  Eigen::Matrix<T, Eigen::Dynamic, 1> Fb(N);
-  Eigen::Matrix<T, Eigen::Dynamic, 2> B(N, 2);
+  // Bounded sizes (blades <= 64, validated): no heap allocation in the right-hand side.
+  Eigen::Matrix<T, Eigen::Dynamic, 1, 0, 64, 1> Fb(N);
+  Eigen::Matrix<T, Eigen::Dynamic, 2, 0, 64, 2> B(N, 2);
   for (int i = 0; i < N; ++i) {
     const auto iu = static_cast<std::size_t>(i);
     const double psi = W * t + p_.azimuth0(i);

@@ -207,6 +207,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   s.integrator.h_fixed = r.number("h", 0.0);
   if (!(s.dt_out > 0) || !(s.t_end > 0) || s.dt_out > s.t_end)
     throw std::invalid_argument(source + ": expected 0 < dt_out <= t_end");
+  // Every sample is kept in memory (and written): bound it before allocating.
+  constexpr double kMaxSamples = 5e7;
+  if (s.t_end / s.dt_out > kMaxSamples)
+    throw std::invalid_argument(source + ": t_end / dt_out = " + std::to_string(s.t_end / s.dt_out) +
+                                " output samples: expected at most 5e7 (raise dt_out)");
   try {
     s.integrator.validate();
   } catch (const std::invalid_argument& e) {

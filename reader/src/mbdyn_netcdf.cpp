@@ -116,17 +116,16 @@ NodeOrientation node_orientation(const NcFile& nc, long label) {
   return {Orientation::none, ""};
 }
 
-/// Orientation numbers of every record as the text file would write them (matrix row by row;
-/// NetCDF stores R column-major, format doc section 11).
+/// Orientation number `r` (0-based) of every record as the text file would write it: a matrix
+/// row by row there, column-major in NetCDF (format doc section 11), so R(i,j) is element 3j+i.
+std::vector<double> orientation_column(const NcFile& nc, const NodeOrientation& o, std::size_t r, std::size_t n) {
+  const std::size_t comp = o.kind == Orientation::mat ? 3 * (r % 3) + r / 3 : r;
+  return nc.column(nc.require(o.var, "orientation"), comp, n, o.var);
+}
+
 std::vector<std::vector<double>> orientation_columns(const NcFile& nc, const NodeOrientation& o, std::size_t n) {
   std::vector<std::vector<double>> cols;
-  const int v = nc.require(o.var, "orientation");
-  if (o.kind == Orientation::mat) {
-    for (std::size_t i = 0; i < 3; ++i)
-      for (std::size_t j = 0; j < 3; ++j) cols.push_back(nc.column(v, 3 * j + i, n, o.var));
-  } else {
-    for (std::size_t k = 0; k < 3; ++k) cols.push_back(nc.column(v, k, n, o.var));
-  }
+  for (std::size_t r = 0; r < orientation_size(o.kind); ++r) cols.push_back(orientation_column(nc, o, r, n));
   return cols;
 }
 
@@ -189,7 +188,7 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
             throw ReadError(path + ": channel '" + s.text + "': node " + std::to_string(s.label) + " has " +
                             (o.kind == Orientation::none ? std::string("no orientation") :
                              std::to_string(orientation_size(o.kind)) + " orientation numbers"));
-          out.values.push_back(std::move(orientation_columns(nc, o, n)[f.component]));
+          out.values.push_back(orientation_column(nc, o, f.component, n));
         } else {
           const std::string name = base + node_group_suffix(f.group);
           out.values.push_back(nc.column(nc.require(name, "channel '" + s.text + "'"), f.component, n, name));
@@ -215,9 +214,9 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
         if (oa.kind == Orientation::none || ob.kind == Orientation::none)
           throw ReadError(path + ": channel '" + s.text + "': both nodes need an orientation");
         const auto ca = orientation_columns(nc, oa, n), cb = orientation_columns(nc, ob, n);
-        auto at = [](const std::vector<std::vector<double>>& c, std::size_t k) {
+        auto first = [](const std::vector<std::vector<double>>& c) {
           std::vector<double> v;
-          for (const auto& col : c) v.push_back(col[k]);
+          for (const auto& col : c) v.push_back(col[0]);
           return v;
         };
         // Initial configuration from the .log beside the file, else the first record.
@@ -228,7 +227,7 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
           std::error_code ec;
           if (std::filesystem::is_regular_file(lp, ec)) log = read_mbdyn_log(lp.string());
         }
-        Matrix3 RA0 = rotation_matrix(oa.kind, at(ca, 0)), RB0 = rotation_matrix(ob.kind, at(cb, 0));
+        Matrix3 RA0 = rotation_matrix(oa.kind, first(ca)), RB0 = rotation_matrix(ob.kind, first(cb));
         const auto* la = log ? log->node(s.label) : nullptr;
         const auto* lb = log ? log->node(s.reference) : nullptr;
         if (la && lb && la->orientation != Orientation::none && lb->orientation != Orientation::none) {
@@ -238,11 +237,8 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
           out.warnings.push_back(path + ": channel '" + s.text +
                                  "': no .log beside the file with both nodes; angle measured from the first record");
         }
-        std::vector<double> angle(n);
-        for (std::size_t k = 0; k < n; ++k)
-          angle[k] = relative_twist(rotation_matrix(oa.kind, at(ca, k)), rotation_matrix(ob.kind, at(cb, k)), RA0, RB0, s.axis);
-        unwrap(angle);
-        out.values.push_back(std::move(angle));
+        const std::vector<std::span<const double>> sa(ca.begin(), ca.end()), sb(cb.begin(), cb.end());
+        out.values.push_back(relative_angle_series(oa.kind, sa, ob.kind, sb, RA0, RB0, s.axis, n));
         break;
       }
       case ChannelSpec::Kind::column:

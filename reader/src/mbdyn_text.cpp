@@ -124,7 +124,7 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
     double time = 0.0;
     if ((f.size() != 8 && f.size() != 9) || !parse_long(f[1], step) || !parse_double(f[2], time) || !std::isfinite(time))
       throw ReadError(src.where() + ": expected 'Step STEP TIME TSTEP NITER RESERR SOLERR SOLCONV [OUT]'");
-    if (step <= last_step && !t.step.empty()) continue;  // out-of-sequence lines of debug builds
+    if (step <= last_step) continue;  // out-of-sequence lines of debug builds
     bool out = false;
     if (f.size() == 9) {
       long flag = 0;
@@ -144,9 +144,8 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
       t.step.push_back(step);
     }
   }
-  if (src.partial_tail()) {
-    // A Step line cut mid-write carries no reliable time: ignored (the block count check reports it).
-  }
+  // A Step line cut mid-write (partial tail) is not returned by the source: its block, if any, is
+  // left over and the block-count check reports it.
   return t;
 }
 
@@ -307,19 +306,19 @@ namespace {
 
 /// Block count of every file read and of the .out must agree; an interrupted run may differ by
 /// one (entity rows are written before the Step line; format doc section 12).
-std::size_t common_blocks(const MbdynTimes& times, const std::string& out_path, const std::vector<BlockRead>& files,
-                          std::vector<std::string>& warnings) {
+std::size_t common_blocks(const MbdynTimes& times, const std::string& out_path,
+                          const std::vector<const BlockRead*>& files, std::vector<std::string>& warnings) {
   std::size_t n = times.time.size();
   std::size_t lo = n, hi = n;
-  for (const auto& f : files) lo = std::min(lo, f.blocks), hi = std::max(hi, f.blocks);
+  for (const auto* f : files) lo = std::min(lo, f->blocks), hi = std::max(hi, f->blocks);
   if (hi - lo > 1) {
     std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
-    for (const auto& f : files) counts += ", " + f.source + ": " + std::to_string(f.blocks) + " blocks";
+    for (const auto* f : files) counts += ", " + f->source + ": " + std::to_string(f->blocks) + " blocks";
     throw ReadError("inconsistent output set: " + counts + " (expected equal counts, or one fewer for an interrupted run)");
   }
   if (hi != lo) {
     std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
-    for (const auto& f : files) counts += ", " + f.source + ": " + std::to_string(f.blocks);
+    for (const auto* f : files) counts += ", " + f->source + ": " + std::to_string(f->blocks);
     warnings.push_back("block counts differ by one (" + counts + "): using the first " + std::to_string(lo));
   }
   if (lo == 0) throw ReadError(out_path + ": no output blocks (no Step line with the output flag set)");
@@ -393,14 +392,14 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
     }
   }
   std::map<std::string, BlockRead> read;
-  std::vector<BlockRead> all;
+  std::vector<const BlockRead*> all;
   for (const auto& [ext, req] : requests) {
     const std::string path = prefix + "." + ext;
     if (!file_exists(path)) throw ReadError(path + ": cannot open the file (missing or unreadable)");
-    read.emplace(ext, read_mbdyn_blocks(path, req));
-    all.push_back(read.at(ext));
+    const BlockRead& b = read.emplace(ext, read_mbdyn_blocks(path, req)).first->second;
+    out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
+    all.push_back(&b);
   }
-  for (const auto& b : all) out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
   const std::size_t n = common_blocks(times, out_path, all, out.warnings);
   out.time.assign(times.time.begin(), times.time.begin() + static_cast<std::ptrdiff_t>(n));
 
@@ -418,16 +417,12 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
     }
     const auto& a = *log.node(s.label);
     const auto& b = *log.node(s.reference);
-    const std::size_t na = orientation_size(a.orientation), nb = orientation_size(b.orientation);
-    const Matrix3 RA0 = rotation_matrix(a.orientation, a.values), RB0 = rotation_matrix(b.orientation, b.values);
-    std::vector<double> angle(n), va(na), vb(nb);
-    for (std::size_t k = 0; k < n; ++k) {
-      for (std::size_t i = 0; i < na; ++i) va[i] = column(i)[k];
-      for (std::size_t i = 0; i < nb; ++i) vb[i] = column(na + i)[k];
-      angle[k] = relative_twist(rotation_matrix(a.orientation, va), rotation_matrix(b.orientation, vb), RA0, RB0, s.axis);
-    }
-    unwrap(angle);
-    out.values.push_back(std::move(angle));
+    const std::size_t na = orientation_size(a.orientation);
+    std::vector<std::span<const double>> ca, cb;
+    for (std::size_t i = 0; i < plans[c].sources.size(); ++i) (i < na ? ca : cb).emplace_back(column(i));
+    out.values.push_back(relative_angle_series(a.orientation, ca, b.orientation, cb,
+                                               rotation_matrix(a.orientation, a.values),
+                                               rotation_matrix(b.orientation, b.values), s.axis, n));
   }
   return out;
 }
@@ -464,7 +459,9 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   }
   const bool have_ine = file_exists(prefix + ".ine");
   for (auto& n : inv.nodes) n.kind = dynamic.count(n.label) ? "dynamic" : have_ine ? "static/dummy" : "unknown";
-  inv.blocks = common_blocks(times, prefix + ".out", all, inv.warnings);
+  std::vector<const BlockRead*> files;
+  for (const auto& b : all) files.push_back(&b);
+  inv.blocks = common_blocks(times, prefix + ".out", files, inv.warnings);
   inv.t_first = times.time.front();
   inv.t_last = times.time[inv.blocks - 1];
   return inv;

@@ -106,16 +106,38 @@ std::vector<double> orientation_values(Orientation o, const Matrix3& r) {
   }
 }
 
-double relative_twist(const Matrix3& RA, const Matrix3& RB, const Matrix3& RA0, const Matrix3& RB0, int axis) {
-  const M3 rel = to_eigen(RB).transpose() * to_eigen(RA);
-  const M3 rel0 = to_eigen(RB0).transpose() * to_eigen(RA0);
-  const M3 d = rel * rel0.transpose();  // in B's frame
-  // Twist about the axis: q = (w, v); twist angle = 2 atan2(v . a, w).
-  const Eigen::Quaterniond q(d);
-  const double s = q.vec()(axis), w = q.w();
-  double angle = 2.0 * std::atan2(s, w);
+namespace {
+
+/// Twist about `axis` of dR = rel (rel0)^T, rel = R_B^T R_A (B's frame); q = (w, v) of dR gives
+/// 2 atan2(v . a, w), wrapped to (-pi, pi].
+double twist(const M3& RA, const M3& RB, const M3& rel0_t, int axis) {
+  const Eigen::Quaterniond q(M3(RB.transpose() * RA * rel0_t));
+  double angle = 2.0 * std::atan2(q.vec()(axis), q.w());
   if (angle > std::numbers::pi) angle -= 2.0 * std::numbers::pi;
   if (angle <= -std::numbers::pi) angle += 2.0 * std::numbers::pi;
+  return angle;
+}
+
+}  // namespace
+
+double relative_twist(const Matrix3& RA, const Matrix3& RB, const Matrix3& RA0, const Matrix3& RB0, int axis) {
+  const M3 rel0 = to_eigen(RB0).transpose() * to_eigen(RA0);
+  return twist(to_eigen(RA), to_eigen(RB), rel0.transpose(), axis);
+}
+
+std::vector<double> relative_angle_series(Orientation oa, const std::vector<std::span<const double>>& a,
+                                          Orientation ob, const std::vector<std::span<const double>>& b,
+                                          const Matrix3& RA0, const Matrix3& RB0, int axis, std::size_t n) {
+  if (a.size() != orientation_size(oa) || b.size() != orientation_size(ob))
+    throw ReadError("relative angle: orientation columns do not match the parametrizations");
+  const M3 rel0_t = (to_eigen(RB0).transpose() * to_eigen(RA0)).transpose();
+  std::vector<double> angle(n), va(a.size()), vb(b.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t i = 0; i < a.size(); ++i) va[i] = a[i][k];
+    for (std::size_t i = 0; i < b.size(); ++i) vb[i] = b[i][k];
+    angle[k] = twist(to_eigen(rotation_matrix(oa, va)), to_eigen(rotation_matrix(ob, vb)), rel0_t, axis);
+  }
+  unwrap(angle);
   return angle;
 }
 

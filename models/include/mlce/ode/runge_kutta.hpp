@@ -35,7 +35,7 @@ struct IntegratorOptions {
   double h_max = 0.0;      ///< largest step; 0 = unlimited
   double h_fixed = 0.0;    ///< rk4 step (or any scheme's when fixed_step); 0 = output step / 4
   bool fixed_step = false; ///< run an embedded pair with the fixed step h_fixed (order studies)
-  std::size_t max_steps = 100'000'000;
+  std::size_t max_steps = 10'000'000;
   void validate() const;
 };
 
@@ -80,7 +80,7 @@ IntegrationStats integrate_uniform(System&& f, State x, double t0, double dt_out
   const Eigen::Index n = x.size();
   IntegrationStats st;
   std::vector<State> k(static_cast<std::size_t>(T.stages), State(n));
-  State xs(n), x_new(n), x_low(n), f_new(n), err(n), rc5(n);
+  State xs(n), x_new(n), f_new(n), err(n), r2(n), r3(n), r4(n), rc5(n);
   auto eval = [&](const State& y, State& dy, double t) {
     f(y, dy, t);
     ++st.evaluations;
@@ -116,7 +116,8 @@ IntegrationStats integrate_uniform(System&& f, State x, double t0, double dt_out
 
   while (next < n_out) {
     if (st.steps + st.rejected >= opt.max_steps)
-      throw IntegrationError("more than " + std::to_string(opt.max_steps) + " steps before t = " + std::to_string(t_end));
+      throw IntegrationError("more than " + std::to_string(opt.max_steps) + " steps before t = " + std::to_string(t_end) +
+                             " (stiff problem? loosen rtol, or use rk4 with a step h)");
     if (h < h_min_rel * std::max(1.0, std::abs(t)))
       throw IntegrationError("step size underflow at t = " + std::to_string(t) + " (stiff or singular problem?)");
     // Stages.
@@ -148,22 +149,25 @@ IntegrationStats integrate_uniform(System&& f, State x, double t0, double dt_out
     // f at the new point (FSAL: the last stage already is).
     if (T.fsal) f_new = k[static_cast<std::size_t>(T.stages - 1)];
     else eval(x_new, f_new, t + h);
-    if (opt.scheme == Scheme::dp45) {
-      rc5.setZero();
-      for (int s = 0; s < 7; ++s)
-        if (detail::kDopriD[s] != 0.0) rc5.noalias() += (h * detail::kDopriD[s]) * k[s];
-    }
-    // Dense output for every output time inside (t, t+h].
+    // Dense output for every output time inside (t, t+h]; its coefficients are formed once per
+    // step, and only for steps that hold an output time.
     const double t_new = t + h;
+    bool dense_ready = false;
     while (next < n_out) {
       const double to = t0 + dt_out * static_cast<double>(next);
       if (to > t_new + 1e-12 * std::abs(t_new)) break;
       const double th = std::clamp((to - t) / h, 0.0, 1.0);
       if (opt.scheme == Scheme::dp45) {
         // y(th) = y0 + th (r2 + (1-th)(r3 + th (r4 + (1-th) r5))), Hairer's contd5
-        const State r2 = x_new - x;
-        const State r3 = h * k[0] - r2;
-        const State r4 = r2 - h * f_new - r3;
+        if (!dense_ready) {
+          r2 = x_new - x;
+          r3 = h * k[0] - r2;
+          r4 = r2 - h * f_new - r3;
+          rc5.setZero();
+          for (int s = 0; s < 7; ++s)
+            if (detail::kDopriD[s] != 0.0) rc5.noalias() += (h * detail::kDopriD[s]) * k[s];
+          dense_ready = true;
+        }
         xs = x + th * (r2 + (1.0 - th) * (r3 + th * (r4 + (1.0 - th) * rc5)));
       } else {  // cubic Hermite on (x, f) at both ends
         const double h00 = (1 + 2 * th) * (1 - th) * (1 - th), h10 = th * (1 - th) * (1 - th);

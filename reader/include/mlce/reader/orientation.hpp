@@ -33,6 +33,13 @@ std::vector<double> orientation_values(Orientation o, const Matrix3& R);
 /// of dR about the axis (swing-twist decomposition; exact for a pure rotation about the axis).
 double relative_twist(const Matrix3& RA, const Matrix3& RB, const Matrix3& RA0, const Matrix3& RB0, int axis);
 
+/// The whole channel rel:A:B:AXIS: `a` and `b` hold the orientation numbers of A and B as
+/// written (one column per number, `n` samples each); the initial relative pose is computed once.
+/// Returns the twist angle of every sample, unwrapped.
+std::vector<double> relative_angle_series(Orientation oa, const std::vector<std::span<const double>>& a,
+                                          Orientation ob, const std::vector<std::span<const double>>& b,
+                                          const Matrix3& RA0, const Matrix3& RB0, int axis, std::size_t n);
+
 /// Removes jumps larger than pi between consecutive samples (adds multiples of 2 pi), in place.
 void unwrap(std::vector<double>& angle);
 
