@@ -18,14 +18,18 @@
 #include "plot.hpp"
 #include "report.hpp"
 #include "series_input.hpp"
+#include "cli_common.hpp"
+#include "spectrum_commands.hpp"
 
 namespace po = boost::program_options;
 using namespace mlce;
 
 namespace {
 
-constexpr int kExitData = 1;   // bad input file or data
-constexpr int kExitUsage = 2;  // bad command line
+using cli::kExitData;
+using cli::kExitUsage;
+using cli::parse;
+using cli::print_warnings;
 
 const char* kUsage =
     "usage: mlce <command> [options]\n"
@@ -34,6 +38,9 @@ const char* kUsage =
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
+    "  spectrum SCENE  all Lyapunov exponents by the discrete QR method, with sensitivities\n"
+    "  floquet SCENE   Floquet exponents of the model linearised about x = 0 (or an orbit)\n"
+    "  eigen SCENE     eigenvalues of the time-invariant (multiblade) linearisation\n"
     "  channels SET    what an MBDyn output set (prefix or .nc) or column file holds\n"
     "  extract SET     write the selected channels with their time as CSV\n"
     "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
@@ -75,24 +82,6 @@ void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
   in.file = vm["file"].as<std::string>();
 }
 
-/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
-/// --help was given: the description is then printed and the command has nothing else to do.
-std::optional<po::variables_map> parse(const std::vector<std::string>& args, po::options_description& d) {
-  d.add_options()("help", "this help");
-  po::positional_options_description pos;
-  pos.add("file", 1);
-  po::options_description all = d;
-  all.add_options()("file", po::value<std::string>(), "input file");
-  po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << d;
-    return std::nullopt;
-  }
-  po::notify(vm);
-  return vm;
-}
-
 /// Stage messages on stderr once a run has lasted a second (short runs stay quiet).
 ProgressCallback progress_printer(bool quiet) {
   if (quiet) return {};
@@ -101,10 +90,6 @@ ProgressCallback progress_printer(bool quiet) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (s > 1.0) std::fprintf(stderr, "mlce: %.1f s: %.*s\n", s, static_cast<int>(stage.size()), stage.data());
   };
-}
-
-void print_warnings(const std::vector<std::string>& w) {
-  for (const auto& s : w) std::fprintf(stderr, "mlce: warning: %s\n", s.c_str());
 }
 
 int cmd_estimate(const std::vector<std::string>& args) {
@@ -247,22 +232,10 @@ int cmd_simulate(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   if (out_prefix.empty()) throw po::error("give --out PREFIX");
   if (format != "mbdyn" && format != "columns") throw po::error("--format '" + format + "': expected mbdyn or columns");
-  std::vector<std::string> overrides;
-  for (const auto& opt : scene_keys.options())
-    if (vm.count(opt->long_name())) overrides.insert(overrides.end(), {"--" + opt->long_name(), vm[opt->long_name()].as<std::string>()});
-  const std::string scene_path = vm.count("file") ? vm["file"].as<std::string>() : "";
-  models::Scene scene;
-  try {
-    scene = models::load_scene(scene_path, overrides);
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error(e.what());
-  }
+  const models::Scene scene = cli::scene_from(vm, scene_keys);
   const auto start = std::chrono::steady_clock::now();
-  auto progress = [&](double f) {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!quiet && s > 1.0) std::fprintf(stderr, "mlce: %.1f s: simulated %.0f %%\n", s, 100.0 * f);
-  };
-  const models::Trajectory tr = models::simulate(scene, progress);
+  cli::ProgressLine progress("simulated", quiet);
+  const models::Trajectory tr = models::simulate(scene, std::ref(progress));
   if (format == "mbdyn") models::write_mbdyn_set(scene, tr, out_prefix);
   else cli::write_file_atomically(out_prefix + ".txt", models::trajectory_columns(tr));
   cli::write_file_atomically(out_prefix + ".scene", "# the scene as run (mlce simulate)\n" + models::describe_scene(scene));
@@ -364,6 +337,9 @@ int main(int argc, char** argv) {
     if (cmd == "channels") return cmd_channels(args);
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "extract") return cmd_extract(args);
+    if (cmd == "spectrum") return cli::cmd_spectrum(args);
+    if (cmd == "floquet") return cli::cmd_floquet(args);
+    if (cmd == "eigen") return cli::cmd_eigen(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;

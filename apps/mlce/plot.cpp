@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -11,22 +12,15 @@
 
 namespace mlce::cli {
 
-void plot_curve_png(const MlceResult& r, const std::string& png_path) {
+void render_png(const std::string& png_path, const std::string& csv,
+                const std::function<std::string(const std::string&, const std::string&)>& script) {
   namespace fs = std::filesystem;
   const fs::path tmp_png = png_path + ".tmp-mlce.png";
   const fs::path data = png_path + ".tmp-mlce.csv";
-  write_file_atomically(data.string(), curve_csv(r));
-  const std::string u = r.time_unit.empty() ? "sample" : r.time_unit;
-  const std::string script = fmt::format(
-      "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
-      "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
-      "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
-      "plot '{}' every ::1 using 2:3 with lines lw 2 title 'mean log divergence', "
-      "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'\n",
-      tmp_png.string(), u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data.string());
+  write_file_atomically(data.string(), csv);
   FILE* gp = popen("gnuplot 2>&1", "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
-  std::fputs(script.c_str(), gp);
+  std::fputs(script(tmp_png.string(), data.string()).c_str(), gp);
   const int rc = pclose(gp);
   std::error_code ec;
   fs::remove(data, ec);
@@ -36,6 +30,32 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   }
   fs::rename(tmp_png, png_path, ec);
   if (ec) throw std::runtime_error(png_path + ": cannot write the file");
+}
+
+void plot_curve_png(const MlceResult& r, const std::string& png_path) {
+  const std::string u = r.time_unit.empty() ? "sample" : r.time_unit;
+  render_png(png_path, curve_csv(r), [&](const std::string& png, const std::string& data) {
+    return fmt::format(
+        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
+        "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
+        "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
+        "plot '{}' every ::1 using 2:3 with lines lw 2 title 'mean log divergence', "
+        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'\n",
+        png, u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data);
+  });
+}
+
+void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
+                      const std::string& ylabel, const std::string& png_path) {
+  const std::string header = csv.substr(0, csv.find('\n'));
+  const auto columns = static_cast<int>(std::count(header.begin(), header.end(), ',')) + 1;
+  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+    return fmt::format(
+        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
+        "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n"
+        "plot for [c=2:{}] '{}' using 1:c with lines lw 2\n",
+        png, xlabel, ylabel, title, columns, data);
+  });
 }
 
 }  // namespace mlce::cli

@@ -1,10 +1,17 @@
 #pragma once
+#include <functional>
 #include <string>
 
 #include "mlce/estimate.hpp"
 
 namespace mlce::cli {
-/// PNG of the divergence curve with the fit region and line, drawn by gnuplot (Debian
-/// gnuplot-nox). Written through a temporary file; throws std::runtime_error on failure.
+/// Runs gnuplot (Debian gnuplot-nox) on script(png_tmp, csv_tmp) with `csv` as its data and moves
+/// the PNG into place only when gnuplot succeeded; throws std::runtime_error naming png_path.
+void render_png(const std::string& png_path, const std::string& csv,
+                const std::function<std::string(const std::string& png, const std::string& data)>& script);
+/// PNG of the divergence curve with the fit region and line.
 void plot_curve_png(const MlceResult& r, const std::string& png_path);
+/// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each.
+void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
+                      const std::string& ylabel, const std::string& png_path);
 }  // namespace mlce::cli

@@ -11,7 +11,9 @@ void FlappingParameters::validate() const {
   if (!(mu >= 0.0) || !std::isfinite(mu)) throw std::invalid_argument("mu: expected >= 0");
 }
 
-FlappingModel::FlappingModel(FlappingParameters p) : p_(p) { p_.validate(); }
+FlappingModel::FlappingModel(FlappingParameters p, bool check) : p_(p) {
+  if (check) p_.validate();
+}
 
 Eigen::MatrixXd FlappingModel::jacobian(const Eigen::VectorXd&, double t) const {
   const double g8 = p_.gamma / 8.0;
@@ -24,6 +26,10 @@ Eigen::MatrixXd FlappingModel::jacobian(const Eigen::VectorXd&, double t) const 
 void FlappingModel::operator()(const Eigen::VectorXd& x, Eigen::VectorXd& dxdt, double t) const {
   dxdt.resize(2);
   dxdt = jacobian(x, t) * x;  // linear: f = A(t) x
+}
+
+void FlappingModel::rhs(const Eigen::VectorXcd& x, Eigen::VectorXcd& dxdt, double t) const {
+  dxdt = jacobian(x.real(), t).cast<std::complex<double>>() * x;
 }
 
 }  // namespace mlce::models

@@ -57,7 +57,9 @@ void HammondParameters::validate() const {
   }
 }
 
-HammondModel::HammondModel(HammondParameters p) : p_(std::move(p)) { p_.validate(); }
+HammondModel::HammondModel(HammondParameters p, bool check) : p_(std::move(p)) {
+  if (check) p_.validate();
+}
 
 template <class Vec>
 void HammondModel::evaluate(const Vec& x, Vec& dxdt, double t) const {

@@ -17,10 +17,12 @@ struct FlappingParameters {
 
 class FlappingModel {
  public:
-  explicit FlappingModel(FlappingParameters p);
+  explicit FlappingModel(FlappingParameters p, bool check = true);
   const FlappingParameters& parameters() const { return p_; }
   int dimension() const { return 2; }
   void operator()(const Eigen::VectorXd& x, Eigen::VectorXd& dxdt, double t) const;
+  /// The same right-hand side in complex arithmetic (complex-step differentiation).
+  void rhs(const Eigen::VectorXcd& x, Eigen::VectorXcd& dxdt, double t) const;
   Eigen::MatrixXd jacobian(const Eigen::VectorXd& x, double t) const;
   std::vector<std::string> state_names() const { return {"beta", "betadot"}; }
 

@@ -60,7 +60,9 @@ double nonlinear_damper_moment(double zetadot, double C_L, double chibar, double
 
 class HammondModel {
  public:
-  explicit HammondModel(HammondParameters p);
+  /// `check` = false skips validate(): sensitivities perturb parameters by 1e-4 of their scale,
+  /// which may step a zero damping just below zero.
+  explicit HammondModel(HammondParameters p, bool check = true);
   const HammondParameters& parameters() const { return p_; }
   int blades() const { return p_.blades; }
   int dimension() const { return 2 * (p_.blades + 2); }

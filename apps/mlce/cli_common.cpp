@@ -1,0 +1,53 @@
+#include "cli_common.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+
+namespace po = boost::program_options;
+
+namespace mlce::cli {
+
+/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
+/// --help was given: the description is then printed and the command has nothing else to do.
+std::optional<po::variables_map> parse(const std::vector<std::string>& args, po::options_description& d) {
+  d.add_options()("help", "this help");
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  po::options_description all = d;
+  all.add_options()("file", po::value<std::string>(), "input file");
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
+  if (vm.count("help")) {
+    std::cout << d;
+    return std::nullopt;
+  }
+  po::notify(vm);
+  return vm;
+}
+
+void print_warnings(const std::vector<std::string>& w) {
+  for (const auto& s : w) std::fprintf(stderr, "mlce: warning: %s\n", s.c_str());
+}
+
+models::Scene scene_from(const po::variables_map& vm, const po::options_description& scene_keys) {
+  std::vector<std::string> overrides;
+  for (const auto& opt : scene_keys.options())
+    if (vm.count(opt->long_name())) overrides.insert(overrides.end(), {"--" + opt->long_name(), vm[opt->long_name()].as<std::string>()});
+  const std::string scene_path = vm.count("file") ? vm["file"].as<std::string>() : "";
+  try {
+    return models::load_scene(scene_path, overrides);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
+}
+
+void ProgressLine::operator()(double fraction) {
+  if (quiet_) return;
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  if (s < 1.0 || (s - last_ < 0.5 && fraction < 1.0)) return;
+  last_ = s;
+  std::fprintf(stderr, "mlce: %.1f s: %s %.0f %%\n", s, what_.c_str(), 100.0 * fraction);
+}
+
+}  // namespace mlce::cli

@@ -1,0 +1,42 @@
+#pragma once
+// What every subcommand shares: exit codes, option parsing with --help, warnings, scene loading,
+// and progress lines on stderr.
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mlce/models/scene.hpp"
+
+namespace mlce::cli {
+
+constexpr int kExitData = 1;   // bad input file or data
+constexpr int kExitUsage = 2;  // bad command line
+
+/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
+/// --help was given: the description is then printed and the command has nothing else to do.
+std::optional<boost::program_options::variables_map> parse(const std::vector<std::string>& args,
+                                                           boost::program_options::options_description& d);
+
+void print_warnings(const std::vector<std::string>& w);
+
+/// The scene named by the positional FILE (optional) with every scene key given on the command
+/// line as an override. Scene errors are data errors (std::runtime_error).
+models::Scene scene_from(const boost::program_options::variables_map& vm,
+                         const boost::program_options::options_description& scene_keys);
+
+/// "mlce: 3.2 s: <what> 40 %" on stderr, at most every half second and only after the first second.
+class ProgressLine {
+ public:
+  ProgressLine(std::string what, bool quiet) : what_(std::move(what)), quiet_(quiet) {}
+  void operator()(double fraction);
+
+ private:
+  std::string what_;
+  bool quiet_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double last_ = 0.0;
+};
+
+}  // namespace mlce::cli

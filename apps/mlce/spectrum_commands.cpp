@@ -1,0 +1,310 @@
+#include "spectrum_commands.hpp"
+
+#include <fmt/format.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "cli_common.hpp"
+#include "mlce/models/dynamics.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/spectrum/floquet.hpp"
+#include "mlce/spectrum/qr_spectrum.hpp"
+#include "plot.hpp"
+#include "report.hpp"
+
+namespace po = boost::program_options;
+
+namespace mlce::cli {
+namespace {
+
+/// Options every Jacobian-based command shares.
+struct Common {
+  std::string sensitivity, jacobian = "analytic";
+  bool json = false, quiet = false;
+};
+
+void add_common(po::options_description& d, Common& c) {
+  d.add_options()
+      ("sensitivity", po::value(&c.sensitivity), "comma-separated parameters to differentiate by (e.g. CL,rpm; c3; mu)")
+      ("jacobian", po::value(&c.jacobian), "analytic | complex-step | jacobian-free")
+      ("json", po::bool_switch(&c.json), "print one JSON object")
+      ("quiet", po::bool_switch(&c.quiet), "no progress messages");
+}
+
+std::string time_unit(const models::Scene& s) { return s.model == "flapping" ? "rad of azimuth" : "s"; }
+
+std::vector<ode::ParameterFamily> families(const models::Scene& scene, const std::string& list) {
+  std::vector<ode::ParameterFamily> out;
+  std::stringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name.empty()) continue;
+    try {
+      out.push_back(models::parameter_family(scene, name));
+    } catch (const std::invalid_argument& e) {
+      throw po::error(std::string("--sensitivity: ") + e.what());
+    }
+  }
+  return out;
+}
+
+spectrum::JacobianMethod method(const std::string& name) {
+  try {
+    return spectrum::jacobian_method_from_name(name);
+  } catch (const std::invalid_argument& e) {
+    throw po::error(std::string("--jacobian: ") + e.what());
+  }
+}
+
+nlohmann::json sensitivities_json(const std::vector<std::string>& names, const Eigen::MatrixXd& s) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    std::vector<double> row(static_cast<std::size_t>(s.cols()));
+    for (Eigen::Index i = 0; i < s.cols(); ++i) row[static_cast<std::size_t>(i)] = s(static_cast<Eigen::Index>(k), i);
+    j[names[k]] = row;
+  }
+  return j;
+}
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+/// Human table: index, exponent, [frequency], sensitivities.
+std::string table(const Eigen::VectorXd& ex, const Eigen::VectorXd* freq, const std::vector<std::string>& names,
+                  const Eigen::MatrixXd& sens, const std::string& unit) {
+  std::string out = fmt::format("{:>4}  {:>14}", "i", "lambda (1/" + unit + ")");
+  if (freq) out += fmt::format("  {:>16}", "freq (rad/" + unit + ")");
+  for (const auto& n : names) out += fmt::format("  {:>16}", "dlambda/d" + n);
+  out += "\n";
+  for (Eigen::Index i = 0; i < ex.size(); ++i) {
+    out += fmt::format("{:>4}  {:>14.7g}", i + 1, ex(i));
+    if (freq) out += fmt::format("  {:>16.7g}", (*freq)(i));
+    for (std::size_t k = 0; k < names.size(); ++k) out += fmt::format("  {:>16.7g}", sens(static_cast<Eigen::Index>(k), i));
+    out += "\n";
+  }
+  return out;
+}
+
+double positive_option(const po::variables_map& vm, const char* name, double def) {
+  if (!vm.count(name)) return def;
+  const double v = vm[name].as<double>();
+  if (!(v >= 0.0) || !std::isfinite(v)) throw po::error(fmt::format("--{}: expected a non-negative number", name));
+  return v;
+}
+
+}  // namespace
+
+int cmd_spectrum(const std::vector<std::string>& args) {
+  Common c;
+  std::string merge = "auto", history_path, plot_path;
+  po::options_description d("mlce spectrum SCENE [--key value ...] [options]");
+  add_common(d, c);
+  d.add_options()
+      ("t-end", po::value<double>(), "end of the run (default: 10 x the scene's t_end: the estimates converge like 1/t)")
+      ("qr-step", po::value<double>(), "re-orthonormalisation interval (default: the scene's dt_out)")
+      ("transient", po::value<double>(), "time before the sums start (default: 10 % of the run)")
+      ("merge", po::value(&merge), "auto (average neighbouring exponents that have not separated over the run: complex pairs), off, or a tolerance in 1/time")
+      ("history", po::value(&history_path), "write the running estimates (and sensitivities) as CSV")
+      ("plot", po::value(&plot_path), "PNG of the running estimates");
+  const auto scene_keys = models::scene_options();
+  d.add(scene_keys);
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  const models::Scene scene = scene_from(vm, scene_keys);
+  spectrum::QrOptions o;
+  o.jacobian = method(c.jacobian);
+  o.t_end = vm.count("t-end") ? vm["t-end"].as<double>() : 10.0 * scene.t_end;
+  if (!(o.t_end > 0) || !std::isfinite(o.t_end)) throw po::error("--t-end: expected a positive time");
+  o.step = vm.count("qr-step") ? vm["qr-step"].as<double>() : scene.dt_out;
+  if (!(o.step > 0) || !std::isfinite(o.step) || o.step > o.t_end) throw po::error("--qr-step: expected 0 < step <= t-end");
+  o.transient = positive_option(vm, "transient", 0.1 * o.t_end);
+  if (o.transient >= o.t_end) throw po::error("--transient: expected less than the run length");
+  o.integrator = scene.integrator;
+  if (merge == "auto") o.merge = spectrum::MergeRule::unresolved;
+  else if (merge == "off") o.merge = spectrum::MergeRule::none;
+  else {
+    o.merge = spectrum::MergeRule::tolerance;
+    try {
+      std::size_t used = 0;
+      o.merge_tolerance = std::stod(merge, &used);
+      if (used != merge.size() || !(o.merge_tolerance > 0)) throw std::invalid_argument("");
+    } catch (const std::exception&) {
+      throw po::error("--merge '" + merge + "': expected auto, off or a positive tolerance");
+    }
+  }
+  const auto params = families(scene, c.sensitivity);
+  ProgressLine progress("QR spectrum", c.quiet);
+  o.progress = std::ref(progress);
+  const ode::DynamicalSystem sys = models::dynamical_system(scene);
+  const spectrum::QrResult r = spectrum::qr_spectrum(sys, scene.x0, o, params);
+  const std::string unit = time_unit(scene);
+
+  if (!history_path.empty() || !plot_path.empty()) {
+    std::string csv = "time";
+    const Eigen::Index n = r.history.cols();
+    for (Eigen::Index i = 0; i < n; ++i) csv += fmt::format(",lambda{}", i + 1);
+    if (!history_path.empty())
+      for (const auto& p : r.parameters)
+        for (Eigen::Index i = 0; i < n; ++i) csv += fmt::format(",dlambda{}/d{}", i + 1, p);
+    csv += "\n";
+    std::string plot_csv = csv.substr(0, csv.find(",dlambda")) + (csv.find(",dlambda") == std::string::npos ? "" : "\n");
+    std::string body, plot_body;
+    for (std::size_t k = 0; k < r.history_time.size(); ++k) {
+      const auto row = static_cast<Eigen::Index>(k);
+      std::string line = fmt::format("{:.10g}", r.history_time[k]);
+      for (Eigen::Index i = 0; i < n; ++i) line += fmt::format(",{:.10g}", r.history(row, i));
+      plot_body += line + "\n";
+      for (Eigen::Index i = 0; i < r.history_sensitivities.cols(); ++i) line += fmt::format(",{:.10g}", r.history_sensitivities(row, i));
+      body += line + "\n";
+    }
+    if (!history_path.empty()) write_file_atomically(history_path, csv + body);
+    if (!plot_path.empty())
+      plot_columns_png(plot_csv + plot_body, "discrete QR: running estimates of the Lyapunov exponents", "time (" + unit + ")",
+                       "lambda (1/" + unit + ")", plot_path);
+  }
+  if (c.json) {
+    nlohmann::json j;
+    j["method"] = "qr";
+    j["scene"] = scene.source;
+    j["exponents"] = to_vector(r.exponents);
+    j["raw_exponents"] = to_vector(r.raw_exponents);
+    j["groups"] = r.groups;
+    if (!r.parameters.empty()) j["sensitivities"] = sensitivities_json(r.parameters, r.sensitivities);
+    j["time_unit"] = unit;
+    j["t_end"] = o.t_end;
+    j["qr_step"] = o.step;
+    j["transient"] = o.transient;
+    j["averaging_start"] = r.averaging_start;
+    j["averaging_time"] = r.averaging_time;
+    j["intervals"] = r.intervals;
+    j["jacobian"] = spectrum::jacobian_method_name(o.jacobian);
+    j["merge"] = merge;
+    j["orthogonality_error"] = r.orthogonality_error;
+    j["steps"] = r.stats.steps;
+    j["evaluations"] = r.stats.evaluations;
+    j["warnings"] = r.warnings;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << fmt::format("# discrete QR: {} exponents of {} ({}), t = 0..{} {}, QR step {}, averaged over the last {} {}, {} Jacobian\n",
+                             r.exponents.size(), scene.source, scene.model, o.t_end, unit, o.step, r.averaging_time, unit,
+                             spectrum::jacobian_method_name(o.jacobian));
+    for (const auto& g : r.groups) {
+      std::string idx;
+      for (int i : g) idx += (idx.empty() ? "" : ",") + std::to_string(i + 1);
+      std::cout << fmt::format("# averaged (multiplicity {}): exponents {}\n", g.size(), idx);
+    }
+    std::cout << table(r.exponents, nullptr, r.parameters, r.sensitivities, unit);
+  }
+  print_warnings(r.warnings);
+  return 0;
+}
+
+namespace {
+
+int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, const char* method, const Common& c,
+                 const std::vector<std::string>& coordinates) {
+  const std::string unit = time_unit(scene);
+  if (c.json) {
+    nlohmann::json j;
+    j["method"] = method;
+    j["scene"] = scene.source;
+    j["exponents"] = to_vector(s.exponents);
+    j["frequencies"] = to_vector(s.frequencies);
+    if (s.period > 0) {
+      j["period"] = s.period;
+      std::vector<double> mag;
+      for (Eigen::Index i = 0; i < s.values.size(); ++i) mag.push_back(std::abs(s.values(i)));
+      j["multipliers_abs"] = mag;
+    }
+    if (!coordinates.empty()) j["coordinates"] = coordinates;
+    if (!s.parameters.empty()) j["sensitivities"] = sensitivities_json(s.parameters, s.sensitivities);
+    j["time_unit"] = unit;
+    j["eigenvector_condition"] = s.eigenvector_condition;
+    j["warnings"] = s.warnings;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << fmt::format("# {} of {} ({}){}\n", method, scene.source, scene.model,
+                             s.period > 0 ? fmt::format(", period {:.10g} {} (frequencies modulo {:.6g} rad/{})", s.period, unit,
+                                                        2 * M_PI / s.period, unit)
+                                          : std::string());
+    std::cout << table(s.exponents, &s.frequencies, s.parameters, s.sensitivities, unit);
+  }
+  print_warnings(s.warnings);
+  return 0;
+}
+
+}  // namespace
+
+int cmd_floquet(const std::vector<std::string>& args) {
+  Common c;
+  std::string orbit;
+  po::options_description d("mlce floquet SCENE [--key value ...] [options]");
+  add_common(d, c);
+  d.add_options()
+      ("period", po::value<double>(), "period T (default: the model's, 2 pi / Omega for Hammond)")
+      ("orbit", po::value(&orbit), "comma-separated state on a periodic orbit at t = 0 (default: x = 0)");
+  const auto scene_keys = models::scene_options();
+  d.add(scene_keys);
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  const models::Scene scene = scene_from(vm, scene_keys);
+  spectrum::FloquetOptions o;
+  o.jacobian = method(c.jacobian);
+  o.period = positive_option(vm, "period", 0.0);
+  if (!orbit.empty()) {
+    std::vector<double> v;
+    std::stringstream in(orbit);
+    for (std::string item; std::getline(in, item, ',');) {
+      try {
+        std::size_t used = 0;
+        v.push_back(std::stod(item, &used));
+        if (used != item.size() || !std::isfinite(v.back())) throw std::invalid_argument("");
+      } catch (const std::exception&) {
+        throw po::error("--orbit: '" + item + "' is not a number");
+      }
+    }
+    o.orbit = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+  }
+  const auto params = families(scene, c.sensitivity);
+  const spectrum::LinearSpectrum s = spectrum::floquet(models::dynamical_system(scene), o, params);
+  return print_linear(s, scene, "floquet", c, {});
+}
+
+int cmd_eigen(const std::vector<std::string>& args) {
+  Common c;
+  po::options_description d("mlce eigen SCENE [--key value ...] [options]");
+  add_common(d, c);
+  const auto scene_keys = models::scene_options();
+  d.add(scene_keys);
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  const models::Scene scene = scene_from(vm, scene_keys);
+  models::TimeInvariantForm form;
+  try {
+    form = models::time_invariant_form(scene);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(scene.source + ": " + e.what());
+  }
+  // Sensitivities: central differences of the (analytic) time-invariant matrix, then the exact
+  // first-order eigenvalue perturbation Re(U^-1 dA U)_ii.
+  std::vector<Eigen::MatrixXd> dA;
+  std::vector<std::string> names;
+  for (const auto& f : families(scene, c.sensitivity)) {
+    const double h = 1e-4 * f.scale;
+    models::Scene plus = scene, minus = scene;
+    models::set_scene_parameter(plus, f.name, f.nominal + h);
+    models::set_scene_parameter(minus, f.name, f.nominal - h);
+    dA.push_back((models::time_invariant_form(plus).A - models::time_invariant_form(minus).A) / (2.0 * h));
+    names.push_back(f.name);
+  }
+  const spectrum::LinearSpectrum s = spectrum::linear_eigen(form.A, dA, names);
+  return print_linear(s, scene, "eigen", c, form.coordinates);
+}
+
+}  // namespace mlce::cli

@@ -1,0 +1,10 @@
+#pragma once
+// mlce spectrum | floquet | eigen: the Jacobian-based references on a scene.
+#include <string>
+#include <vector>
+
+namespace mlce::cli {
+int cmd_spectrum(const std::vector<std::string>& args);
+int cmd_floquet(const std::vector<std::string>& args);
+int cmd_eigen(const std::vector<std::string>& args);
+}  // namespace mlce::cli

@@ -1,0 +1,229 @@
+#include "mlce/spectrum/qr_spectrum.hpp"
+
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "variational.hpp"
+
+namespace mlce::spectrum {
+
+void QrOptions::validate() const {
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !(t_end > t0))
+    throw std::invalid_argument("t_end: expected a finite end time after t0");
+  if (!(step > 0.0) || !std::isfinite(step)) throw std::invalid_argument("qr step: expected a positive interval");
+  if (!(transient >= 0.0) || !(transient < t_end - t0))
+    throw std::invalid_argument("transient: expected 0 <= transient < t_end - t0");
+  if ((t_end - t0) / step > 1e9) throw std::invalid_argument("qr step: more than 1e9 intervals");
+  if (merge == MergeRule::tolerance && !(merge_tolerance > 0.0))
+    throw std::invalid_argument("merge tolerance: expected > 0");
+  integrator.validate();
+}
+
+namespace {
+
+/// Q R = Z with r_ii >= 0 (paper 001 sec. 3.1: flip row i of R and column i of Q).
+void positive_qr(const Eigen::MatrixXd& Z, Eigen::MatrixXd& Q, Eigen::MatrixXd& R) {
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Z);
+  const Eigen::Index n = Z.rows();
+  R = qr.matrixQR().triangularView<Eigen::Upper>();
+  Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (R(i, i) < 0) R.row(i) *= -1.0, Q.col(i) *= -1.0;
+}
+
+/// Whether the log-sums of QR columns a and b, sampled over the second half of the averaging
+/// window, have separated: D(t) = S_a(t) - S_b(t) grows like (lambda_a - lambda_b) t for distinct
+/// exponents and stays bounded (oscillating) for a multiple one. Unresolved: the change of the
+/// least-squares line of D across the window is no larger than the range of D about that line.
+bool unresolved(const std::vector<double>& times, const std::vector<Eigen::VectorXd>& sums, int a, int b) {
+  const std::size_t m = times.size();
+  if (m < 3) return false;
+  double st = 0, sd = 0;
+  for (std::size_t k = 0; k < m; ++k) st += times[k], sd += sums[k](a) - sums[k](b);
+  const double tm = st / static_cast<double>(m), dm = sd / static_cast<double>(m);
+  double stt = 0, std_ = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double dt = times[k] - tm;
+    stt += dt * dt, std_ += dt * (sums[k](a) - sums[k](b) - dm);
+  }
+  const double slope = stt > 0 ? std_ / stt : 0.0;
+  double lo = 0, hi = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double r = sums[k](a) - sums[k](b) - dm - slope * (times[k] - tm);
+    lo = std::min(lo, r), hi = std::max(hi, r);
+  }
+  return std::abs(slope) * (times.back() - times.front()) <= hi - lo;
+}
+
+/// Groups of neighbours (sorted order) to average.
+std::vector<std::vector<int>> merge_groups(const Eigen::VectorXd& sorted, const std::vector<int>& order,
+                                           const std::vector<double>& times, const std::vector<Eigen::VectorXd>& sums,
+                                           const QrOptions& o) {
+  const int n = static_cast<int>(sorted.size());
+  std::vector<std::vector<int>> groups;
+  for (int i = 0; i < n;) {
+    std::vector<int> g{i};
+    while (i + 1 < n) {
+      const bool join = o.merge == MergeRule::tolerance
+                            ? sorted(i) - sorted(i + 1) <= o.merge_tolerance
+                            : unresolved(times, sums, order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(i + 1)]);
+      if (!join) break;
+      g.push_back(++i);
+    }
+    ++i;
+    groups.push_back(g);
+  }
+  return groups;
+}
+
+}  // namespace
+
+QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0, const QrOptions& o,
+                     const std::vector<ode::ParameterFamily>& parameters) {
+  o.validate();
+  if (x0.size() != sys.dimension)
+    throw std::invalid_argument("initial state has " + std::to_string(x0.size()) + " values, the model " +
+                                std::to_string(sys.dimension));
+  if (!x0.allFinite()) throw std::invalid_argument("initial state: expected finite values");
+  const detail::VariationalSystem vs(sys, o.jacobian, parameters);
+  const Eigen::Index n = vs.n();
+  const std::size_t P = vs.parameters();
+  Eigen::VectorXd X = Eigen::VectorXd::Zero(vs.size());
+  X.head(n) = x0;
+  Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, n).setIdentity();
+
+  QrResult res;
+  for (const auto& p : parameters) res.parameters.push_back(p.name);
+  std::vector<CompensatedSum> logs(static_cast<std::size_t>(n)), sens(P * static_cast<std::size_t>(n));
+  Eigen::MatrixXd Z(n, n), Q(n, n), R(n, n), B(n, n), C(n, n), W(n, n);
+  // The averaging window [t_start, t_end]: after the transient and, for a periodic system, a
+  // whole number of periods long (a partial period leaves an O(1/t) bias from the periodic part).
+  double t_start = o.t0 + o.transient;
+  if (o.whole_periods && sys.period > 0.0) {
+    const double periods = std::floor((o.t_end - t_start) / sys.period + 1e-9);
+    if (periods >= 1.0) t_start = o.t_end - periods * sys.period;
+    else res.warnings.push_back("the averaging time is shorter than one period of the system");
+  }
+  // Two uniform grids, [t0, t_start] and [t_start, t_end], intervals no longer than `step`.
+  const auto j_first = static_cast<std::size_t>(t_start > o.t0 ? std::ceil((t_start - o.t0) / o.step - 1e-9) : 0.0);
+  const auto averaged = static_cast<std::size_t>(std::max(1.0, std::ceil((o.t_end - t_start) / o.step - 1e-9)));
+  const std::size_t J = j_first + averaged;
+  auto grid = [&](std::size_t j) {
+    if (j <= j_first) return j == j_first ? t_start : o.t0 + (t_start - o.t0) * static_cast<double>(j) / static_cast<double>(j_first);
+    return j == J ? o.t_end : t_start + (o.t_end - t_start) * static_cast<double>(j - j_first) / static_cast<double>(averaged);
+  };
+  const std::size_t every = std::max<std::size_t>(1, averaged / std::max<std::size_t>(1, o.history_points));
+  std::vector<Eigen::VectorXd> hist, hist_s;
+  // Log-sums over the second half of the averaging window (at most ~20000 samples) for merging.
+  std::vector<double> half_times;
+  std::vector<Eigen::VectorXd> half_sums;
+  Eigen::VectorXd running(n);
+  const double t_half = t_start + 0.5 * (o.t_end - t_start);
+  const std::size_t half_every = std::max<std::size_t>(1, averaged / 40000);
+  double h = 0.0;
+  const std::size_t progress_every = std::max<std::size_t>(1, J / 100);
+
+  for (std::size_t j = 0; j < J; ++j) {
+    const double ta = grid(j), tb = grid(j + 1);
+    ode::integrate_to(vs, X, ta, tb, o.integrator, h, res.stats);
+    Z = Eigen::Map<const Eigen::MatrixXd>(X.data() + n, n, n);
+    positive_qr(Z, Q, R);
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (!(R(i, i) > 0.0) || !std::isfinite(R(i, i)))
+        throw std::runtime_error("QR: the tangent space collapsed at t = " + std::to_string(tb) + " (r_" +
+                                 std::to_string(i + 1) + std::to_string(i + 1) + " = " + std::to_string(R(i, i)) +
+                                 "): shorten the QR step or loosen the contraction");
+    const bool average = j >= j_first;
+    if (average)
+      for (Eigen::Index i = 0; i < n; ++i) logs[static_cast<std::size_t>(i)].add(std::log(R(i, i)));
+    for (std::size_t k = 0; k < P; ++k) {
+      Eigen::Map<Eigen::MatrixXd> Zp(X.data() + vs.offset(k) + n, n, n);
+      B.noalias() = Q.transpose() * Zp;
+      // C = B R^-1 by back-substitution (eq. 20), W_L = stril(C), W = W_L - W_L^T (eq. 19/24).
+      C = R.transpose().triangularView<Eigen::Lower>().solve(B.transpose()).transpose();
+      W = C.triangularView<Eigen::StrictlyLower>();
+      W -= Eigen::MatrixXd(W.transpose());
+      if (average) {
+        // R_j/p = B - W R_j (eq. 25): only its diagonal enters eq. 12.
+        for (Eigen::Index i = 0; i < n; ++i)
+          sens[k * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)].add((B(i, i) - W.row(i).dot(R.col(i))) / R(i, i));
+      }
+      Zp.noalias() = Q * W;  // Q_j/p = Q_j W (eq. 21): the next interval starts from it
+    }
+    Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, n) = Q;
+    ++res.intervals;
+    if (average && tb >= t_half && o.merge == MergeRule::unresolved && ((j - j_first) % half_every == 0 || j + 1 == J)) {
+      for (Eigen::Index i = 0; i < n; ++i) running(i) = logs[static_cast<std::size_t>(i)].value();
+      half_times.push_back(tb);
+      half_sums.push_back(running);
+    }
+    if (j % 1000 == 0 || j + 1 == J)
+      res.orthogonality_error = std::max(res.orthogonality_error,
+                                         (Q.transpose() * Q - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff());
+    if (average && ((j - j_first) % every == 0 || j + 1 == J)) {
+      const double span = tb - t_start;
+      Eigen::VectorXd row(n), srow(static_cast<Eigen::Index>(P) * n);
+      for (Eigen::Index i = 0; i < n; ++i) row(i) = logs[static_cast<std::size_t>(i)].value() / span;
+      for (std::size_t k = 0; k < P; ++k)
+        for (Eigen::Index i = 0; i < n; ++i)
+          srow(static_cast<Eigen::Index>(k) * n + i) =
+              sens[k * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)].value() / span / parameters[k].scale;
+      res.history_time.push_back(tb);
+      hist.push_back(row);
+      hist_s.push_back(srow);
+    }
+    if (o.progress && (j % progress_every == 0 || j + 1 == J)) o.progress(static_cast<double>(j + 1) / static_cast<double>(J));
+  }
+  res.final_state = X.head(n);
+  res.averaging_time = o.t_end - t_start;
+  res.averaging_start = t_start;
+
+  // Sort by the final estimate, descending; history and sensitivities follow.
+  const Eigen::VectorXd final_row = hist.back();
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return final_row(a) > final_row(b); });
+  const auto rows = static_cast<Eigen::Index>(hist.size());
+  res.history.resize(rows, n);
+  res.history_sensitivities.resize(rows, static_cast<Eigen::Index>(P) * n);
+  for (Eigen::Index r = 0; r < rows; ++r)
+    for (Eigen::Index i = 0; i < n; ++i) {
+      res.history(r, i) = hist[static_cast<std::size_t>(r)](order[static_cast<std::size_t>(i)]);
+      for (std::size_t k = 0; k < P; ++k)
+        res.history_sensitivities(r, static_cast<Eigen::Index>(k) * n + i) =
+            hist_s[static_cast<std::size_t>(r)](static_cast<Eigen::Index>(k) * n + order[static_cast<std::size_t>(i)]);
+    }
+  res.raw_exponents = res.history.row(rows - 1).transpose();
+  Eigen::MatrixXd raw_sens(static_cast<Eigen::Index>(P), n);
+  for (std::size_t k = 0; k < P; ++k)
+    raw_sens.row(static_cast<Eigen::Index>(k)) = res.history_sensitivities.row(rows - 1).segment(static_cast<Eigen::Index>(k) * n, n);
+
+  res.exponents = res.raw_exponents;
+  res.sensitivities = raw_sens;
+  if (o.merge != MergeRule::none) {
+    const auto groups = merge_groups(res.raw_exponents, order, half_times, half_sums, o);
+    for (const auto& g : groups) {
+      if (g.size() < 2) continue;
+      res.groups.push_back(g);
+      double m = 0.0;
+      for (int i : g) m += res.raw_exponents(i);
+      m /= static_cast<double>(g.size());
+      for (int i : g) res.exponents(i) = m;
+      for (std::size_t k = 0; k < P; ++k) {
+        double s = 0.0;
+        for (int i : g) s += raw_sens(static_cast<Eigen::Index>(k), i);
+        s /= static_cast<double>(g.size());
+        for (int i : g) res.sensitivities(static_cast<Eigen::Index>(k), i) = s;
+      }
+    }
+  }
+  if (res.averaging_time < 50.0 * o.step)
+    res.warnings.push_back("fewer than 50 QR intervals were averaged: the exponents have not converged");
+  return res;
+}
+
+}  // namespace mlce::spectrum

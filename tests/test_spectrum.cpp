@@ -1,0 +1,207 @@
+// Jacobian-based exponents against independent truth: analytic eigenvalues (LTI problems,
+// Liouville's trace formula), the published Lorenz spectrum, Floquet versus multiblade
+// eigenanalysis versus discrete QR (three different computations of the same numbers), and the
+// analytic sensitivities against central differences of the exponents themselves.
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
+
+#include "mlce/models/dynamics.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/spectrum/floquet.hpp"
+#include "mlce/spectrum/qr_spectrum.hpp"
+
+using namespace mlce;
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+namespace {
+
+ode::DynamicalSystem linear_system(const MatrixXd& A) {
+  ode::DynamicalSystem s;
+  s.dimension = static_cast<int>(A.rows());
+  s.rhs = [A](const VectorXd& x, VectorXd& dx, double) { dx = A * x; };
+  s.jacobian = [A](const VectorXd&, double) { return A; };
+  s.rhs_complex = [A](const Eigen::VectorXcd& x, Eigen::VectorXcd& dx, double) { dx = A.cast<std::complex<double>>() * x; };
+  return s;
+}
+
+/// Damped oscillator x'' + 2 zeta w x' + w^2 x = 0: both exponents are -zeta w exactly.
+MatrixXd oscillator(double zeta, double w) {
+  MatrixXd A(2, 2);
+  A << 0, 1, -w * w, -2 * zeta * w;
+  return A;
+}
+
+models::Scene scene(std::vector<std::string> overrides) { return models::load_scene("", overrides); }
+
+spectrum::QrOptions qr_options(double t_end, double step, spectrum::MergeRule merge = spectrum::MergeRule::none) {
+  spectrum::QrOptions o;
+  o.t_end = t_end;
+  o.step = step;
+  o.transient = 0.1 * t_end;
+  o.merge = merge;
+  return o;
+}
+
+}  // namespace
+
+TEST(QrSpectrum, DampedOscillatorBothExponentsAfter1000TimeUnits) {
+  const double zeta = 0.05, w = 2 * std::numbers::pi;
+  auto o = qr_options(1000.0, 0.01);
+  o.transient = 0.0;
+  const auto r = spectrum::qr_spectrum(linear_system(oscillator(zeta, w)), VectorXd::Ones(2), o);
+  // Unmerged, each estimate of a complex pair carries an oscillation of about ln(cond of the
+  // eigenvectors) / t = ln(w) / 1000 here: the discrete QR method's own limit.
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(r.raw_exponents(i), -zeta * w, 1.1 * std::log(w) / 1000) << i;
+  // Liouville: the sum is the mean trace (to the integration tolerance).
+  EXPECT_NEAR(r.raw_exponents.sum(), -2 * zeta * w, 1e-8);
+  // Merged as unresolved (the CLI default), the pair is -zeta w to the same accuracy.
+  o.merge = spectrum::MergeRule::unresolved;
+  const auto m = spectrum::qr_spectrum(linear_system(oscillator(zeta, w)), VectorXd::Ones(2), o);
+  ASSERT_EQ(m.groups.size(), 1u);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(m.exponents(i), -zeta * w, 1e-8);
+}
+
+TEST(QrSpectrum, LinearTimeInvariantEqualsRealPartsOfEigenvalues) {
+  MatrixXd A(4, 4);
+  A << -0.5, 2.0, 0.3, 0.0, -0.1, -1.0, 0.0, 0.7, 0.2, 0.0, 0.4, 1.0, 0.0, -0.3, 0.0, -2.5;
+  const Eigen::EigenSolver<MatrixXd> es(A);
+  std::vector<double> re;
+  for (int i = 0; i < 4; ++i) re.push_back(es.eigenvalues()(i).real());
+  std::sort(re.rbegin(), re.rend());
+  const auto r = spectrum::qr_spectrum(linear_system(A), VectorXd::Ones(4), qr_options(400.0, 0.05, spectrum::MergeRule::unresolved));
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(r.exponents(i), re[static_cast<std::size_t>(i)], 5e-3) << i;
+  const auto lin = spectrum::linear_eigen(A);
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(lin.exponents(i), re[static_cast<std::size_t>(i)], 1e-12);
+}
+
+TEST(QrSpectrum, LorenzPublishedSpectrumAndTrace) {
+  ode::DynamicalSystem s;
+  s.dimension = 3;
+  const double sg = 10, rho = 28, beta = 8.0 / 3.0;
+  s.rhs = [=](const VectorXd& x, VectorXd& dx, double) {
+    dx.resize(3);
+    dx << sg * (x(1) - x(0)), x(0) * (rho - x(2)) - x(1), x(0) * x(1) - beta * x(2);
+  };
+  s.jacobian = [=](const VectorXd& x, double) {
+    MatrixXd J(3, 3);
+    J << -sg, sg, 0, rho - x(2), -1, -x(0), x(1), x(0), -beta;
+    return J;
+  };
+  auto o = qr_options(1000.0, 0.05);
+  o.transient = 20.0;
+  const auto r = spectrum::qr_spectrum(s, Eigen::Vector3d(1, 1, 20), o);
+  // Sprott's reference values 0.9056, 0, -14.5723; the sum is -(sigma + 1 + beta) exactly.
+  EXPECT_NEAR(r.exponents(0), 0.9056, 0.03);
+  EXPECT_NEAR(r.exponents(1), 0.0, 0.01);
+  EXPECT_NEAR(r.exponents(2), -14.5723, 0.03);
+  EXPECT_NEAR(r.exponents.sum(), -(sg + 1 + beta), 1e-3);
+  EXPECT_LT(r.orthogonality_error, 1e-13);
+}
+
+TEST(QrSpectrum, ThreeJacobianRoutesAgree) {
+  // Blade 3 inoperative at 242.4 rpm: a nonlinear, time-periodic trajectory growing into the
+  // limit cycle. Analytic, complex-step and Jacobian-free tangents give the same exponents.
+  const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5"});
+  const auto sys = models::dynamical_system(sc);
+  std::vector<VectorXd> results;
+  for (auto m : {spectrum::JacobianMethod::analytic, spectrum::JacobianMethod::complex_step, spectrum::JacobianMethod::jacobian_free}) {
+    auto o = qr_options(10.0, 0.01);
+    o.jacobian = m;
+    results.push_back(spectrum::qr_spectrum(sys, sc.x0, o).raw_exponents);
+  }
+  EXPECT_LT((results[0] - results[1]).cwiseAbs().maxCoeff(), 1e-7);
+  EXPECT_LT((results[0] - results[2]).cwiseAbs().maxCoeff(), 1e-4);
+}
+
+TEST(Floquet, IsotropicRotorAgreesWithMultibladeEigenvaluesAndQrAtEveryRpm) {
+  for (double rpm : {120.0, 200.0, 260.0, 330.0}) {
+    const auto sc = scene({"--rpm", std::to_string(rpm), "--cy", "51078.7"});
+    const auto fl = spectrum::floquet(models::dynamical_system(sc), {});
+    const auto eig = spectrum::linear_eigen(models::time_invariant_form(sc).A);
+    ASSERT_EQ(fl.exponents.size(), 12);
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(fl.exponents(i), eig.exponents(i), 1e-7) << rpm << " rpm, " << i;
+    // Close pairs (about 0.04 1/s apart at 260 rpm) need a few hundred seconds to separate.
+    auto o = qr_options(400.0, 0.01, spectrum::MergeRule::unresolved);
+    const auto qr = spectrum::qr_spectrum(models::dynamical_system(sc), sc.x0, o);
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(qr.exponents(i), eig.exponents(i), 2e-3) << rpm << " rpm, " << i;
+    // Collective and reactionless lag modes are decoupled from the hub: -c / (2 I_b), twice each.
+    const double target = -4067.5 / (2 * 1084.7);
+    int count = 0;
+    for (int i = 0; i < 12; ++i) count += std::abs(eig.exponents(i) - target) < 1e-9;
+    EXPECT_EQ(count, 4) << rpm;
+  }
+}
+
+TEST(Floquet, FlappingAtZeroAdvanceRatioIsTheOscillator) {
+  // mu = 0: beta'' + (gamma/8) beta' + nu^2 beta = 0, roots -gamma/16 +- i sqrt(nu^2 - (gamma/16)^2).
+  const auto sc = scene({"--model", "flapping", "--mu", "0"});
+  const auto fl = spectrum::floquet(models::dynamical_system(sc), {});
+  EXPECT_NEAR(fl.exponents(0), -0.5, 1e-9);
+  EXPECT_NEAR(fl.exponents(1), -0.5, 1e-9);
+  // Frequencies are principal values in (-1/2, 1/2] (period 2 pi): sqrt(3/4) appears as 1 - sqrt(3/4).
+  EXPECT_NEAR(std::abs(fl.frequencies(0)), 1.0 - std::sqrt(1 - 0.25), 1e-9);
+}
+
+TEST(Floquet, BladeThreeInoperativeUnstableBand) {
+  auto lambda_max = [](double rpm) {
+    const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5", "--rpm", std::to_string(rpm)});
+    return spectrum::floquet(models::dynamical_system(sc), {}).exponents(0);
+  };
+  auto edge = [&](double stable, double unstable) {
+    for (int k = 0; k < 30; ++k) {
+      const double mid = 0.5 * (stable + unstable);
+      (lambda_max(mid) > 0 ? unstable : stable) = mid;
+    }
+    return 0.5 * (stable + unstable);
+  };
+  const double lo = edge(180.0, 242.4), hi = edge(360.0, 242.4);
+  std::printf("blade 3 inoperative, c_y = 25539.35: Floquet unstable from %.2f to %.2f rpm\n", lo, hi);
+  // Paper 001 sec. 5 / the shared MBDyn runs: from about 210-211 rpm to just above 300 rpm.
+  EXPECT_NEAR(lo, 211.0, 2.0);
+  EXPECT_GT(hi, 300.0);
+  EXPECT_LT(hi, 310.0);
+}
+
+TEST(Sensitivity, FlappingQrAndFloquetAgreeWithCentralDifferencesOfFloquet) {
+  for (double mu : {0.5, 1.2}) {
+    const auto sc = scene({"--model", "flapping", "--mu", std::to_string(mu)});
+    const auto fam = models::parameter_family(sc, "mu");
+    const auto fl = spectrum::floquet(models::dynamical_system(sc), {}, {fam});
+    const double d = 1e-4;
+    const auto plus = spectrum::floquet(models::dynamical_system(scene({"--model", "flapping", "--mu", std::to_string(mu + d)})), {});
+    const auto minus = spectrum::floquet(models::dynamical_system(scene({"--model", "flapping", "--mu", std::to_string(mu - d)})), {});
+    auto o = qr_options(2000.0, 0.05, spectrum::MergeRule::unresolved);
+    o.integrator.rtol = 1e-10;
+    const auto qr = spectrum::qr_spectrum(models::dynamical_system(sc), sc.x0, o, {fam});
+    for (int i = 0; i < 2; ++i) {
+      const double fd = (plus.exponents(i) - minus.exponents(i)) / (2 * d);
+      const double tol = 0.02 * std::abs(fd) + 1e-4;
+      EXPECT_NEAR(fl.sensitivities(0, i), fd, tol) << "Floquet, mu " << mu << ", " << i;
+      EXPECT_NEAR(qr.exponents(i), fl.exponents(i), 2e-3) << "QR vs Floquet, mu " << mu << ", " << i;
+      EXPECT_NEAR(qr.sensitivities(0, i), fd, tol) << "QR, mu " << mu << ", " << i;
+    }
+  }
+}
+
+TEST(Sensitivity, NonlinearDampersQrAgreesWithCentralDifferencesInCL) {
+  // Isotropic rotor with the nonlinear dampers of paper 000 eq. 39, C_L = C_d: exponentially
+  // stable; d lambda / d C_L from the QR pass against central differences of QR exponents.
+  auto sc_at = [](double cl) {
+    return scene({"--damper", "nonlinear", "--CL", std::to_string(cl), "--rpm", "242.4", "--x0", "0.01"});
+  };
+  const double cl = 4067.5, d = 40.0;
+  auto o = qr_options(150.0, 0.005, spectrum::MergeRule::unresolved);
+  const auto sc = sc_at(cl);
+  const auto r = spectrum::qr_spectrum(models::dynamical_system(sc), sc.x0, o, {models::parameter_family(sc, "CL")});
+  const auto p = spectrum::qr_spectrum(models::dynamical_system(sc_at(cl + d)), sc.x0, o);
+  const auto m = spectrum::qr_spectrum(models::dynamical_system(sc_at(cl - d)), sc.x0, o);
+  for (int i = 0; i < 2; ++i) {
+    const double fd = (p.exponents(i) - m.exponents(i)) / (2 * d);
+    std::printf("exponent %d: %.6f, d/dCL analytic %.4e, central difference %.4e\n", i + 1, r.exponents(i), r.sensitivities(0, i), fd);
+    EXPECT_NEAR(r.sensitivities(0, i), fd, 0.1 * std::abs(fd)) << i;
+  }
+}
