@@ -1,5 +1,5 @@
 # Installs the project into a scratch prefix, then configures and builds a consumer that
-# calls find_package(mlce) and links mlce::mlce and mlce::reader.
+# calls find_package(mlce) and links mlce::mlce, mlce::reader, mlce::spectrum and mlce::models.
 set(prefix ${BINARY_DIR}/package-test/prefix)
 set(consumer ${BINARY_DIR}/package-test/consumer)
 file(REMOVE_RECURSE ${BINARY_DIR}/package-test)
@@ -14,11 +14,13 @@ project(consumer CXX)
 set(CMAKE_CXX_STANDARD 20)
 find_package(mlce REQUIRED)
 add_executable(consumer main.cpp)
-target_link_libraries(consumer PRIVATE mlce::mlce mlce::reader)
+target_link_libraries(consumer PRIVATE mlce::mlce mlce::reader mlce::spectrum mlce::models)
 ]=])
 file(WRITE ${consumer}/main.cpp [=[
 #include <mlce/mean_period.hpp>
 #include <mlce/reader/format.hpp>
+#include <mlce/models/dynamics.hpp>
+#include <mlce/spectrum/floquet.hpp>
 #include <cmath>
 #include <cstdio>
 int main() {
@@ -30,6 +32,9 @@ int main() {
   std::printf("%g\n", r.mean_frequency);
   if (mlce::reader::parse_channel_spec("rel:13:4:z").axis != 2) return 1;
   if (mlce::reader::default_registry().names().size() != 3) return 1;
+  const auto scene = mlce::models::load_scene("", {"--rpm", "200"});
+  const auto eig = mlce::spectrum::linear_eigen(mlce::models::time_invariant_form(scene).A);
+  if (std::abs(eig.exponents(2) + 4067.5 / (2 * 1084.7)) > 1e-6) return 1;
   return std::abs(r.mean_frequency - 5.0) < 1e-6 ? 0 : 1;
 }
 ]=])

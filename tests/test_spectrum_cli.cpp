@@ -1,0 +1,97 @@
+// mlce spectrum | floquet | eigen as an analyst runs them: JSON contract, agreement between the
+// three commands, sensitivities against central differences of the commands' own exponents at
+// p +- dp (a second computation), files written, and errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.hpp"
+
+using mlce::testing::CliFixture;
+using mlce::testing::expect_one_line_error;
+using nlohmann::json;
+
+namespace {
+const std::string kScenes = std::string(MLCE_DATA_DIR) + "/../scenes/";
+
+}  // namespace
+
+class SpectrumCli : public CliFixture {
+ protected:
+  json json_of(const std::string& args) {
+    const auto r = run(args + " --json --quiet");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return json::parse(r.out);
+  }
+};
+
+TEST_F(SpectrumCli, EigenFloquetAndQrAgreeOnTheIsotropicScene) {
+  const std::string scene = kScenes + "isotropic_200rpm.scene";
+  const json e = json_of("eigen " + scene);
+  const json f = json_of("floquet " + scene);
+  const json q = json_of("spectrum " + scene);
+  ASSERT_EQ(e["exponents"].size(), 12u);
+  ASSERT_EQ(e["frequencies"].size(), 12u);
+  ASSERT_EQ(f["exponents"].size(), 12u);
+  ASSERT_EQ(q["exponents"].size(), 12u);
+  int pair = 0;
+  for (std::size_t i = 0; i < 12; ++i) {
+    EXPECT_NEAR(e["exponents"][i].get<double>(), f["exponents"][i].get<double>(), 1e-7) << i;
+    EXPECT_NEAR(q["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 2e-3) << i;
+    if (i > 0) EXPECT_LE(e["exponents"][i].get<double>(), e["exponents"][i - 1].get<double>());
+    pair += std::abs(e["exponents"][i].get<double>() + 1.875) < 1e-3;
+  }
+  EXPECT_EQ(pair, 4);  // collective and reactionless: -c / (2 I_b), twice each
+  EXPECT_EQ(e["coordinates"].size(), 12u);
+  EXPECT_TRUE(f.contains("period"));
+}
+
+TEST_F(SpectrumCli, FloquetSensitivityToRpmMatchesCentralDifferences) {
+  const std::string base = "floquet --c 4067.5,4067.5,0,4067.5";
+  const json s = json_of(base + " --rpm 242.4 --sensitivity rpm,c3");
+  const json p = json_of(base + " --rpm 242.5");
+  const json m = json_of(base + " --rpm 242.3");
+  ASSERT_TRUE(s["sensitivities"].contains("rpm"));
+  ASSERT_EQ(s["sensitivities"]["rpm"].size(), 12u);
+  EXPECT_GT(s["exponents"][0].get<double>(), 0.2);  // inside the unstable band
+  const double fd = (p["exponents"][0].get<double>() - m["exponents"][0].get<double>()) / 0.2;
+  EXPECT_NEAR(s["sensitivities"]["rpm"][0].get<double>(), fd, 0.02 * std::abs(fd));
+  const json c3p = json_of(base.substr(0, base.find(" --c")) + " --c 4067.5,4067.5,10,4067.5 --rpm 242.4");
+  const double fd_c3 = (c3p["exponents"][0].get<double>() - s["exponents"][0].get<double>()) / 10.0;
+  EXPECT_NEAR(s["sensitivities"]["c3"][0].get<double>(), fd_c3, 0.02 * std::abs(fd_c3));
+}
+
+TEST_F(SpectrumCli, EigenSensitivityMatchesCentralDifferences) {
+  const std::string scene = kScenes + "isotropic_200rpm.scene";
+  const json s = json_of("eigen " + scene + " --sensitivity cy");
+  const json p = json_of("eigen " + scene + " --cy 51178.7");
+  const json m = json_of("eigen " + scene + " --cy 50978.7");
+  const double fd = (p["exponents"][0].get<double>() - m["exponents"][0].get<double>()) / 200.0;
+  EXPECT_NEAR(s["sensitivities"]["cy"][0].get<double>(), fd, 0.02 * std::abs(fd) + 1e-12);
+}
+
+TEST_F(SpectrumCli, FlappingSpectrumWithSensitivityHistoryAndPlot) {
+  const std::string scene = kScenes + "flapping_mu015.scene";
+  const auto hist = dir / "hist.csv";
+  const auto png = dir / "hist.png";
+  const json q = json_of("spectrum " + scene + " --mu 1.0 --sensitivity mu --history " + hist.string() + " --plot " + png.string());
+  const json f = json_of("floquet " + scene + " --mu 1.0 --sensitivity mu");
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_NEAR(q["exponents"][i].get<double>(), f["exponents"][i].get<double>(), 2e-3);
+    const double fs = f["sensitivities"]["mu"][i].get<double>();
+    EXPECT_NEAR(q["sensitivities"]["mu"][i].get<double>(), fs, 0.02 * std::abs(fs) + 1e-3);
+  }
+  const std::string csv = mlce::testing::slurp(hist);
+  EXPECT_EQ(csv.rfind("time,lambda1,lambda2,dlambda1/dmu,dlambda2/dmu\n", 0), 0u) << csv.substr(0, 80);
+  EXPECT_TRUE(std::filesystem::exists(png));
+}
+
+TEST_F(SpectrumCli, Errors) {
+  expect_one_line_error(run("eigen --c 4067.5,4067.5,0,4067.5"), "not isotropic", 1);
+  expect_one_line_error(run("floquet --sensitivity stiffness"), "parameter 'stiffness' is not a hammond parameter", 2);
+  expect_one_line_error(run("spectrum --qr-step -1"), "--qr-step", 2);
+  expect_one_line_error(run("floquet --orbit 1,2"), "orbit state: expected 12 values", 1);
+  expect_one_line_error(run("spectrum --jacobian magic"), "expected analytic, complex-step or jacobian-free", 2);
+  expect_one_line_error(run("floquet " + (dir / "missing.scene").string()), "cannot open the scene file", 1);
+}
