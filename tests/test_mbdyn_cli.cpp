@@ -242,3 +242,30 @@ TEST_F(MbdynCli, SimulateRefusesAnOutputTooLargeToHold) {
   expect_one_line_error(run("simulate --t_end 1e6 --dt_out 1e-6 --out " + (dir / "x").string()),
                         "output samples: expected at most 5e7");
 }
+
+// mlce compare: the ad-hoc model (mlce simulate, rk45 rtol 1e-8) against the real MBDyn runs
+// (multistep rho 0.6, fixed 1 ms). Tolerances: over 10 s of the growing blade-3 oscillation the
+// two integrators' phase errors accumulate to a few 1e-3 rad at 0.55 rad amplitude; the ranges
+// (the limit-cycle measure) agree to 0.1 %.
+TEST_F(MbdynCli, CompareAdHocWithMbdynBladeLagsAndHub) {
+  const std::string adhoc = (dir / "adhoc").string();
+  ASSERT_EQ(run("simulate " + std::string(MLCE_DATA_DIR) + "/../scenes/c3zero_242rpm.scene --t_end 10 --out " + adhoc).status, 0);
+  const std::string png = (dir / "cmp.png").string();
+  const CliRun r = run("compare " + adhoc + " " + kC3 +
+                       " --channel rel:11:4:z --channel rel:12:4:z --channel rel:13:4:z --channel rel:14:4:z"
+                       " --channel node:2:x --channel node:3:y --json --plot " + png);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["channels"].size(), 6u);
+  for (const auto& c : j["channels"]) {
+    const std::string name = c["channel"];
+    const bool blade = name.rfind("rel:", 0) == 0;
+    EXPECT_EQ(c["points"].get<int>(), 2000) << name;
+    EXPECT_LT(c["max_abs_difference"].get<double>(), blade ? 1e-2 : 5e-4) << name;
+    EXPECT_LT(c["range_relative_difference"].get<double>(), 2e-3) << name;
+  }
+  EXPECT_TRUE(fs::exists(png));
+  expect_one_line_error(run("compare " + adhoc + " --channel rel:13:4:z"), "give two runs", 2);
+  // A channel one of the runs cannot provide (ad-hoc sets have no .jnt): named, exit 1.
+  expect_one_line_error(run("compare " + kIso + " " + adhoc + " --channel joint:33:14"), "adhoc.jnt: cannot open the file", 1);
+}

@@ -20,6 +20,7 @@
 #include "series_input.hpp"
 #include "cli_common.hpp"
 #include "spectrum_commands.hpp"
+#include "compare_command.hpp"
 
 namespace po = boost::program_options;
 using namespace mlce;
@@ -43,6 +44,7 @@ const char* kUsage =
     "  eigen SCENE     eigenvalues of the time-invariant (multiblade) linearisation\n"
     "  channels SET    what an MBDyn output set (prefix or .nc) or column file holds\n"
     "  extract SET     write the selected channels with their time as CSV\n"
+    "  compare A B     two runs side by side on the same channels (max/RMS difference, ranges)\n"
     "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
     "Channels (--channel, repeatable): node:L:x|y|z|r1..r9|vx..|wx.., joint:L:K, EXT:L:K (ine:11:2),\n"
     "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
@@ -340,6 +342,7 @@ int main(int argc, char** argv) {
     if (cmd == "spectrum") return cli::cmd_spectrum(args);
     if (cmd == "floquet") return cli::cmd_floquet(args);
     if (cmd == "eigen") return cli::cmd_eigen(args);
+    if (cmd == "compare") return cli::cmd_compare(args);
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;
