@@ -42,6 +42,15 @@ models::Scene scene_from(const po::variables_map& vm, const po::options_descript
   }
 }
 
+std::optional<SceneCommand> parse_scene_command(const std::vector<std::string>& args, po::options_description& d) {
+  const po::options_description scene_keys = models::scene_options();
+  d.add(scene_keys);
+  auto vm = parse(args, d);
+  if (!vm) return std::nullopt;
+  SceneCommand c{*vm, scene_from(*vm, scene_keys)};
+  return c;
+}
+
 void ProgressLine::operator()(double fraction) {
   if (quiet_) return;
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

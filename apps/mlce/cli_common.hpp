@@ -26,6 +26,15 @@ void print_warnings(const std::vector<std::string>& w);
 models::Scene scene_from(const boost::program_options::variables_map& vm,
                          const boost::program_options::options_description& scene_keys);
 
+/// A command on a scene: adds every scene key to `d` as an override, parses (nullopt after --help)
+/// and loads the scene named by the positional FILE.
+struct SceneCommand {
+  boost::program_options::variables_map vm;
+  models::Scene scene;
+};
+std::optional<SceneCommand> parse_scene_command(const std::vector<std::string>& args,
+                                                boost::program_options::options_description& d);
+
 /// "mlce: 3.2 s: <what> 40 %" on stderr, at most every half second and only after the first second.
 class ProgressLine {
  public:

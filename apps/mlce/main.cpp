@@ -227,14 +227,11 @@ int cmd_simulate(const std::vector<std::string>& args) {
       ("out", po::value(&out_prefix), "output prefix: PREFIX.{log,out,mov} (mbdyn) or PREFIX.txt (columns)")
       ("format", po::value(&format), "mbdyn (MBDyn text set, Hammond only) | columns (time and every state)")
       ("quiet", po::bool_switch(&quiet), "no progress messages");
-  const auto scene_keys = models::scene_options();
-  d.add(scene_keys);
-  const auto parsed = parse(args, d);
+  const auto parsed = cli::parse_scene_command(args, d);
   if (!parsed) return 0;
-  const po::variables_map& vm = *parsed;
   if (out_prefix.empty()) throw po::error("give --out PREFIX");
   if (format != "mbdyn" && format != "columns") throw po::error("--format '" + format + "': expected mbdyn or columns");
-  const models::Scene scene = cli::scene_from(vm, scene_keys);
+  const models::Scene& scene = parsed->scene;
   const auto start = std::chrono::steady_clock::now();
   cli::ProgressLine progress("simulated", quiet);
   const models::Trajectory tr = models::simulate(scene, std::ref(progress));

@@ -109,12 +109,10 @@ int cmd_spectrum(const std::vector<std::string>& args) {
       ("merge", po::value(&merge), "auto (average neighbouring exponents that have not separated over the run: complex pairs), off, or a tolerance in 1/time")
       ("history", po::value(&history_path), "write the running estimates (and sensitivities) as CSV")
       ("plot", po::value(&plot_path), "PNG of the running estimates");
-  const auto scene_keys = models::scene_options();
-  d.add(scene_keys);
-  const auto parsed = parse(args, d);
+  const auto parsed = parse_scene_command(args, d);
   if (!parsed) return 0;
-  const po::variables_map& vm = *parsed;
-  const models::Scene scene = scene_from(vm, scene_keys);
+  const po::variables_map& vm = parsed->vm;
+  const models::Scene& scene = parsed->scene;
   spectrum::QrOptions o;
   o.jacobian = method(c.jacobian);
   o.t_end = vm.count("t-end") ? vm["t-end"].as<double>() : 10.0 * scene.t_end;
@@ -144,26 +142,24 @@ int cmd_spectrum(const std::vector<std::string>& args) {
   const std::string unit = time_unit(scene);
 
   if (!history_path.empty() || !plot_path.empty()) {
-    std::string csv = "time";
+    // Running estimates (time, lambda_i) for the plot; the CSV adds d lambda_i / d p per parameter.
     const Eigen::Index n = r.history.cols();
-    for (Eigen::Index i = 0; i < n; ++i) csv += fmt::format(",lambda{}", i + 1);
-    if (!history_path.empty())
-      for (const auto& p : r.parameters)
-        for (Eigen::Index i = 0; i < n; ++i) csv += fmt::format(",dlambda{}/d{}", i + 1, p);
-    csv += "\n";
-    std::string plot_csv = csv.substr(0, csv.find(",dlambda")) + (csv.find(",dlambda") == std::string::npos ? "" : "\n");
-    std::string body, plot_body;
+    std::string head = "time", sens_head;
+    for (Eigen::Index i = 0; i < n; ++i) head += fmt::format(",lambda{}", i + 1);
+    for (const auto& p : r.parameters)
+      for (Eigen::Index i = 0; i < n; ++i) sens_head += fmt::format(",dlambda{}/d{}", i + 1, p);
+    std::string csv = head + sens_head + "\n", plot_csv = head + "\n";
     for (std::size_t k = 0; k < r.history_time.size(); ++k) {
       const auto row = static_cast<Eigen::Index>(k);
       std::string line = fmt::format("{:.10g}", r.history_time[k]);
       for (Eigen::Index i = 0; i < n; ++i) line += fmt::format(",{:.10g}", r.history(row, i));
-      plot_body += line + "\n";
+      plot_csv += line + "\n";
       for (Eigen::Index i = 0; i < r.history_sensitivities.cols(); ++i) line += fmt::format(",{:.10g}", r.history_sensitivities(row, i));
-      body += line + "\n";
+      csv += line + "\n";
     }
-    if (!history_path.empty()) write_file_atomically(history_path, csv + body);
+    if (!history_path.empty()) write_file_atomically(history_path, csv);
     if (!plot_path.empty())
-      plot_columns_png(plot_csv + plot_body, "discrete QR: running estimates of the Lyapunov exponents", "time (" + unit + ")",
+      plot_columns_png(plot_csv, "discrete QR: running estimates of the Lyapunov exponents", "time (" + unit + ")",
                        "lambda (1/" + unit + ")", plot_path);
   }
   if (c.json) {
@@ -247,12 +243,10 @@ int cmd_floquet(const std::vector<std::string>& args) {
   d.add_options()
       ("period", po::value<double>(), "period T (default: the model's, 2 pi / Omega for Hammond)")
       ("orbit", po::value(&orbit), "comma-separated state on a periodic orbit at t = 0 (default: x = 0)");
-  const auto scene_keys = models::scene_options();
-  d.add(scene_keys);
-  const auto parsed = parse(args, d);
+  const auto parsed = parse_scene_command(args, d);
   if (!parsed) return 0;
-  const po::variables_map& vm = *parsed;
-  const models::Scene scene = scene_from(vm, scene_keys);
+  const po::variables_map& vm = parsed->vm;
+  const models::Scene& scene = parsed->scene;
   spectrum::FloquetOptions o;
   o.jacobian = method(c.jacobian);
   o.period = positive_option(vm, "period", 0.0);
@@ -279,12 +273,9 @@ int cmd_eigen(const std::vector<std::string>& args) {
   Common c;
   po::options_description d("mlce eigen SCENE [--key value ...] [options]");
   add_common(d, c);
-  const auto scene_keys = models::scene_options();
-  d.add(scene_keys);
-  const auto parsed = parse(args, d);
+  const auto parsed = parse_scene_command(args, d);
   if (!parsed) return 0;
-  const po::variables_map& vm = *parsed;
-  const models::Scene scene = scene_from(vm, scene_keys);
+  const models::Scene& scene = parsed->scene;
   models::TimeInvariantForm form;
   try {
     form = models::time_invariant_form(scene);

@@ -9,33 +9,25 @@
 namespace mlce::models {
 namespace {
 
-ode::DynamicalSystem hammond_system(const HammondParameters& p, bool check) {
-  auto m = std::make_shared<const HammondModel>(p, check);
+/// Any model with operator(), rhs (complex), jacobian, dimension and state_names.
+template <class Model>
+ode::DynamicalSystem wrap(std::shared_ptr<const Model> m, double period) {
   ode::DynamicalSystem s;
   s.dimension = m->dimension();
   s.rhs = [m](const Eigen::VectorXd& x, Eigen::VectorXd& dx, double t) { (*m)(x, dx, t); };
   s.jacobian = [m](const Eigen::VectorXd& x, double t) { return m->jacobian(x, t); };
   s.rhs_complex = [m](const Eigen::VectorXcd& x, Eigen::VectorXcd& dx, double t) { m->rhs(x, dx, t); };
-  s.period = p.omega() != 0.0 ? 2.0 * std::numbers::pi / std::abs(p.omega()) : 0.0;
-  s.state_names = m->state_names();
-  return s;
-}
-
-ode::DynamicalSystem flapping_system(const FlappingParameters& p, bool check) {
-  auto m = std::make_shared<const FlappingModel>(p, check);
-  ode::DynamicalSystem s;
-  s.dimension = 2;
-  s.rhs = [m](const Eigen::VectorXd& x, Eigen::VectorXd& dx, double t) { (*m)(x, dx, t); };
-  s.jacobian = [m](const Eigen::VectorXd& x, double t) { return m->jacobian(x, t); };
-  s.rhs_complex = [m](const Eigen::VectorXcd& x, Eigen::VectorXcd& dx, double t) { m->rhs(x, dx, t); };
-  s.period = 2.0 * std::numbers::pi;
+  s.period = period;
   s.state_names = m->state_names();
   return s;
 }
 
 ode::DynamicalSystem system_of(const Scene& s, bool check) {
-  if (s.model == "hammond") return hammond_system(s.hammond, check);
-  if (s.model == "flapping") return flapping_system(s.flapping, check);
+  if (s.model == "hammond") {
+    const double w = std::abs(s.hammond.omega());
+    return wrap(std::make_shared<const HammondModel>(s.hammond, check), w != 0.0 ? 2.0 * std::numbers::pi / w : 0.0);
+  }
+  if (s.model == "flapping") return wrap(std::make_shared<const FlappingModel>(s.flapping, check), 2.0 * std::numbers::pi);
   throw std::invalid_argument("model '" + s.model + "': expected hammond or flapping");
 }
 

@@ -42,7 +42,7 @@ struct QrOptions {
   bool whole_periods = true;
   JacobianMethod jacobian = JacobianMethod::analytic;
   ode::IntegratorOptions integrator;  ///< for the whole augmented state
-  MergeRule merge = MergeRule::none;
+  MergeRule merge = MergeRule::unresolved;  ///< as the CLI's --merge auto
   double merge_tolerance = 0.0;       ///< for MergeRule::tolerance (1/time)
   std::size_t history_points = 1000;  ///< running estimates kept (evenly spaced)
   std::function<void(double fraction)> progress;
