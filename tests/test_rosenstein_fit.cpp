@@ -9,9 +9,10 @@
 using namespace mlce;
 
 namespace {
-DivergenceCurve synthetic(const std::vector<double>& y) {
+DivergenceCurve synthetic(const std::vector<double>& y, double attractor = std::nan("")) {
   DivergenceCurve c;
   c.mean_log_distance = y;
+  c.attractor_log_distance = attractor;
   c.terms.assign(y.size(), 100);
   // Four batches with small independent-looking perturbations around the same curve.
   for (int b = 0; b < 4; ++b) {
@@ -49,6 +50,36 @@ TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   EXPECT_NEAR(r.slope, -0.02, 0.02 * 0.02);
   EXPECT_EQ(r.end, CurveEnd::floor);
   EXPECT_LE(r.last, 510u);
+}
+
+TEST(Fit, BoundedDivergenceIsNotReadAsGrowth) {
+  // Limit cycle / torus: nearest neighbours start closer than they later are (selection bias),
+  // rise by 1 in 100 steps, then wander +-0.3 (period 250 steps) without ever nearing the attractor scale (0).
+  std::vector<double> y;
+  for (int i = 0; i <= 1200; ++i) y.push_back(-5.0 + (1.0 - std::exp(-i / 30.0)) + 0.3 * std::sin(i / 40.0));
+  FitOptions o;
+  o.period = 50;
+  const FitResult r = fit_divergence(synthetic(y, 0.0), o);
+  EXPECT_EQ(r.end, CurveEnd::bounded) << r.rule;
+  EXPECT_EQ(r.first, 600u);
+  EXPECT_LT(std::abs(r.slope), 1e-3);  // the start-up rise (0.01 per step) is not the exponent
+  // The same curve near the attractor scale is a divergence that saturated: its growth is fitted.
+  const FitResult chaotic = fit_divergence(synthetic(y, -4.5), o);
+  EXPECT_NE(chaotic.end, CurveEnd::bounded);
+  EXPECT_GT(chaotic.slope, 5e-3);
+}
+
+TEST(Fit, SteadyRiseOrDecayFarBelowTheAttractorIsNotBounded) {
+  std::vector<double> rise, decay;
+  for (int i = 0; i <= 600; ++i) rise.push_back(-9.0 + 0.005 * i), decay.push_back(-3.0 - 0.005 * i);
+  FitOptions o;
+  o.period = 20;
+  const FitResult r = fit_divergence(synthetic(rise, 0.0), o);
+  EXPECT_NE(r.end, CurveEnd::bounded) << r.rule;
+  EXPECT_NEAR(r.slope, 0.005, 1e-5);
+  const FitResult d = fit_divergence(synthetic(decay, 0.0), o);
+  EXPECT_NE(d.end, CurveEnd::bounded) << d.rule;
+  EXPECT_NEAR(d.slope, -0.005, 1e-5);
 }
 
 TEST(Fit, FlatCurveFitsEverythingAndGivesZero) {

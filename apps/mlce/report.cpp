@@ -48,6 +48,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["fit_rule"] = r.fit.rule;
   j["fit_automatic"] = r.fit.automatic;
   j["curve_end"] = to_string(r.fit.end);
+  j["attractor_log_distance"] = finite_or_null(r.curve.attractor_log_distance);
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
   j["dt"] = r.dt;

@@ -94,7 +94,8 @@ MlceResult estimate_mlce(const Series& series, const MlceOptions& options) {
       report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
       r.curve = divergence_curve(series, ro);
       r.fit = fit_divergence(r.curve, fo);
-      if (options.fit.range || r.fit.end != CurveEnd::none || h >= h_max) break;
+      // A bounded curve is read at the longest horizon: its slope tends to 0 as the horizon grows.
+      if (options.fit.range || (r.fit.end != CurveEnd::none && r.fit.end != CurveEnd::bounded) || h >= h_max) break;
       h = std::min(2 * h, h_max);
     }
     if (r.fit.end == CurveEnd::none && r.fit.slope > 0 && r.fit.last + 1 >= r.curve.mean_log_distance.size())

@@ -97,6 +97,18 @@ std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<
   return pieces;
 }
 
+/// Rule 0b: the curve stays bounded_margin below the attractor scale; it starts in the lower half of
+/// its range (nearest neighbours start closer than they later are: no decay, which starts at the
+/// top); and it has settled: over its second half its least-squares line changes by less than 0.25
+/// or by less than 0.4 of the curve's range (a straight rise changes by half of it there).
+bool is_bounded(const std::vector<double>& y, double attractor, double margin) {
+  const std::size_t n = y.size(), half = n / 2;
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi)) return false;
+  const double late = fit_line(y.data(), half, n - 1).slope * static_cast<double>(n - 1 - half);
+  return std::abs(late) < std::max(0.25, 0.4 * (*hi - *lo));
+}
+
 }  // namespace
 
 const char* to_string(CurveEnd end) {
@@ -104,6 +116,7 @@ const char* to_string(CurveEnd end) {
     case CurveEnd::saturation: return "saturation plateau";
     case CurveEnd::floor: return "noise/underflow floor";
     case CurveEnd::flat: return "flat curve";
+    case CurveEnd::bounded: return "bounded divergence";
     default: return "none";
   }
 }
@@ -114,6 +127,7 @@ void FitOptions::validate() const {
                       ": expected first < last");
   if (!(merge_tolerance >= 0.0 && merge_tolerance < 1.0)) throw OptionError("fit.merge_tolerance: expected [0, 1)");
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
+  if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
@@ -158,6 +172,14 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       r.end = CurveEnd::flat;
       r.end_index = n - 1;
       rule << "flat curve (range " << *hi - *lo << " < 0.25): whole curve fitted";
+    } else if (const auto half = n / 2; n >= 6 && is_bounded(y, curve.attractor_log_distance, options.bounded_margin)) {
+      r.first = half;
+      r.last = n - 1;
+      r.end = CurveEnd::bounded;
+      r.end_index = half;
+      rule << "bounded divergence: the curve stops rising at " << *hi << ", "
+           << curve.attractor_log_distance - *hi
+           << " below the attractor scale (neighbours never separate: limit cycle or torus); second half fitted";
     } else {
       // Stage 1: where does the curve stop changing (plateau for lambda > 0, floor for lambda < 0)?
       auto pieces = merge_collinear(segment(y, 3, min_len), y, options.merge_tolerance);

@@ -17,6 +17,37 @@ void RosensteinOptions::validate() const {
   if (!(eps >= 0.0)) throw OptionError("rosenstein.eps: expected >= 0");
 }
 
+namespace {
+
+/// splitmix64: a fixed, platform-independent pseudo-random sequence (the attractor scale must be
+/// the same on every machine and thread count).
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+/// Mean ln distance between unrelated embedded points: up to 20000 pseudo-random pairs more than
+/// `theiler` samples apart. NaN when no such pair has a positive distance.
+double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler) {
+  const std::size_t M = points.size();
+  if (M < theiler + 2) return std::numeric_limits<double>::quiet_NaN();
+  std::uint64_t state = 0x6D6C6365ull;  // "mlce"
+  CompensatedSum sum;
+  std::size_t n = 0;
+  const std::size_t wanted = std::min<std::size_t>(20000, 4 * M);
+  for (std::size_t trial = 0; trial < 4 * wanted && n < wanted; ++trial) {
+    const std::size_t a = splitmix64(state) % M, b = splitmix64(state) % M;
+    if ((a > b ? a - b : b - a) <= theiler) continue;
+    const double d2 = points.squared_distance(a, b);
+    if (d2 > 0.0) sum.add(0.5 * std::log(d2)), ++n;
+  }
+  return n ? sum.value() / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
 std::size_t minimum_length(const RosensteinOptions& o) { return (o.dim - 1) * o.delay + o.horizon + o.theiler + 2; }
 
 DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options) {
@@ -79,6 +110,7 @@ DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& 
     for (std::size_t i = 0; i <= H; ++i) batch_sum[b][i] = sum[i].value();
   }
   curve.zero_distance_terms = zero_terms;
+  curve.attractor_log_distance = attractor_log_distance(all, options.theiler);
   curve.mean_log_distance.assign(H + 1, 0.0);
   curve.terms.assign(H + 1, 0);
   curve.batch_mean.assign(B, std::vector<double>(H + 1, std::nan("")));

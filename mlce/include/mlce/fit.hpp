@@ -9,7 +9,7 @@
 
 namespace mlce {
 
-enum class CurveEnd { none, saturation, floor, flat };
+enum class CurveEnd { none, saturation, floor, flat, bounded };
 
 struct FitOptions {
   /// Explicit fit range [first, last] in steps of the curve (overrides the rule).
@@ -25,6 +25,10 @@ struct FitOptions {
   /// A final segment whose slope is below this fraction of the fitted slope is the saturation
   /// plateau (lambda > 0) or the noise/underflow floor (lambda < 0).
   double end_tolerance = 0.2;
+  /// A curve whose highest point stays more than this (natural log units) below the attractor
+  /// scale (DivergenceCurve::attractor_log_distance), after it has stopped rising, is bounded:
+  /// the neighbours never separate (limit cycle, torus) and lambda is ~0, not the start-up rise.
+  double bounded_margin = 2.0;
   void validate() const;
 };
 
@@ -46,6 +50,13 @@ struct FitResult {
 /// pieces with slopes equal within merge_tolerance joined.
 ///  0. A curve whose total range is below 0.25 (distances change by less than e^0.25) is flat
 ///     (lambda ~ 0): the whole curve is fitted.
+///  0b. A curve that never comes within bounded_margin of the attractor scale, starts in the lower
+///     half of its range (a decay starts at the top) and has settled (over its second half its
+///     least-squares line changes by less than 0.25, or by less than 0.4 of the curve's range, which a straight rise does not) is
+///     bounded: pairs selected as nearest neighbours drift apart by the selection bias of the
+///     search and then wander without separating (limit cycle, torus, paper 001 §5.2's LCOs). No
+///     exponential region exists; its second half is fitted, whose slope tends to lambda = 0 as
+///     the horizon grows (the estimator then uses the longest horizon).
 ///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.

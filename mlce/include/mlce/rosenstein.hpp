@@ -1,5 +1,6 @@
 #pragma once
 // Rosenstein's mean log-divergence curve (paper 001 eqs. 18-23), kept apart from its fit.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct DivergenceCurve {
   std::size_t admissible_points = 0;
   std::size_t zero_distance_terms = 0;  ///< d_j(i) = 0 terms left out of the average (never log 0)
   std::size_t zero_distance_candidates = 0;
+  /// <ln d> over unrelated pairs of embedded points (deterministic pseudo-random pairs, more than
+  /// a Theiler window apart): the level a chaotic divergence saturates at, the attractor's scale in
+  /// the same units as mean_log_distance. NaN when not computed.
+  double attractor_log_distance = std::numeric_limits<double>::quiet_NaN();
   double dt = 1.0;
   std::vector<std::string> warnings;
 };
