@@ -58,4 +58,16 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
   });
 }
 
+void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                  const std::string& zlabel, const std::string& png_path) {
+  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+    return fmt::format(
+        "set terminal pngcairo size 900,700 noenhanced\nset output '{}'\nset datafile separator ','\n"
+        "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
+        "set palette defined (0 'blue', 1 'white', 2 'red')\nset key off\n"
+        "plot '{}' every ::1 using 1:2:3 with image\n",
+        png, title, xlabel, ylabel, zlabel, data);
+  });
+}
+
 }  // namespace mlce::cli

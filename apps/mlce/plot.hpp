@@ -12,6 +12,10 @@ void render_png(const std::string& png_path, const std::string& csv,
 /// PNG of the divergence curve with the fit region and line.
 void plot_curve_png(const MlceResult& r, const std::string& png_path);
 /// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each.
+/// Colour map of z over a regular (x, y) grid: csv "x,y,z" with a header line.
+void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
+                  const std::string& zlabel, const std::string& png_path);
+
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
                       const std::string& ylabel, const std::string& png_path);
 }  // namespace mlce::cli

@@ -7,4 +7,5 @@ namespace mlce::cli {
 int cmd_spectrum(const std::vector<std::string>& args);
 int cmd_floquet(const std::vector<std::string>& args);
 int cmd_eigen(const std::vector<std::string>& args);
+int cmd_sweep(const std::vector<std::string>& args);  // sweep_command.cpp
 }  // namespace mlce::cli

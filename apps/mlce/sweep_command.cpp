@@ -1,0 +1,276 @@
+// mlce sweep: stability over a parameter grid (paper 001 §5.2), by any of the four methods.
+#include <fmt/format.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "cli_common.hpp"
+#include "mlce/estimate.hpp"
+#include "mlce/transient.hpp"
+#include "mlce/models/dynamics.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/models/simulate.hpp"
+#include "mlce/spectrum/floquet.hpp"
+#include "mlce/spectrum/qr_spectrum.hpp"
+#include "plot.hpp"
+#include "spectrum_commands.hpp"
+#include "sweep_runner.hpp"
+
+namespace po = boost::program_options;
+
+namespace mlce::cli {
+namespace {
+
+/// Speed/accuracy presets. Each names what it changes; the scene's own values are the baseline.
+struct Preset {
+  std::string name;
+  double output_step_factor;  ///< rosenstein: dt_out x this
+  double run_factor;          ///< rosenstein: t_end x this
+  double rtol;                ///< integrator tolerance (every method)
+  std::size_t max_references; ///< rosenstein: reference points of the divergence curve
+  double qr_run_factor;       ///< qr: run length = this x the scene's t_end
+};
+
+Preset preset_named(const std::string& name) {
+  if (name == "fast") return {"fast", 2.0, 2.0, 1e-6, 2000, 3.0};
+  if (name == "balanced") return {"balanced", 1.0, 3.0, 1e-8, 5000, 5.0};
+  if (name == "accurate") return {"accurate", 1.0, 6.0, 1e-10, 20000, 20.0};
+  throw po::error("--preset '" + name + "': expected fast, balanced or accurate");
+}
+
+std::string describe(const Preset& p) {
+  return fmt::format("preset {}: rosenstein output step x{}, run x{}, {} references; integrator rtol {}; qr run {} x t_end",
+                     p.name, p.output_step_factor, p.run_factor, p.max_references, p.rtol, p.qr_run_factor);
+}
+
+std::string cell(double v) { return fmt::format("{:.10g}", v); }
+
+/// The channel a rosenstein sweep estimates on: a state name, by default the lag of the blade
+/// with the weakest damper (the failed one; blade 1 when all are equal) or flapping's beta.
+std::size_t channel_index(const models::Scene& scene, const std::vector<std::string>& names, std::string& channel) {
+  if (channel.empty()) {
+    if (scene.model == "hammond") {
+      const auto& h = scene.hammond;
+      auto slope = [&](std::size_t i) { return h.damper[i] == models::DamperLaw::linear ? h.c[i] : h.C_L[i]; };
+      std::size_t weakest = 0;
+      for (std::size_t i = 1; i < h.c.size(); ++i)
+        if (slope(i) < slope(weakest)) weakest = i;
+      channel = "zeta" + std::to_string(weakest + 1);
+    } else {
+      channel = names.front();
+    }
+  }
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == channel) return i;
+  std::string known;
+  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+  throw po::error("--channel '" + channel + "': not a state of the " + scene.model + " model (" + known + ")");
+}
+
+}  // namespace
+
+int cmd_sweep(const std::vector<std::string>& args) {
+  std::vector<std::string> params;
+  std::string method = "floquet", preset_name = "balanced", out_path, plot_path, channel;
+  unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
+  double from = -1;
+  bool json = false, quiet = false;
+  std::size_t max_points = 0;
+  po::options_description d("mlce sweep SCENE --param NAME=a:b:step [--param ...] --out RESULT.csv [options]");
+  d.add_options()
+      ("param", po::value(&params)->composing(), "swept scene parameter NAME=first:last:step (repeatable; the grid is their product)")
+      ("method", po::value(&method), "rosenstein | qr | floquet | eigen (default floquet)")
+      ("preset", po::value(&preset_name), "fast | balanced | accurate (default balanced; see README)")
+      ("jobs", po::value(&jobs), "points computed at once (default: all cores); results do not depend on it")
+      ("out", po::value(&out_path), "result CSV (written at the end; OUT.partial keeps finished points for resuming)")
+      ("plot", po::value(&plot_path), "PNG: lines for one parameter, a colour map of lambda_1 for two")
+      ("channel", po::value(&channel), "rosenstein: state to estimate on (default: lag of the weakest-damped blade; flapping: beta)")
+      ("from", po::value(&from), "rosenstein: start of the analysed window (default: auto, the end of the transient as 'mlce estimate --from auto' finds it)")
+      ("max-points", po::value(&max_points), "compute at most this many new points, then stop (exit 3; rerun to continue)")
+      ("json", po::bool_switch(&json), "print one JSON object (settings, columns, rows)")
+      ("quiet", po::bool_switch(&quiet), "no progress messages");
+  const auto parsed = parse_scene_command(args, d);
+  if (!parsed) return 0;
+  const models::Scene& base = parsed->scene;
+  if (params.empty()) throw po::error("give at least one --param NAME=first:last:step");
+  if (out_path.empty()) throw po::error("give --out RESULT.csv");
+  if (jobs == 0) throw po::error("--jobs: expected at least 1");
+  if (method != "rosenstein" && method != "qr" && method != "floquet" && method != "eigen")
+    throw po::error("--method '" + method + "': expected rosenstein, qr, floquet or eigen");
+  const Preset preset = preset_named(preset_name);
+
+  SweepPlan plan;
+  plan.out_path = out_path;
+  plan.jobs = jobs;
+  plan.quiet = quiet;
+  plan.max_new_points = max_points;
+  for (const auto& spec : params) {
+    try {
+      plan.axes.push_back(parse_sweep_axis(spec));
+      models::scene_parameter(base, plan.axes.back().name);  // a parameter of this model?
+    } catch (const std::invalid_argument& e) {
+      throw po::error(e.what());
+    }
+  }
+  const ode::DynamicalSystem sys0 = models::dynamical_system(base);
+  std::size_t channel_state = 0;
+  if (method == "rosenstein") {
+    channel_state = channel_index(base, sys0.state_names, channel);
+    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "note"};
+  } else {
+    for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
+    plan.result_columns.push_back("note");
+  }
+  const std::string unit = base.model == "flapping" ? "rad of azimuth" : "s";
+  std::string settings = fmt::format("method {}, {}", method, describe(preset));
+  if (method == "rosenstein") settings += fmt::format(", channel {}, from {}", channel, from < 0 ? "auto" : cell(from));
+  plan.header_comment = "# mlce sweep of " + base.source + ": " + settings + "; exponents in 1/" + unit + ", natural log\n";
+  std::istringstream scene_text(models::describe_scene(base));
+  for (std::string line; std::getline(scene_text, line);) plan.header_comment += "# scene: " + line + "\n";
+  std::string signature_text = plan.header_comment;
+  for (const auto& p : params) signature_text += p + ";";
+  plan.signature = fmt::format("{:016x}", std::hash<std::string>{}(signature_text));
+
+  const auto compute = [&](const std::vector<double>& values) -> std::vector<std::string> {
+#ifdef _OPENMP
+    if (jobs > 1) omp_set_num_threads(1);  // the points are the parallelism
+#endif
+    models::Scene scene = base;
+    for (std::size_t a = 0; a < plan.axes.size(); ++a) models::set_scene_parameter(scene, plan.axes[a].name, values[a]);
+    scene.integrator.rtol = preset.rtol;
+    std::vector<std::string> cells;
+    std::vector<std::string> warnings;
+    if (method == "rosenstein") {
+      scene.dt_out *= preset.output_step_factor;
+      scene.t_end *= preset.run_factor;
+      const models::Trajectory t = models::simulate(scene);
+      const double t0 = from < 0 ? 0.0 : from;
+      Series s;
+      s.dt = scene.dt_out;
+      s.time_unit = unit;
+      s.names = {channel};
+      s.channels.emplace_back();
+      for (std::size_t i = 0; i < t.time.size(); ++i)
+        if (t.time[i] >= t0 - 1e-9 * scene.dt_out) {
+          if (s.channels[0].empty()) s.t0 = t.time[i];
+          s.channels[0].push_back(t.states[i](static_cast<Eigen::Index>(channel_state)));
+        }
+      if (from < 0) {  // --from auto: cut the transient (a decay or a growth is kept whole)
+        TransientOptions to;
+        to.period = estimate_mean_period(s, {}).mean_period;
+        const TransientResult tr = detect_transient(s, to);
+        s.channels[0].erase(s.channels[0].begin(), s.channels[0].begin() + static_cast<std::ptrdiff_t>(tr.end_index));
+        s.t0 += static_cast<double>(tr.end_index) * s.dt;
+      }
+      MlceOptions o;
+      o.max_references = preset.max_references;
+      const MlceResult r = estimate_mlce(s, o);
+      cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points)};
+      warnings = r.warnings;
+    } else {
+      Eigen::VectorXd ex;
+      if (method == "eigen") {
+        const spectrum::LinearSpectrum ls = spectrum::linear_eigen(models::time_invariant_form(scene).A);
+        ex = ls.exponents, warnings = ls.warnings;
+      } else if (method == "floquet") {
+        spectrum::FloquetOptions o;
+        o.integrator.rtol = std::min(o.integrator.rtol, preset.rtol);
+        const spectrum::LinearSpectrum ls = spectrum::floquet(models::dynamical_system(scene), o);
+        ex = ls.exponents, warnings = ls.warnings;
+      } else {
+        spectrum::QrOptions o;
+        o.t_end = preset.qr_run_factor * scene.t_end;
+        o.step = scene.dt_out;
+        o.transient = 0.1 * o.t_end;
+        o.integrator = scene.integrator;
+        const spectrum::QrResult r = spectrum::qr_spectrum(models::dynamical_system(scene), scene.x0, o);
+        ex = r.exponents, warnings = r.warnings;
+      }
+      for (Eigen::Index i = 0; i < ex.size(); ++i) cells.push_back(cell(ex(i)));
+    }
+    std::string note;
+    for (const auto& w : warnings) note += (note.empty() ? "" : " | ") + w;
+    cells.push_back(note);
+    return cells;
+  };
+  const SweepOutcome outcome = run_sweep(plan, compute);
+  if (!outcome.complete) {
+    std::cerr << fmt::format("mlce: sweep stopped after {} new points ({} of {} done, kept in {}.partial); rerun to continue\n",
+                             outcome.computed, outcome.resumed + outcome.computed, outcome.points, out_path);
+    return 3;
+  }
+
+  if (!plot_path.empty()) {
+    const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel : method + " exponents";
+    if (plan.axes.size() == 1) {
+      std::string csv = plan.axes[0].name;
+      const std::size_t shown = method == "rosenstein" ? 3 : plan.result_columns.size() - 1;
+      for (std::size_t c = 0; c < shown; ++c) csv += "," + plan.result_columns[c];
+      csv += "\n";
+      for (std::size_t k = 0; k < outcome.points; ++k) {
+        csv += cell(outcome.values[k][0]);
+        for (std::size_t c = 0; c < shown; ++c) csv += "," + outcome.results[k][c];
+        csv += "\n";
+      }
+      plot_columns_png(csv, what + " over " + plan.axes[0].name, plan.axes[0].name, "lambda (1/" + unit + ")", plot_path);
+    } else if (plan.axes.size() == 2) {
+      std::string csv = plan.axes[0].name + "," + plan.axes[1].name + "," + plan.result_columns[0] + "\n";
+      for (std::size_t k = 0; k < outcome.points; ++k)
+        csv += cell(outcome.values[k][0]) + "," + cell(outcome.values[k][1]) + "," + outcome.results[k][0] + "\n";
+      plot_map_png(csv, what + ": " + plan.result_columns[0], plan.axes[0].name, plan.axes[1].name,
+                   plan.result_columns[0] + " (1/" + unit + ")", plot_path);
+    } else {
+      throw std::runtime_error(plot_path + ": a plot needs one or two swept parameters (the CSV was written)");
+    }
+  }
+  if (json) {
+    nlohmann::json j;
+    j["scene"] = base.source;
+    j["method"] = method;
+    j["preset"] = preset.name;
+    j["settings"] = settings;
+    j["out"] = out_path;
+    j["points"] = outcome.points;
+    j["resumed"] = outcome.resumed;
+    j["computed"] = outcome.computed;
+    std::vector<std::string> columns;
+    for (const auto& a : plan.axes) columns.push_back(a.name);
+    columns.insert(columns.end(), plan.result_columns.begin(), plan.result_columns.end());
+    j["columns"] = columns;
+    j["rows"] = nlohmann::json::array();
+    for (std::size_t k = 0; k < outcome.points; ++k) {
+      nlohmann::json row = outcome.values[k];
+      for (const auto& c : outcome.results[k]) {
+        try {
+          std::size_t used = 0;
+          const double v = std::stod(c, &used);
+          if (used == c.size() && std::isfinite(v)) {
+            row.push_back(v);
+            continue;
+          }
+        } catch (const std::exception&) {
+        }
+        row.push_back(c);
+      }
+      j["rows"].push_back(row);
+    }
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << fmt::format("# {} points ({} resumed, {} computed) -> {}\n", outcome.points, outcome.resumed,
+                             outcome.computed, out_path);
+    std::cout << "# " << settings << "\n";
+  }
+  return 0;
+}
+
+}  // namespace mlce::cli

@@ -1,0 +1,134 @@
+// mlce sweep: the grid, determinism whatever the job count, resuming after a stop or a kill (bit
+// for bit), and the swept exponents against independent references.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_harness.hpp"
+
+namespace fs = std::filesystem;
+using mlce::testing::CliRun;
+using mlce::testing::expect_one_line_error;
+using mlce::testing::slurp;
+
+namespace {
+
+const std::string kScenes = std::string(MLCE_DATA_DIR) + "/../scenes/";
+const std::string kC3 = kScenes + "c3zero_242rpm.scene";
+const std::string kIso = kScenes + "isotropic_200rpm.scene";
+
+class SweepCli : public mlce::testing::CliFixture {
+ protected:
+  nlohmann::json sweep_json(const std::string& args) {
+    const CliRun r = run("sweep " + args + " --json --quiet");
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+  }
+  std::string out(const std::string& name) { return (dir / name).string(); }
+};
+
+}  // namespace
+
+TEST_F(SweepCli, FloquetBandOfTheFailedDamperRotor) {
+  // Blade 3 inoperative: unstable from about 211 to 305 rpm (the shared MBDyn runs' README),
+  // stable outside.
+  const auto j = sweep_json(kC3 + " --param rpm=200:320:10 --method floquet --out " + out("f.csv"));
+  ASSERT_EQ(j["rows"].size(), 13u);
+  for (const auto& row : j["rows"]) {
+    const double rpm = row[0], lambda1 = row[1];
+    if (rpm >= 220 && rpm <= 300) {
+      EXPECT_GT(lambda1, 0.0) << rpm;
+    } else {
+      EXPECT_LT(lambda1, 0.0) << rpm;
+    }
+  }
+  // A point of the sweep is the same computation as the single command.
+  const CliRun single = run("floquet " + kC3 + " --rpm 250 --json");
+  ASSERT_EQ(single.status, 0) << single.err;
+  EXPECT_NEAR(j["rows"][5][1].get<double>(), nlohmann::json::parse(single.out)["exponents"][0].get<double>(), 1e-9);
+}
+
+TEST_F(SweepCli, EigenSweepKeepsTheCollectivePairAtMinusCOver2Ib) {
+  const auto j = sweep_json(kIso + " --param rpm=100:300:50 --param cy=25539.35:51078.7:25539.35 --method eigen --out " +
+                            out("e.csv") + " --plot " + out("e.png"));
+  ASSERT_EQ(j["rows"].size(), 10u);
+  const double pair = -4067.5 / (2 * 1084.7);  // collective and reactionless: -c / (2 I_b)
+  for (const auto& row : j["rows"]) {
+    int hits = 0;
+    for (std::size_t c = 2; c < row.size(); ++c)
+      if (row[c].is_number() && std::abs(row[c].get<double>() - pair) < 1e-6) ++hits;
+    EXPECT_GE(hits, 4) << row.dump();
+  }
+  EXPECT_TRUE(fs::exists(out("e.png")));  // 2-D: colour map
+}
+
+TEST_F(SweepCli, RosensteinFollowsFloquetWhereStableAndIsZeroOnTheLimitCycle) {
+  // Paper 001 Figs. 4-5: below the band the MLCE is the Floquet exponent; inside it the motion
+  // settles on a limit cycle and the MLCE is ~0 (while the Floquet exponent of x = 0 is positive).
+  const auto r = sweep_json(kC3 + " --param rpm=170:250:40 --method rosenstein --out " + out("r.csv") + " --plot " +
+                            out("r.png"));
+  const auto f = sweep_json(kC3 + " --param rpm=170:250:40 --method floquet --out " + out("f.csv"));
+  ASSERT_EQ(r["rows"].size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double rpm = r["rows"][k][0], mlce = r["rows"][k][1], floquet = f["rows"][k][1];
+    std::printf("rpm %.0f: MLCE %.5f (%s), Floquet lambda1 %.5f 1/s\n", rpm, mlce,
+                r["rows"][k][4].get<std::string>().c_str(), floquet);
+    if (rpm < 200) {
+      EXPECT_NEAR(mlce, floquet, 0.1 * std::abs(floquet)) << rpm;
+    } else {
+      EXPECT_LT(std::abs(mlce), 0.05) << rpm;
+    }
+  }
+  EXPECT_TRUE(fs::exists(out("r.png")));
+}
+
+TEST_F(SweepCli, JobCountDoesNotChangeTheResult) {
+  const std::string args = kIso + " --t_end 10 --param rpm=150:250:25 --method rosenstein --quiet";
+  ASSERT_EQ(run("sweep " + args + " --jobs 1 --out " + out("one.csv")).status, 0);
+  ASSERT_EQ(run("sweep " + args + " --jobs 2 --out " + out("two.csv")).status, 0);
+  EXPECT_EQ(slurp(out("one.csv")), slurp(out("two.csv")));
+}
+
+TEST_F(SweepCli, StoppedOrKilledSweepResumesToTheSameBytes) {
+  const std::string args = kIso + " --t_end 10 --param rpm=120:300:30 --method rosenstein --jobs 2";
+  ASSERT_EQ(run("sweep " + args + " --out " + out("whole.csv")).status, 0);
+  // Stopped in chunks: exit 3, no CSV yet, the journal holds the finished points.
+  const CliRun part = run("sweep " + args + " --out " + out("chunk.csv") + " --max-points 3");
+  EXPECT_EQ(part.status, 3) << part.err;
+  EXPECT_FALSE(fs::exists(out("chunk.csv")));
+  ASSERT_TRUE(fs::exists(out("chunk.csv.partial")));
+  std::ofstream(out("chunk.csv.partial"), std::ios::app) << "5,-0.9";  // a line torn by a kill
+  const auto resumed = sweep_json(args + " --out " + out("chunk.csv"));
+  EXPECT_EQ(resumed["resumed"], 3);
+  EXPECT_EQ(resumed["computed"], 4);
+  EXPECT_EQ(slurp(out("chunk.csv")), slurp(out("whole.csv")));
+  EXPECT_FALSE(fs::exists(out("chunk.csv.partial")));
+  // Killed for real (SIGKILL at some point of the run), then rerun.
+  std::system(("timeout -s KILL 1 " + std::string(MLCE_CLI) + " sweep " + args + " --jobs 1 --out " + out("killed.csv") +
+               " >/dev/null 2>&1")
+                  .c_str());
+  ASSERT_EQ(run("sweep " + args + " --out " + out("killed.csv")).status, 0);
+  EXPECT_EQ(slurp(out("killed.csv")), slurp(out("whole.csv")));
+}
+
+TEST_F(SweepCli, Errors) {
+  const std::string base = "sweep " + kC3 + " --out " + out("x.csv");
+  expect_one_line_error(run(base), "--param", 2);
+  expect_one_line_error(run(base + " --param rpm"), "expected NAME=first:last:step", 2);
+  expect_one_line_error(run(base + " --param rpm=300:200:10"), "first <= last", 2);
+  expect_one_line_error(run(base + " --param rpm=200:300:0"), "step must be positive", 2);
+  expect_one_line_error(run(base + " --param rpm=a:300:10"), "'a' is not a number", 2);
+  expect_one_line_error(run(base + " --param stiffness=1:2:1"), "stiffness", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --method lyap"), "--method 'lyap'", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --preset turbo"), "--preset 'turbo'", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --method rosenstein --channel beta"), "--channel 'beta'", 2);
+  expect_one_line_error(run("sweep " + kC3 + " --param rpm=200"), "--out", 2);
+  // A journal left by a sweep with other settings is not mixed in.
+  ASSERT_EQ(run(base + " --param rpm=200:300:50 --max-points 1 --quiet").status, 3);
+  expect_one_line_error(run(base + " --param rpm=200:300:25 --quiet"), "other settings", 1);
+  EXPECT_FALSE(fs::exists(out("x.csv")));
+}
