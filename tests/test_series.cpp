@@ -108,6 +108,27 @@ TEST(Transient, DecayOntoASteadyOscillationIsCutWhereItSettles) {
   EXPECT_LT(r.end_time, 18.0);
 }
 
+TEST(Transient, DecayIntoTheNoiseFloorEndsWhereTheFloorStarts) {
+  // e^{-t} sin(2 pi t) reaches the 1e-12 noise of an integrator's absolute tolerance near
+  // t = ln(1e12) = 27.6 (10x the floor at 25.3); the floor is not a settled motion to keep.
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) {
+    const double t = 0.01 * i;
+    x.push_back(std::exp(-t) * std::sin(2 * M_PI * t) + 1e-12 * std::sin(7.3 * i));
+  }
+  TransientOptions o;
+  o.period = 100;
+  const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_FALSE(r.settled);
+  EXPECT_EQ(r.end_index, 0u);
+  EXPECT_GT(r.floor_index * 0.01, 20.0);
+  EXPECT_LT(r.floor_index * 0.01, 30.0);
+  // A limit cycle, however small against its start-up, is not a floor.
+  std::vector<double> lc;
+  for (int i = 0; i < 20000; ++i) lc.push_back((1e-4 + std::exp(-0.01 * i)) * std::sin(2 * M_PI * 0.01 * i));
+  EXPECT_EQ(detect_transient(make_series_with_step({lc}, 0.01), o).floor_index, 0u);
+}
+
 TEST(Transient, PureDecayIsNotCut) {
   std::vector<double> x;
   for (int i = 0; i < 20000; ++i) x.push_back(std::exp(-0.02 * i * 0.01) * std::sin(2 * M_PI * 0.01 * i));

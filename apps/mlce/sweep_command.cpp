@@ -1,6 +1,7 @@
 // mlce sweep: stability over a parameter grid (paper 001 §5.2), by any of the four methods.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <functional>
@@ -117,16 +118,21 @@ int cmd_sweep(const std::vector<std::string>& args) {
   for (const auto& spec : params) {
     try {
       plan.axes.push_back(parse_sweep_axis(spec));
-      models::scene_parameter(base, plan.axes.back().name);  // a parameter of this model?
     } catch (const std::invalid_argument& e) {
       throw po::error(e.what());
+    }
+    const auto names = models::parameter_names(base);
+    if (std::find(names.begin(), names.end(), plan.axes.back().name) == names.end()) {
+      std::string known;
+      for (const auto& n : names) known += (known.empty() ? "" : " ") + n;
+      throw po::error("--param " + spec + ": '" + plan.axes.back().name + "' is not a " + base.model + " parameter (" + known + ")");
     }
   }
   const ode::DynamicalSystem sys0 = models::dynamical_system(base);
   std::size_t channel_state = 0;
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
-    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "note"};
+    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "note"};
   } else {
     for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
     plan.result_columns.push_back("note");
@@ -169,13 +175,20 @@ int cmd_sweep(const std::vector<std::string>& args) {
         TransientOptions to;
         to.period = estimate_mean_period(s, {}).mean_period;
         const TransientResult tr = detect_transient(s, to);
+        if (tr.floor_index > 0)  // a decay into the noise floor: analyse the decay, not the noise
+          s.channels[0].resize(tr.floor_index);
         s.channels[0].erase(s.channels[0].begin(), s.channels[0].begin() + static_cast<std::ptrdiff_t>(tr.end_index));
         s.t0 += static_cast<double>(tr.end_index) * s.dt;
       }
       MlceOptions o;
       o.max_references = preset.max_references;
       const MlceResult r = estimate_mlce(s, o);
-      cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points)};
+      // Amplitude: half the peak-to-peak range over the last quarter of the run (the settled
+      // motion of a long run: limit-cycle amplitude, or what is left of a decay).
+      const auto& x = s.channels[0];
+      const auto [lo, hi] = std::minmax_element(x.end() - static_cast<std::ptrdiff_t>(std::max<std::size_t>(1, x.size() / 4)), x.end());
+      cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points),
+               cell(0.5 * (*hi - *lo))};
       warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;

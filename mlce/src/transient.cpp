@@ -9,7 +9,36 @@ namespace mlce {
 
 void TransientOptions::validate() const {
   if (!(band > 0.0)) throw OptionError("transient.band: expected > 0");
+  if (!(floor_ratio >= 0.0 && floor_ratio < 1.0)) throw OptionError("transient.floor_ratio: expected [0, 1)");
 }
+
+namespace {
+
+/// Start of the noise/underflow floor of a decay, or 0: RMS in 100 windows about the last
+/// quarter's mean; when the last quarter's median window RMS is below floor_ratio x the largest,
+/// the floor starts at the first window after which every window stays within 10x that level.
+std::size_t floor_start(const Series& s, double floor_ratio) {
+  const std::size_t n = s.size(), windows = 100, w = n / windows;
+  if (w < 2 || floor_ratio <= 0.0) return 0;
+  std::vector<double> rms(windows, 0.0);
+  for (std::size_t c = 0; c < s.channel_count(); ++c) {
+    double mean = 0.0;
+    for (std::size_t i = 75 * w; i < windows * w; ++i) mean += s.channels[c][i];
+    mean /= static_cast<double>(25 * w);
+    for (std::size_t k = 0; k < windows; ++k)
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) rms[k] += (s.channels[c][i] - mean) * (s.channels[c][i] - mean);
+  }
+  for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
+  std::vector<double> tail(rms.begin() + 75, rms.end());
+  std::nth_element(tail.begin(), tail.begin() + 12, tail.end());
+  const double level = tail[12], peak = *std::max_element(rms.begin(), rms.end());
+  if (!(level < floor_ratio * peak)) return 0;
+  std::size_t k = windows;
+  while (k > 0 && rms[k - 1] <= 10.0 * level) --k;
+  return k * w;
+}
+
+}  // namespace
 
 TransientResult detect_transient(const Series& series, const TransientOptions& options) {
   options.validate();
@@ -17,6 +46,14 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   const Series s = standardized(series);
   const std::size_t n = s.size();
   TransientResult r;
+  if (const std::size_t f = floor_start(s, options.floor_ratio); f > 0) {
+    r.settled = false;
+    r.floor_index = f;
+    r.end_time = s.time(0);
+    r.rule = "decays into the noise/underflow floor from sample " + std::to_string(f) + " (RMS below " +
+             std::to_string(options.floor_ratio) + " of its largest): nothing cut at the start";
+    return r;
+  }
   const std::size_t w = options.window ? options.window : std::max<std::size_t>(4 * options.period, n / 100);
   const std::size_t windows = n / std::max<std::size_t>(w, 1);
   if (windows < 8) {

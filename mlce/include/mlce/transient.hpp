@@ -14,6 +14,9 @@ struct TransientOptions {
   /// Windows whose RMS lies within this relative band around the RMS of the last quarter of the
   /// series count as settled.
   double band = 0.25;
+  /// A settled part whose RMS is below this fraction of the largest window RMS is not a motion but
+  /// the noise/underflow floor a decay ends in (paper 001 Fig. 6): the signal ends there.
+  double floor_ratio = 1e-6;
   void validate() const;
 };
 
@@ -21,13 +24,18 @@ struct TransientResult {
   std::size_t end_index = 0;  ///< first sample of the settled part
   double end_time = 0.0;
   bool settled = true;  ///< false: amplitude drifts until the end (decay or growth): whole series kept
+  /// A decay into the noise/underflow floor: the floor starts at this sample (0 = none); nothing
+  /// is cut at the start, and the samples from here on carry no dynamics.
+  std::size_t floor_index = 0;
   std::string rule;
 };
 
 /// Rule: RMS about the last quarter's mean in consecutive windows; the transient ends at the start of
 /// the first window from which every later window's RMS is within `band` of the last quarter's
 /// median window RMS. If the last quarter itself drifts (its first and last window RMS differ by
-/// more than `band`) the motion is a decay or a growth and nothing is cut.
+/// more than `band`) the motion is a decay or a growth and nothing is cut. First, in 100 windows:
+/// a last quarter whose median RMS is below floor_ratio x the largest window RMS is the floor of
+/// a decay; floor_index = the first window after which the RMS stays within 10x that level.
 TransientResult detect_transient(const Series& series, const TransientOptions& options);
 
 }  // namespace mlce
