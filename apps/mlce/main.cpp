@@ -110,6 +110,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("horizon", po::value(&horizon), "divergence curve length in samples, or auto (adaptive)")
       ("fit", po::value(&fit), "fit region A:B in curve steps, or auto")
       ("refs", po::value(&refs), "reference points of the curve (evenly strided), or 'all'")
+      ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
@@ -126,6 +127,10 @@ int cmd_estimate(const std::vector<std::string>& args) {
   o.horizon = auto_or_count(horizon, "horizon");
   if (refs == "all") o.max_references = 0;
   else o.max_references = auto_or_count(refs, "refs").value_or(20000);
+  if (vm.count("eps")) {
+    o.eps = vm["eps"].as<double>();
+    if (!(o.eps >= 0.0) || !std::isfinite(o.eps)) throw po::error("--eps: expected a non-negative number");
+  }
   if (fit != "auto") {
     const auto colon = fit.find(':');
     if (colon == std::string::npos) throw po::error("--fit '" + fit + "': expected auto or A:B");

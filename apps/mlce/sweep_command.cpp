@@ -171,12 +171,12 @@ int cmd_sweep(const std::vector<std::string>& args) {
           if (s.channels[0].empty()) s.t0 = t.time[i];
           s.channels[0].push_back(t.states[i](static_cast<Eigen::Index>(channel_state)));
         }
-      if (from < 0) {  // --from auto: cut the transient (a decay or a growth is kept whole)
+      // --from auto: cut the transient (a decay or a growth is kept whole; a decay into the noise
+      // floor is cut at the floor by the estimator itself).
+      if (from < 0) {
         TransientOptions to;
         to.period = estimate_mean_period(s, {}).mean_period;
         const TransientResult tr = detect_transient(s, to);
-        if (tr.floor_index > 0)  // a decay into the noise floor: analyse the decay, not the noise
-          s.channels[0].resize(tr.floor_index);
         s.channels[0].erase(s.channels[0].begin(), s.channels[0].begin() + static_cast<std::ptrdiff_t>(tr.end_index));
         s.t0 += static_cast<double>(tr.end_index) * s.dt;
       }

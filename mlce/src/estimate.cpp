@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "mlce/embedding.hpp"
+#include "mlce/transient.hpp"
 
 namespace mlce {
 namespace {
@@ -19,13 +20,27 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& from) 
 
 }  // namespace
 
-MlceResult estimate_mlce(const Series& series, const MlceOptions& options) {
+MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
+  validate_series(input);
+  if (!(options.floor_ratio >= 0.0 && options.floor_ratio < 1.0)) throw OptionError("floor_ratio: expected [0, 1)");
+  // A decay into the noise/underflow floor is analysed up to the floor only.
+  Series cut;
+  std::string floor_warning;
+  if (const std::size_t f = detect_floor(input, options.floor_ratio); f > 0) {
+    cut = input;
+    for (auto& c : cut.channels) c.resize(f);
+    floor_warning = "the signal decays into a noise/underflow floor from sample " + std::to_string(f) + " (t = " +
+                    std::to_string(input.time(f)) + "): analysed up to there (" + std::to_string(input.size() - f) +
+                    " floor samples left out)";
+  }
+  const Series& series = floor_warning.empty() ? input : cut;
   validate_series(series);
   if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
   if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
   MlceResult r;
   r.n_points = series.size();
+  if (!floor_warning.empty()) r.warnings.push_back(floor_warning);
   r.dt = series.dt;
   r.time_unit = series.time_unit;
 

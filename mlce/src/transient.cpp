@@ -12,12 +12,8 @@ void TransientOptions::validate() const {
   if (!(floor_ratio >= 0.0 && floor_ratio < 1.0)) throw OptionError("transient.floor_ratio: expected [0, 1)");
 }
 
-namespace {
-
-/// Start of the noise/underflow floor of a decay, or 0: RMS in 100 windows about the last
-/// quarter's mean; when the last quarter's median window RMS is below floor_ratio x the largest,
-/// the floor starts at the first window after which every window stays within 10x that level.
-std::size_t floor_start(const Series& s, double floor_ratio) {
+std::size_t detect_floor(const Series& series, double floor_ratio) {
+  const Series s = standardized(series);
   const std::size_t n = s.size(), windows = 100, w = n / windows;
   if (w < 2 || floor_ratio <= 0.0) return 0;
   std::vector<double> rms(windows, 0.0);
@@ -38,15 +34,13 @@ std::size_t floor_start(const Series& s, double floor_ratio) {
   return k * w;
 }
 
-}  // namespace
-
 TransientResult detect_transient(const Series& series, const TransientOptions& options) {
   options.validate();
   validate_series(series);
   const Series s = standardized(series);
   const std::size_t n = s.size();
   TransientResult r;
-  if (const std::size_t f = floor_start(s, options.floor_ratio); f > 0) {
+  if (const std::size_t f = detect_floor(s, options.floor_ratio); f > 0) {
     r.settled = false;
     r.floor_index = f;
     r.end_time = s.time(0);

@@ -33,6 +33,10 @@ struct MlceOptions {
   /// error of the mean curve negligible while bounding the cost for very long series.
   std::size_t max_references = 20000;
   double eps = 0.0;
+  /// A series that decays into a noise/underflow floor below this fraction of its largest RMS is
+  /// analysed only up to the floor (detect_floor; paper 001 Fig. 6: otherwise the estimate drifts
+  /// with the run length). 0 = never cut.
+  double floor_ratio = 1e-6;
   ProgressCallback progress;
 };
 

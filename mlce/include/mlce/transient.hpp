@@ -38,4 +38,10 @@ struct TransientResult {
 /// a decay; floor_index = the first window after which the RMS stays within 10x that level.
 TransientResult detect_transient(const Series& series, const TransientOptions& options);
 
+/// Start of the noise/underflow floor a decay ends in, or 0 (none): RMS in 100 windows about the
+/// last quarter's mean; when the last quarter's median window RMS is below floor_ratio x the
+/// largest, the floor starts at the first window after which every window stays within 10x that
+/// level (paper 001 Fig. 6: past it the series carries no dynamics).
+std::size_t detect_floor(const Series& series, double floor_ratio);
+
 }  // namespace mlce

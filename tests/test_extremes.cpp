@@ -1,0 +1,124 @@
+// Numerical extremes (issue 7): amplitudes at the ends of the double range, strongly negative
+// exponents whose divergence runs into the noise floor (paper 001 Fig. 6: the estimate must not
+// drift with the run length), long QR runs (orthogonality kept, sums without drift), and model
+// parameters at the ends of their ranges.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+
+#include "mlce/estimate.hpp"
+#include "mlce/models/dynamics.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/spectrum/floquet.hpp"
+#include "mlce/spectrum/qr_spectrum.hpp"
+#include "reference_systems.hpp"
+
+using namespace mlce;
+
+namespace {
+
+MlceResult estimate(const std::vector<double>& x, double dt) { return estimate_mlce(make_series_with_step({x}, dt), {}); }
+
+/// x'' + 2 zeta w x' + w^2 x = 0 from x = 1, plus white noise of standard deviation `noise`: the
+/// decay reaches the floor after ln(1/noise) / (zeta w) time units.
+std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, double w, double noise) {
+  auto x = reference::damped_oscillator(n, dt, zeta, w);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, noise);
+  for (double& v : x) v += g(rng);
+  return x;
+}
+
+}  // namespace
+
+TEST(Extremes, AmplitudesAtTheEndsOfTheDoubleRange) {
+  const auto x = reference::lorenz_x(5000, 0.01);
+  const auto ref = estimate(x, 0.01);
+  for (double scale : {1e-300, 1e300, 1e-307}) {
+    auto y = x;
+    for (double& v : y) v *= scale;
+    const auto r = estimate(y, 0.01);
+    EXPECT_NEAR(r.lambda, ref.lambda, 1e-9 * std::abs(ref.lambda)) << scale;
+    EXPECT_TRUE(std::isfinite(r.ci95_low) && std::isfinite(r.ci95_high)) << scale;
+  }
+}
+
+TEST(Extremes, StronglyNegativeExponentDoesNotDriftWithTheRunLength) {
+  // lambda = -zeta w = -3.1416 1/s; noise 1e-10 of the start: the floor from t ~ 7.3 s. Runs of
+  // 10, 20 and 40 s are mostly floor; the floor is detected (the series is analysed up to it, or
+  // the fit stops before it) and the estimate is the same for every run length.
+  const double zeta = 0.5, w = 2 * std::numbers::pi, truth = -zeta * w;
+  for (double T : {10.0, 20.0, 40.0}) {
+    const auto r = estimate(noisy_decay(static_cast<std::size_t>(T / 0.01), 0.01, zeta, w, 1e-10), 0.01);
+    std::printf("run %4.0f s: lambda %.5f (truth %.5f), %zu samples analysed\n", T, r.lambda, truth, r.n_points);
+    EXPECT_NEAR(r.lambda, truth, 0.05 * std::abs(truth)) << "run " << T << " s: " << r.fit.rule;
+    bool floor_seen = r.fit.end == CurveEnd::floor;
+    for (const auto& w : r.warnings) floor_seen = floor_seen || w.find("noise/underflow floor") != std::string::npos;
+    EXPECT_TRUE(floor_seen) << T;
+  }
+}
+
+TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {
+  // The same decay scaled to 1e-290: it ends among subnormal numbers (below 2.2e-308), where
+  // the relative precision is lost; no NaN, no log(0), the estimate still sees the decay.
+  auto x = noisy_decay(2000, 0.01, 0.05, 2 * std::numbers::pi, 1e-12);
+  for (double& v : x) v *= 1e-290;
+  const auto r = estimate(x, 0.01);
+  EXPECT_TRUE(std::isfinite(r.lambda));
+  EXPECT_NEAR(r.lambda, -0.05 * 2 * std::numbers::pi, 0.1 * 0.05 * 2 * std::numbers::pi) << r.fit.rule;
+}
+
+TEST(Extremes, LongQrRunKeepsOrthogonalityAndItsSums) {
+  // 2 x 10^5 re-orthonormalisations of a damped oscillator (2000 time units): Q stays orthonormal
+  // to rounding and the compensated sums give -zeta w to 1e-8 (no drift from accumulation).
+  ode::DynamicalSystem s;
+  const double zeta = 0.05, w = 2 * std::numbers::pi;
+  Eigen::MatrixXd A(2, 2);
+  A << 0, 1, -w * w, -2 * zeta * w;
+  s.dimension = 2;
+  s.rhs = [A](const Eigen::VectorXd& x, Eigen::VectorXd& dx, double) { dx = A * x; };
+  s.jacobian = [A](const Eigen::VectorXd&, double) { return A; };
+  spectrum::QrOptions o;
+  o.t_end = 2000.0;
+  o.step = 0.01;
+  o.transient = 0.0;
+  const auto r = spectrum::qr_spectrum(s, Eigen::VectorXd::Ones(2), o);
+  EXPECT_EQ(r.intervals, 200000u);
+  EXPECT_LT(r.orthogonality_error, 1e-12);
+  EXPECT_NEAR(r.exponents(0), -zeta * w, 1e-8);
+  EXPECT_NEAR(r.raw_exponents.sum(), -2 * zeta * w, 1e-8);
+}
+
+TEST(Extremes, RotorAtRestAndAtTheTopOfTheRange) {
+  // rpm 0 (autonomous: Floquet reports eig(A)) and 1000 rpm, far above the ground-resonance band:
+  // every exponent finite and none positive.
+  for (double rpm : {0.0, 1000.0}) {
+    auto scene = models::load_scene("", {"--rpm", std::to_string(rpm)});
+    const auto f = spectrum::floquet(models::dynamical_system(scene), {});
+    for (Eigen::Index i = 0; i < f.exponents.size(); ++i) EXPECT_TRUE(std::isfinite(f.exponents(i))) << rpm;
+    EXPECT_LE(f.exponents(0), 1e-9) << rpm;
+  }
+}
+
+TEST(Extremes, ZeroDamperSlopeAndInoperativeDampersAreHandled) {
+  // Every c_i = 0 (linear law) and C_L = 0 (nonlinear law, whose linearisation at rest has zero
+  // slope): the same linear problem. Without lag damping the rotor is in ground resonance at
+  // 150 rpm (lambda_1 > 0); the collective and reactionless lag modes, which do not couple with
+  // the hub, are undamped (exponent 0, i.e. -c/(2 I_b) with c = 0). Two methods agree, no NaN.
+  auto linear = models::load_scene("", {"--c", "0,0,0,0", "--rpm", "150"});
+  auto nonlinear = models::load_scene("", {"--damper", "nonlinear", "--CL", "0", "--rpm", "150"});
+  const auto e = spectrum::linear_eigen(models::time_invariant_form(linear).A);
+  const auto f = spectrum::floquet(models::dynamical_system(nonlinear), {});
+  ASSERT_EQ(e.exponents.size(), f.exponents.size());
+  int zeros = 0;
+  for (Eigen::Index i = 0; i < e.exponents.size(); ++i) {
+    EXPECT_TRUE(std::isfinite(e.exponents(i)) && std::isfinite(f.exponents(i))) << i;
+    EXPECT_NEAR(e.exponents(i), f.exponents(i), 1e-6) << i;
+    if (std::abs(e.exponents(i)) < 1e-9) ++zeros;
+  }
+  EXPECT_GT(e.exponents(0), 0.1);  // ground resonance without dampers
+  EXPECT_EQ(zeros, 4);             // collective and reactionless pairs
+}
