@@ -4,8 +4,8 @@
 # reference at each rotor speed -- the Floquet exponent below the band (170, 185, 200 rpm), where the
 # motion decays, and 0 inside it (235, 250, 265 rpm), where it settles on a limit cycle -- versus
 # wall time (simulate + estimate, summed over the six speeds). One knob changes per row, from the
-# `balanced` settings (run 90 s, output step 5 ms, rtol 1e-8, 5000 references, m/delay/horizon
-# automatic, exact neighbours).
+# baseline (run 90 s, output step 5 ms, rtol 1e-8, 5000 references, m/delay/horizon
+# automatic, exact neighbours); the first three rows are the presets of `mlce sweep`.
 #   bench/speed_accuracy.sh [BUILD_DIR] [OUT_DIR]  -> table on stdout, OUT_DIR/speed_accuracy.{csv,png}
 set -euo pipefail
 build="${1:-build}"; out="${2:-bench/out}"; mkdir -p "$out"
@@ -39,9 +39,10 @@ run() {
 }
 : > "$work/rows.csv"
 echo "reference: $(for r in $speeds; do printf '%s rpm %.5f; ' $r ${ref[$r]}; done)" >&2
-run "fast preset (60 s, 10 ms, rtol 1e-6, 2000 refs)" 60 0.01 1e-6 --refs 2000
-run "balanced preset" 90 0.005 1e-8 --refs 5000
-run "accurate preset (180 s, rtol 1e-10, 20000 refs)" 180 0.005 1e-10 --refs 20000
+run "preset fast: 60 s; 20 ms; rtol 1e-6; 2000 refs" 60 0.02 1e-6 --refs 2000
+run "preset balanced: 90 s; 20 ms; rtol 1e-8; 5000 refs" 90 0.02 1e-8 --refs 5000
+run "preset accurate: 180 s; 10 ms; rtol 1e-10; 20000 refs" 180 0.01 1e-10 --refs 20000
+run "baseline: 90 s; 5 ms; rtol 1e-8; 5000 refs" 90 0.005 1e-8 --refs 5000
 run "run 30 s" 30 0.005 1e-8 --refs 5000
 run "run 60 s" 60 0.005 1e-8 --refs 5000
 run "output step 10 ms" 90 0.01 1e-8 --refs 5000
@@ -56,6 +57,7 @@ run "horizon 400" 90 0.005 1e-8 --refs 5000 --horizon 400
 run "1000 references" 90 0.005 1e-8 --refs 1000
 run "all references" 90 0.005 1e-8 --refs all
 run "approximate neighbours eps 1" 90 0.005 1e-8 --refs 5000 --eps 1
+run "run 180 s; output step 20 ms" 180 0.02 1e-8 --refs 5000
 { echo "setting,seconds,mean_abs_error,max_abs_error"; cat "$work/rows.csv"; } > "$out/speed_accuracy.csv"
 echo "| setting | wall s (6 speeds) | mean \|error\| (1/s) | max \|error\| (1/s) |"
 echo "|---|---|---|---|"

@@ -47,9 +47,33 @@ struct Piece {
   double slope;
 };
 
+std::vector<Piece> segment_exact(const std::vector<double>& y, std::size_t pieces, std::size_t min_len);
+
 /// Optimal segmentation of y into at most `pieces` straight pieces of at least `min_len` points
-/// (least squares, dynamic programming over the breakpoints: O(pieces * n^2)).
+/// (least squares, dynamic programming over the breakpoints: O(pieces * n^2)). Curves longer than
+/// 2048 steps are segmented on means of blocks of ceil(n / 1024) steps (breakpoints to a block,
+/// cost O(pieces * 1024^2)); the pieces' slopes are then fitted on the full curve.
 std::vector<Piece> segment(const std::vector<double>& y, std::size_t pieces, std::size_t min_len) {
+  const std::size_t n = y.size();
+  if (n <= 2048) return segment_exact(y, pieces, min_len);
+  const std::size_t block = (n + 1023) / 1024, m = (n + block - 1) / block;
+  std::vector<double> coarse(m, 0.0);
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t a = k * block, b = std::min(n, a + block);
+    double sum = 0.0;
+    for (std::size_t i = a; i < b; ++i) sum += y[i];
+    coarse[k] = sum / static_cast<double>(b - a);
+  }
+  auto out = segment_exact(coarse, pieces, std::max<std::size_t>(3, (min_len + block - 1) / block));
+  for (auto& p : out) {
+    p.a *= block;
+    p.b = std::min(n - 1, (p.b + 1) * block - 1);
+    p.slope = fit_line(y.data(), p.a, p.b).slope;
+  }
+  return out;
+}
+
+std::vector<Piece> segment_exact(const std::vector<double>& y, std::size_t pieces, std::size_t min_len) {
   const std::size_t n = y.size();
   const PieceCost cost(y);
   auto slope_of = [&](std::size_t a, std::size_t b) { return fit_line(y.data(), a, b).slope; };
