@@ -86,6 +86,28 @@ TEST_F(SweepCli, RosensteinFollowsFloquetWhereStableAndIsZeroOnTheLimitCycle) {
   EXPECT_TRUE(fs::exists(out("r.png")));
 }
 
+TEST_F(SweepCli, FloquetSensitivityColumnsMatchCentralDifferencesOfTheSweep) {
+  // Flapping blade (paper 000 Fig. 2): d lambda / d mu from the sweep's analytic sensitivity
+  // against central differences of the swept exponents themselves (step 1e-3).
+  const std::string flap = kScenes + "flapping_mu015.scene";
+  const auto j = sweep_json(flap + " --param mu=1.199:1.201:0.001 --method floquet --sensitivity mu --out " + out("s.csv"));
+  ASSERT_EQ(j["rows"].size(), 3u);
+  ASSERT_EQ(j["columns"][3], "dlambda_1/dmu");
+  const double fd = (j["rows"][2][1].get<double>() - j["rows"][0][1].get<double>()) / 0.002;
+  EXPECT_NEAR(j["rows"][1][3].get<double>(), fd, 0.02 * std::abs(fd));
+  expect_one_line_error(run("sweep " + flap + " --param mu=1 --method eigen --sensitivity mu --out " + out("t.csv")),
+                        "--sensitivity", 2);
+}
+
+TEST_F(SweepCli, InitialStateIsASweepAxis) {
+  // init:STATE sets the initial state; Floquet about x = 0 does not depend on it, the simulated
+  // amplitude does.
+  const auto j = sweep_json(kC3 + " --x0 0 --param init:zetadot3=0:1:1 --method floquet --out " + out("i.csv"));
+  ASSERT_EQ(j["rows"].size(), 2u);
+  EXPECT_EQ(j["rows"][0][1], j["rows"][1][1]);
+  expect_one_line_error(run("sweep " + kC3 + " --param init:zeta9=0:1:1 --out " + out("u.csv")), "'zeta9' is not a state", 2);
+}
+
 TEST_F(SweepCli, JobCountDoesNotChangeTheResult) {
   const std::string args = kIso + " --t_end 10 --param rpm=150:250:25 --method rosenstein --quiet";
   ASSERT_EQ(run("sweep " + args + " --jobs 1 --out " + out("one.csv")).status, 0);

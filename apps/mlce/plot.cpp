@@ -65,8 +65,10 @@ void plot_map_png(const std::string& csv, const std::string& title, const std::s
         "set terminal pngcairo size 900,700 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
         "set palette defined (0 'blue', 1 'white', 2 'red')\nset key off\n"
+        "stats '{}' every ::1 using 3 nooutput\nm = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)\n"
+        "if (m > 0) set cbrange [-m:m]\n"  // white is 0: stable blue, unstable red
         "plot '{}' every ::1 using 1:2:3 with image\n",
-        png, title, xlabel, ylabel, zlabel, data);
+        png, title, xlabel, ylabel, zlabel, data, data);
   });
 }
 

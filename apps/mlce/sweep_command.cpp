@@ -85,7 +85,7 @@ std::size_t channel_index(const models::Scene& scene, const std::vector<std::str
 
 int cmd_sweep(const std::vector<std::string>& args) {
   std::vector<std::string> params;
-  std::string method = "floquet", preset_name = "balanced", out_path, plot_path, channel;
+  std::string method = "floquet", preset_name = "balanced", out_path, plot_path, channel, sensitivity;
   unsigned jobs = std::max(1u, std::thread::hardware_concurrency());
   double from = -1;
   bool json = false, quiet = false;
@@ -98,6 +98,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
       ("jobs", po::value(&jobs), "points computed at once (default: all cores); results do not depend on it")
       ("out", po::value(&out_path), "result CSV (written at the end; OUT.partial keeps finished points for resuming)")
       ("plot", po::value(&plot_path), "PNG: lines for one parameter, a colour map of lambda_1 for two")
+      ("sensitivity", po::value(&sensitivity), "qr, floquet: comma-separated parameters; adds columns dlambda_i/dP (paper 000 eqs. 12-28)")
       ("channel", po::value(&channel), "rosenstein: state to estimate on (default: lag of the weakest-damped blade; flapping: beta)")
       ("from", po::value(&from), "rosenstein: start of the analysed window (default: auto, the end of the transient as 'mlce estimate --from auto' finds it)")
       ("max-points", po::value(&max_points), "compute at most this many new points, then stop (exit 3; rerun to continue)")
@@ -125,6 +126,16 @@ int cmd_sweep(const std::vector<std::string>& args) {
       throw po::error(e.what());
     }
     const auto names = models::parameter_names(base);
+    const std::string& axis = plan.axes.back().name;
+    if (axis.rfind("init:", 0) == 0) {  // an initial state, by the model's state name
+      const auto& states = models::dynamical_system(base).state_names;
+      if (std::find(states.begin(), states.end(), axis.substr(5)) == states.end()) {
+        std::string known;
+        for (const auto& n : states) known += (known.empty() ? "" : " ") + n;
+        throw po::error("--param " + spec + ": '" + axis.substr(5) + "' is not a state of the " + base.model + " model (" + known + ")");
+      }
+      continue;
+    }
     if (std::find(names.begin(), names.end(), plan.axes.back().name) == names.end()) {
       std::string known;
       for (const auto& n : names) known += (known.empty() ? "" : " ") + n;
@@ -132,12 +143,25 @@ int cmd_sweep(const std::vector<std::string>& args) {
     }
   }
   const ode::DynamicalSystem sys0 = models::dynamical_system(base);
+  std::vector<std::string> sensitivities;
   std::size_t channel_state = 0;
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
     plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "note"};
   } else {
     for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
+    if (!sensitivity.empty() && method == "eigen") throw po::error("--sensitivity: with --method qr or floquet");
+    std::stringstream list(sensitivity);
+    for (std::string p; std::getline(list, p, ',');) {
+      if (p.empty()) continue;
+      try {
+        models::parameter_family(base, p);
+      } catch (const std::invalid_argument& e) {
+        throw po::error(std::string("--sensitivity: ") + e.what());
+      }
+      sensitivities.push_back(p);
+      for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("dlambda_{}/d{}", i + 1, p));
+    }
     plan.result_columns.push_back("note");
   }
   const std::string unit = base.model == "flapping" ? "rad of azimuth" : "s";
@@ -155,7 +179,15 @@ int cmd_sweep(const std::vector<std::string>& args) {
     if (jobs > 1) omp_set_num_threads(1);  // the points are the parallelism
 #endif
     models::Scene scene = base;
-    for (std::size_t a = 0; a < plan.axes.size(); ++a) models::set_scene_parameter(scene, plan.axes[a].name, values[a]);
+    for (std::size_t a = 0; a < plan.axes.size(); ++a) {
+      const std::string& axis = plan.axes[a].name;
+      if (axis.rfind("init:", 0) == 0) {
+        const auto& states = sys0.state_names;
+        scene.x0(std::find(states.begin(), states.end(), axis.substr(5)) - states.begin()) = values[a];
+      } else {
+        models::set_scene_parameter(scene, axis, values[a]);
+      }
+    }
     scene.integrator.rtol = preset.rtol;
     std::vector<std::string> cells;
     std::vector<std::string> warnings;
@@ -195,24 +227,29 @@ int cmd_sweep(const std::vector<std::string>& args) {
       warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;
+      Eigen::MatrixXd sens;
+      std::vector<ode::ParameterFamily> families;
+      for (const auto& p : sensitivities) families.push_back(models::parameter_family(scene, p));
       if (method == "eigen") {
         const spectrum::LinearSpectrum ls = spectrum::linear_eigen(models::time_invariant_form(scene).A);
         ex = ls.exponents, warnings = ls.warnings;
       } else if (method == "floquet") {
         spectrum::FloquetOptions o;
         o.integrator.rtol = std::min(o.integrator.rtol, preset.rtol);
-        const spectrum::LinearSpectrum ls = spectrum::floquet(models::dynamical_system(scene), o);
-        ex = ls.exponents, warnings = ls.warnings;
+        const spectrum::LinearSpectrum ls = spectrum::floquet(models::dynamical_system(scene), o, families);
+        ex = ls.exponents, sens = ls.sensitivities, warnings = ls.warnings;
       } else {
         spectrum::QrOptions o;
         o.t_end = preset.qr_run_factor * scene.t_end;
         o.step = scene.dt_out;
         o.transient = 0.1 * o.t_end;
         o.integrator = scene.integrator;
-        const spectrum::QrResult r = spectrum::qr_spectrum(models::dynamical_system(scene), scene.x0, o);
-        ex = r.exponents, warnings = r.warnings;
+        const spectrum::QrResult r = spectrum::qr_spectrum(models::dynamical_system(scene), scene.x0, o, families);
+        ex = r.exponents, sens = r.sensitivities, warnings = r.warnings;
       }
       for (Eigen::Index i = 0; i < ex.size(); ++i) cells.push_back(cell(ex(i)));
+      for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(families.size()); ++k)
+        for (Eigen::Index i = 0; i < ex.size(); ++i) cells.push_back(cell(sens(k, i)));
     }
     std::string note;
     for (const auto& w : warnings) note += (note.empty() ? "" : " | ") + w;
@@ -230,7 +267,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
     const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel : method + " exponents";
     if (plan.axes.size() == 1) {
       std::string csv = plan.axes[0].name;
-      const std::size_t shown = method == "rosenstein" ? 3 : plan.result_columns.size() - 1;
+      const std::size_t shown = method == "rosenstein" ? 3 : static_cast<std::size_t>(sys0.dimension);
       for (std::size_t c = 0; c < shown; ++c) csv += "," + plan.result_columns[c];
       csv += "\n";
       for (std::size_t k = 0; k < outcome.points; ++k) {
