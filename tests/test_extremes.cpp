@@ -14,6 +14,7 @@
 #include "mlce/models/scene.hpp"
 #include "mlce/spectrum/floquet.hpp"
 #include "mlce/spectrum/qr_spectrum.hpp"
+#include "oscillator_system.hpp"
 #include "reference_systems.hpp"
 
 using namespace mlce;
@@ -74,13 +75,8 @@ TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {
 TEST(Extremes, LongQrRunKeepsOrthogonalityAndItsSums) {
   // 2 x 10^5 re-orthonormalisations of a damped oscillator (2000 time units): Q stays orthonormal
   // to rounding and the compensated sums give -zeta w to 1e-8 (no drift from accumulation).
-  ode::DynamicalSystem s;
   const double zeta = 0.05, w = 2 * std::numbers::pi;
-  Eigen::MatrixXd A(2, 2);
-  A << 0, 1, -w * w, -2 * zeta * w;
-  s.dimension = 2;
-  s.rhs = [A](const Eigen::VectorXd& x, Eigen::VectorXd& dx, double) { dx = A * x; };
-  s.jacobian = [A](const Eigen::VectorXd&, double) { return A; };
+  const ode::DynamicalSystem s = reference::damped_oscillator_system(zeta, w);
   spectrum::QrOptions o;
   o.t_end = 2000.0;
   o.step = 0.01;
