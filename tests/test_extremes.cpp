@@ -4,6 +4,7 @@
 // parameters at the ends of their ranges.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -52,14 +53,23 @@ TEST(Extremes, StronglyNegativeExponentDoesNotDriftWithTheRunLength) {
   // 10, 20 and 40 s are mostly floor; the floor is detected (the series is analysed up to it, or
   // the fit stops before it) and the estimate is the same for every run length.
   const double zeta = 0.5, w = 2 * std::numbers::pi, truth = -zeta * w;
+  std::vector<double> lambdas;
   for (double T : {10.0, 20.0, 40.0}) {
     const auto r = estimate(noisy_decay(static_cast<std::size_t>(T / 0.01), 0.01, zeta, w, 1e-10), 0.01);
-    std::printf("run %4.0f s: lambda %.5f (truth %.5f), %zu samples analysed\n", T, r.lambda, truth, r.n_points);
+    // The same series without the floor cut (floor_ratio 0): what the rule prevents.
+    MlceOptions uncut;
+    uncut.floor_ratio = 0.0;
+    const auto u = estimate_mlce(make_series_with_step({noisy_decay(static_cast<std::size_t>(T / 0.01), 0.01, zeta, w, 1e-10)}, 0.01), uncut);
+    std::printf("run %4.0f s: lambda %.5f (truth %.5f), %zu samples analysed; without the floor cut %.5f\n", T, r.lambda,
+                truth, r.n_points, u.lambda);
     EXPECT_NEAR(r.lambda, truth, 0.05 * std::abs(truth)) << "run " << T << " s: " << r.fit.rule;
+    lambdas.push_back(r.lambda);
     bool floor_seen = r.fit.end == CurveEnd::floor;
-    for (const auto& w : r.warnings) floor_seen = floor_seen || w.find("noise/underflow floor") != std::string::npos;
+    for (const auto& warning : r.warnings) floor_seen = floor_seen || warning.find("noise/underflow floor") != std::string::npos;
     EXPECT_TRUE(floor_seen) << T;
   }
+  const auto [lo, hi] = std::minmax_element(lambdas.begin(), lambdas.end());
+  EXPECT_LT(*hi - *lo, 0.01 * std::abs(truth));  // no drift with the run length
 }
 
 TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {

@@ -129,12 +129,19 @@ TEST_F(SweepCli, StoppedOrKilledSweepResumesToTheSameBytes) {
   EXPECT_EQ(resumed["computed"], 4);
   EXPECT_EQ(slurp(out("chunk.csv")), slurp(out("whole.csv")));
   EXPECT_FALSE(fs::exists(out("chunk.csv.partial")));
-  // Killed for real (SIGKILL at some point of the run), then rerun.
-  std::system(("timeout -s KILL 1 " + std::string(MLCE_CLI) + " sweep " + args + " --jobs 1 --out " + out("killed.csv") +
+  // Killed for real: a longer sweep (13 limit-cycle points of 300 s runs, ~5 s with one job) gets SIGKILL after 1 s,
+  // certainly before its end (checked: no CSV yet), then is rerun with two jobs.
+  const std::string slow = kC3 + " --t_end 100 --param rpm=220:280:5 --method rosenstein";
+  ASSERT_EQ(run("sweep " + slow + " --out " + out("slow_whole.csv")).status, 0);
+  std::system(("timeout -s KILL 1 " + std::string(MLCE_CLI) + " sweep " + slow + " --jobs 1 --out " + out("killed.csv") +
                " >/dev/null 2>&1")
                   .c_str());
-  ASSERT_EQ(run("sweep " + args + " --out " + out("killed.csv")).status, 0);
-  EXPECT_EQ(slurp(out("killed.csv")), slurp(out("whole.csv")));
+  ASSERT_FALSE(fs::exists(out("killed.csv"))) << "the sweep finished within 1 s: the kill interrupted nothing";
+  ASSERT_TRUE(fs::exists(out("killed.csv.partial")));
+  const auto after_kill = sweep_json(slow + " --jobs 2 --out " + out("killed.csv"));
+  std::printf("killed after 1 s: %d of %d points had been journalled\n", after_kill["resumed"].get<int>(),
+              after_kill["points"].get<int>());
+  EXPECT_EQ(slurp(out("killed.csv")), slurp(out("slow_whole.csv")));
 }
 
 TEST_F(SweepCli, Errors) {
@@ -149,6 +156,17 @@ TEST_F(SweepCli, Errors) {
   expect_one_line_error(run(base + " --param rpm=200 --preset turbo"), "--preset 'turbo'", 2);
   expect_one_line_error(run(base + " --param rpm=200 --method rosenstein --channel beta"), "--channel 'beta'", 2);
   expect_one_line_error(run("sweep " + kC3 + " --param rpm=200"), "--out", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --param cx=1 --param cy=1 --plot " + out("p.png")),
+                        "one or two swept parameters", 2);
+  EXPECT_FALSE(fs::exists(out("x.csv")));
+  // A point that cannot be computed (0.15 s at 20 ms: 8 samples) is recorded, not fatal: no values,
+  // the reason in its note, a warning on stderr.
+  const CliRun bad = run(base + " --param rpm=200 --method rosenstein --t_end 0.05 --quiet");
+  EXPECT_EQ(bad.status, 0) << bad.err;
+  EXPECT_NE(bad.err.find("1 of 1 points failed"), std::string::npos) << bad.err;
+  EXPECT_NE(slurp(out("x.csv")).find("\n200,,,,,,,error: AMI needs at least 16 samples"), std::string::npos)
+      << slurp(out("x.csv"));
+  fs::remove(out("x.csv"));
   // A journal left by a sweep with other settings is not mixed in.
   ASSERT_EQ(run(base + " --param rpm=200:300:50 --max-points 1 --quiet").status, 3);
   expect_one_line_error(run(base + " --param rpm=200:300:25 --quiet"), "other settings", 1);

@@ -1,5 +1,6 @@
 #include "cli_common.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <stdexcept>
@@ -24,6 +25,16 @@ std::optional<po::variables_map> parse(const std::vector<std::string>& args, po:
   }
   po::notify(vm);
   return vm;
+}
+
+std::optional<double> parse_finite(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
 }
 
 void print_warnings(const std::vector<std::string>& w) {

@@ -21,6 +21,9 @@ std::optional<boost::program_options::variables_map> parse(const std::vector<std
 
 void print_warnings(const std::vector<std::string>& w);
 
+/// The whole of `text` as a finite number ("1e-3", "-2"), or nullopt ("", "1x", "nan", "inf").
+std::optional<double> parse_finite(const std::string& text);
+
 /// The scene named by the positional FILE (optional) with every scene key given on the command
 /// line as an override. Scene errors are data errors (std::runtime_error).
 models::Scene scene_from(const boost::program_options::variables_map& vm,

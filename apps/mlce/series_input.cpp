@@ -6,6 +6,7 @@
 #include "mlce/reader/column_file.hpp"
 #include "mlce/reader/format.hpp"
 #include "mlce/transient.hpp"
+#include "cli_common.hpp"
 
 namespace mlce::cli {
 
@@ -128,22 +129,16 @@ LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out) {
   using reader::ReadError;
 
   if (in.from == "auto") {
-    TransientOptions to;
-    to.period = estimate_mean_period(out.series, {}).mean_period;
-    const TransientResult tr = detect_transient(out.series, to);
+    TransientResult tr;
+    out.series = skip_transient(out.series, &tr);
     out.transient_rule = tr.rule;
-    const double end = in.to.value_or(out.series.time(out.series.size() - 1));
-    out.series = time_window(out.series, tr.end_time, end);
+    if (in.to) out.series = time_window(out.series, out.series.time(0), *in.to);
   } else if (!in.from.empty() || in.to) {
     double from = out.series.time(0);
     if (!in.from.empty()) {
-      try {
-        std::size_t used = 0;
-        from = std::stod(in.from, &used);
-        if (used != in.from.size()) throw std::invalid_argument("trailing");
-      } catch (const std::exception&) {
-        throw OptionError("--from '" + in.from + "': expected a time or 'auto'");
-      }
+      const auto t = parse_finite(in.from);
+      if (!t) throw OptionError("--from '" + in.from + "': expected a time or 'auto'");
+      from = *t;
     }
     try {
       out.series = time_window(out.series, from, in.to.value_or(out.series.time(out.series.size() - 1)));

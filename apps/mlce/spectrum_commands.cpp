@@ -126,13 +126,9 @@ int cmd_spectrum(const std::vector<std::string>& args) {
   else if (merge == "off") o.merge = spectrum::MergeRule::none;
   else {
     o.merge = spectrum::MergeRule::tolerance;
-    try {
-      std::size_t used = 0;
-      o.merge_tolerance = std::stod(merge, &used);
-      if (used != merge.size() || !(o.merge_tolerance > 0)) throw std::invalid_argument("");
-    } catch (const std::exception&) {
-      throw po::error("--merge '" + merge + "': expected auto, off or a positive tolerance");
-    }
+    const auto tol = parse_finite(merge);
+    if (!tol || !(*tol > 0)) throw po::error("--merge '" + merge + "': expected auto, off or a positive tolerance");
+    o.merge_tolerance = *tol;
   }
   const auto params = families(scene, c.sensitivity);
   ProgressLine progress("QR spectrum", c.quiet);
@@ -254,13 +250,9 @@ int cmd_floquet(const std::vector<std::string>& args) {
     std::vector<double> v;
     std::stringstream in(orbit);
     for (std::string item; std::getline(in, item, ',');) {
-      try {
-        std::size_t used = 0;
-        v.push_back(std::stod(item, &used));
-        if (used != item.size() || !std::isfinite(v.back())) throw std::invalid_argument("");
-      } catch (const std::exception&) {
-        throw po::error("--orbit: '" + item + "' is not a number");
-      }
+      const auto x = parse_finite(item);
+      if (!x) throw po::error("--orbit: '" + item + "' is not a number");
+      v.push_back(*x);
     }
     o.orbit = Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
   }

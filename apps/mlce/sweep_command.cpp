@@ -113,6 +113,8 @@ int cmd_sweep(const std::vector<std::string>& args) {
   if (method != "rosenstein" && method != "qr" && method != "floquet" && method != "eigen")
     throw po::error("--method '" + method + "': expected rosenstein, qr, floquet or eigen");
   const Preset preset = preset_named(preset_name);
+  if (!plot_path.empty() && params.size() > 2)
+    throw po::error("--plot: a plot needs one or two swept parameters (" + std::to_string(params.size()) + " given)");
 
   SweepPlan plan;
   plan.out_path = out_path;
@@ -206,15 +208,9 @@ int cmd_sweep(const std::vector<std::string>& args) {
           if (s.channels[0].empty()) s.t0 = t.time[i];
           s.channels[0].push_back(t.states[i](static_cast<Eigen::Index>(channel_state)));
         }
-      // --from auto: cut the transient (a decay or a growth is kept whole; a decay into the noise
-      // floor is cut at the floor by the estimator itself).
-      if (from < 0) {
-        TransientOptions to;
-        to.period = estimate_mean_period(s, {}).mean_period;
-        const TransientResult tr = detect_transient(s, to);
-        s.channels[0].erase(s.channels[0].begin(), s.channels[0].begin() + static_cast<std::ptrdiff_t>(tr.end_index));
-        s.t0 += static_cast<double>(tr.end_index) * s.dt;
-      }
+      // --from auto: cut the transient as `mlce estimate --from auto` does (a decay or a growth is
+      // kept whole; a decay into the noise floor is cut at the floor by the estimator itself).
+      if (from < 0) s = skip_transient(s);
       MlceOptions o;
       o.max_references = preset.max_references;
       const MlceResult r = estimate_mlce(s, o);
@@ -257,6 +253,11 @@ int cmd_sweep(const std::vector<std::string>& args) {
     return cells;
   };
   const SweepOutcome outcome = run_sweep(plan, compute);
+  std::size_t failed = 0;
+  for (const auto& cells : outcome.results)
+    if (!cells.empty() && cells.back().rfind("error: ", 0) == 0) ++failed;  // unfinished points have none
+  if (failed > 0)
+    print_warnings({fmt::format("{} of {} points failed (see their 'note' column in {})", failed, outcome.points, out_path)});
   if (!outcome.complete) {
     std::cerr << fmt::format("mlce: sweep stopped after {} new points ({} of {} done, kept in {}.partial); rerun to continue\n",
                              outcome.computed, outcome.resumed + outcome.computed, outcome.points, out_path);
@@ -282,8 +283,6 @@ int cmd_sweep(const std::vector<std::string>& args) {
         csv += cell(outcome.values[k][0]) + "," + cell(outcome.values[k][1]) + "," + outcome.results[k][0] + "\n";
       plot_map_png(csv, what + ": " + plan.result_columns[0], plan.axes[0].name, plan.axes[1].name,
                    plan.result_columns[0] + " (1/" + unit + ")", plot_path);
-    } else {
-      throw std::runtime_error(plot_path + ": a plot needs one or two swept parameters (the CSV was written)");
     }
   }
   if (json) {
@@ -304,16 +303,9 @@ int cmd_sweep(const std::vector<std::string>& args) {
     for (std::size_t k = 0; k < outcome.points; ++k) {
       nlohmann::json row = outcome.values[k];
       for (const auto& c : outcome.results[k]) {
-        try {
-          std::size_t used = 0;
-          const double v = std::stod(c, &used);
-          if (used == c.size() && std::isfinite(v)) {
-            row.push_back(v);
-            continue;
-          }
-        } catch (const std::exception&) {
-        }
-        row.push_back(c);
+        if (const auto v = parse_finite(c)) row.push_back(*v);
+        else if (c.empty()) row.push_back(nullptr);  // a failed point's value
+        else row.push_back(c);
       }
       j["rows"].push_back(row);
     }

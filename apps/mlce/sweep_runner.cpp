@@ -17,18 +17,14 @@
 #include <stdexcept>
 #include <thread>
 
+#include "cli_common.hpp"
 #include "report.hpp"
 
 namespace mlce::cli {
 namespace {
 
 double parse_number(const std::string& text, const std::string& spec) {
-  try {
-    std::size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return v;
-  } catch (const std::exception&) {
-  }
+  if (const auto v = parse_finite(text)) return *v;
   throw std::invalid_argument("--param " + spec + ": '" + text + "' is not a number");
 }
 
@@ -180,11 +176,11 @@ SweepOutcome run_sweep(const SweepPlan& plan,
   if (!plan.quiet && out.resumed > 0)
     std::fprintf(stderr, "mlce: resuming %s: %zu of %zu points already done\n", plan.out_path.c_str(), out.resumed, total);
 
-  std::vector<std::size_t> todo;
+  std::vector<std::size_t> pending;
   for (std::size_t k = 0; k < total; ++k)
-    if (!done[k]) todo.push_back(k);
-  const bool chunk = plan.max_new_points > 0 && plan.max_new_points < todo.size();
-  if (chunk) todo.resize(plan.max_new_points);
+    if (!done[k]) pending.push_back(k);
+  const bool chunk = plan.max_new_points > 0 && plan.max_new_points < pending.size();
+  if (chunk) pending.resize(plan.max_new_points);
   std::atomic<std::size_t> next{0}, finished{0};
   std::atomic<bool> failed{false};
   std::string failure;
@@ -199,14 +195,14 @@ SweepOutcome run_sweep(const SweepPlan& plan,
     last_report = s;
     const std::size_t f = finished.load();
     const double rate = s > 0 ? static_cast<double>(f) / s : 0.0;
-    const double left = rate > 0 ? static_cast<double>(todo.size() - f) / rate : 0.0;
+    const double left = rate > 0 ? static_cast<double>(pending.size() - f) / rate : 0.0;
     std::fprintf(stderr, "mlce: sweep %zu/%zu points, %.2f points/s, %.0f s left\n", out.resumed + f, total, rate, left);
   };
   auto worker = [&] {
     while (!failed) {
       const std::size_t t = next++;
-      if (t >= todo.size()) return;
-      const std::size_t k = todo[t];
+      if (t >= pending.size()) return;
+      const std::size_t k = pending[t];
       std::vector<std::string> cells;
       try {
         cells = compute(out.values[k]);
@@ -217,7 +213,7 @@ SweepOutcome run_sweep(const SweepPlan& plan,
           if (!failed.exchange(true)) failure = e.what();
           return;
         }
-        cells.assign(n_cells, "nan");
+        cells.assign(n_cells, "");  // no value: the note says why
         cells.back() = "error: " + std::string(e.what());
       }
       for (auto& c : cells) c = clean_cell(c);
@@ -229,7 +225,7 @@ SweepOutcome run_sweep(const SweepPlan& plan,
       report(false);
     }
   };
-  const unsigned jobs = std::max(1u, std::min<unsigned>(plan.jobs, static_cast<unsigned>(std::max<std::size_t>(todo.size(), 1))));
+  const unsigned jobs = std::max(1u, std::min<unsigned>(plan.jobs, static_cast<unsigned>(std::max<std::size_t>(pending.size(), 1))));
   std::vector<std::thread> pool;
   for (unsigned j = 1; j < jobs; ++j) pool.emplace_back(worker);
   worker();

@@ -42,7 +42,7 @@ struct SweepOutcome {
 };
 
 /// Runs the plan; compute(values) returns the point's result cells (size result_columns) and must
-/// be thread-safe. An exception from compute is recorded in the point's last cell ("error: ...")
+/// be thread-safe. An exception from compute leaves the point's cells empty and its last cell "error: ..."
 /// when the plan's last column is "note", otherwise it aborts the sweep (journal kept).
 SweepOutcome run_sweep(const SweepPlan& plan,
                        const std::function<std::vector<std::string>(const std::vector<double>&)>& compute);

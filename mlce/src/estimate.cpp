@@ -27,8 +27,8 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
   Series cut;
   std::string floor_warning;
   if (const std::size_t f = detect_floor(input, options.floor_ratio); f > 0) {
-    cut = input;
-    for (auto& c : cut.channels) c.resize(f);
+    cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
+    for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
     floor_warning = "the signal decays into a noise/underflow floor from sample " + std::to_string(f) + " (t = " +
                     std::to_string(input.time(f)) + "): analysed up to there (" + std::to_string(input.size() - f) +
                     " floor samples left out)";

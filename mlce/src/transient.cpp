@@ -1,5 +1,7 @@
 #include "mlce/transient.hpp"
 
+#include "mlce/mean_period.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -12,17 +14,21 @@ void TransientOptions::validate() const {
   if (!(floor_ratio >= 0.0 && floor_ratio < 1.0)) throw OptionError("transient.floor_ratio: expected [0, 1)");
 }
 
-std::size_t detect_floor(const Series& series, double floor_ratio) {
-  const Series s = standardized(series);
+std::size_t detect_floor(const Series& s, double floor_ratio) {
   const std::size_t n = s.size(), windows = 100, w = n / windows;
   if (w < 2 || floor_ratio <= 0.0) return 0;
+  // In place, no standardised copy: each channel divided by its peak |x| (squares of 1e300 would
+  // overflow); the test is a ratio of RMS levels, so the scale does not matter otherwise.
   std::vector<double> rms(windows, 0.0);
-  for (std::size_t c = 0; c < s.channel_count(); ++c) {
+  for (const auto& x : s.channels) {
+    double peak = 0.0;
+    for (double v : x) peak = std::max(peak, std::abs(v));
+    if (peak == 0.0) continue;
     double mean = 0.0;
-    for (std::size_t i = 75 * w; i < windows * w; ++i) mean += s.channels[c][i];
+    for (std::size_t i = 75 * w; i < windows * w; ++i) mean += x[i] / peak;
     mean /= static_cast<double>(25 * w);
     for (std::size_t k = 0; k < windows; ++k)
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) rms[k] += (s.channels[c][i] - mean) * (s.channels[c][i] - mean);
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) rms[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
   }
   for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
   std::vector<double> tail(rms.begin() + 75, rms.end());
@@ -92,6 +98,14 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
        << " % of the last quarter's median from sample " << r.end_index;
   r.rule = rule.str();
   return r;
+}
+
+Series skip_transient(const Series& series, TransientResult* result) {
+  TransientOptions o;
+  o.period = estimate_mean_period(series, {}).mean_period;
+  const TransientResult r = detect_transient(series, o);
+  if (result) *result = r;
+  return time_window(series, r.end_time, series.time(series.size() - 1));
 }
 
 }  // namespace mlce

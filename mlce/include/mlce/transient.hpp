@@ -44,4 +44,8 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
 /// level (paper 001 Fig. 6: past it the series carries no dynamics).
 std::size_t detect_floor(const Series& series, double floor_ratio);
 
+/// `--from auto`: the series from the end of its transient (detect_transient with the default
+/// options and the series' mean period); the rule applied is returned in `result` if given.
+Series skip_transient(const Series& series, TransientResult* result = nullptr);
+
 }  // namespace mlce
