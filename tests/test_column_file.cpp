@@ -47,3 +47,21 @@ TEST(ColumnFile, ErrorsNameFileLineAndExpectation) {
 TEST(ColumnFile, MissingFileIsAnError) {
   EXPECT_THROW(read_column_file("/nonexistent/file.txt"), ReadError);
 }
+
+TEST(ColumnFile, AHeaderLineNamesTheColumns) {
+  // As `mlce extract` and spreadsheets write CSV: the first non-comment line, all words.
+  ColumnFileOptions o;
+  o.keep = {2};
+  const Table t = parse_column_text("# run 7\ntime,rel:13:4:z\n0,0.5\n0.005,0.25\n", "mem", o);
+  ASSERT_EQ(t.rows(), 2u);
+  EXPECT_EQ(t.names.at(0), "rel:13:4:z");
+  EXPECT_DOUBLE_EQ(t.columns[0][1], 0.25);
+  EXPECT_EQ(t.line[0], 3u);
+  // Only the first line can be a header, only when no field reads as a number, and it must name
+  // every column.
+  EXPECT_EQ(error_of("a b\n1 2\nc d\n"), "f.txt:3: column 1: 'c' is not a number");
+  EXPECT_EQ(error_of("t 1\n1 2\n"), "f.txt:1: column 1: 't' is not a number");
+  EXPECT_EQ(error_of("nan x\n1 2\n"), "f.txt:1: column 1: 'nan': expected a finite number");
+  EXPECT_EQ(error_of("a b c\n1 2\n"), "f.txt:2: 2 column(s), but the header on line 1 names 3");
+  EXPECT_EQ(error_of("a b\n"), "f.txt: no data (the file is empty or holds only comments)");
+}

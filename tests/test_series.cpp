@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "mlce/series.hpp"
+#include "reference_systems.hpp"
 
 using namespace mlce;
 
@@ -94,9 +96,11 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
 #include "mlce/transient.hpp"
 
 TEST(Transient, DecayOntoASteadyOscillationIsCutWhereItSettles) {
-  // amplitude 1 + 4 e^{-t/5}: within 25 % of the settled amplitude 1 after t = 5 ln 16 = 13.9
+  // amplitude 1 + 4 e^{-t/5} sin(2 pi t). The settled sine's window RMS does not scatter, so the
+  // automatic band is its floor, 2 %: settled after t = 5 ln(4 / 0.02) = 26.5. A given band of
+  // 25 % settles after t = 5 ln 16 = 13.9.
   std::vector<double> x;
-  for (int i = 0; i < 20000; ++i) {
+  for (int i = 0; i < 40000; ++i) {
     const double t = 0.01 * i;
     x.push_back((1.0 + 4.0 * std::exp(-t / 5.0)) * std::sin(2 * M_PI * t));
   }
@@ -104,8 +108,40 @@ TEST(Transient, DecayOntoASteadyOscillationIsCutWhereItSettles) {
   o.period = 100;
   const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
   EXPECT_TRUE(r.settled);
-  EXPECT_GT(r.end_time, 8.0);
-  EXPECT_LT(r.end_time, 18.0);
+  EXPECT_GT(r.end_time, 24.0) << r.rule;
+  EXPECT_LT(r.end_time, 30.0) << r.rule;
+  o.band = 0.25;
+  const auto loose = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_GT(loose.end_time, 11.0) << loose.rule;
+  EXPECT_LE(loose.end_time, 18.0) << loose.rule;  // windows of N/100 = 4 s
+}
+
+TEST(Transient, ShortRunOfALongPeriodOscillationIsStillCut) {
+  // 30 periods of 200 samples (a 30 s MBDyn run of a 1 s limit cycle at 5 ms output): the
+  // amplitude grows as e^{0.3 t} to saturate at 1 near t = 15 s. Windows of two periods give 15
+  // windows; the old four-period windows gave 7 and nothing was cut.
+  std::vector<double> x;
+  for (int i = 0; i < 6000; ++i) {
+    const double t = 0.005 * i;
+    x.push_back(std::min(1.0, 0.011 * std::exp(0.3 * t)) * std::sin(2 * M_PI * t));
+  }
+  TransientOptions o;
+  o.period = 200;
+  const auto r = detect_transient(make_series_with_step({x}, 0.005), o);
+  EXPECT_TRUE(r.settled);
+  EXPECT_GT(r.end_time, 14.0) << r.rule;
+  EXPECT_LT(r.end_time, 18.0) << r.rule;
+}
+
+TEST(Transient, ChaosIsNotCutShort) {
+  // Stationary Lorenz x: window RMS scatters by ~10 %, the automatic band widens with it and
+  // (almost) nothing is cut.
+  const auto x = reference::lorenz_x(20000, 0.01);
+  TransientOptions o;
+  o.period = 171;
+  const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_LT(r.end_time, 40.0) << r.rule;
+  std::printf("Lorenz x, 200 s: %s\n", r.rule.c_str());
 }
 
 TEST(Transient, DecayIntoTheNoiseFloorEndsWhereTheFloorStarts) {

@@ -10,7 +10,8 @@
 namespace mlce {
 
 void TransientOptions::validate() const {
-  if (!(band > 0.0)) throw OptionError("transient.band: expected > 0");
+  if (!(band >= 0.0)) throw OptionError("transient.band: expected >= 0 (0 = automatic)");
+  if (!(band_min > 0.0 && band_min <= band_max)) throw OptionError("transient.band_min/band_max: expected 0 < min <= max");
   if (!(floor_ratio >= 0.0 && floor_ratio < 1.0)) throw OptionError("transient.floor_ratio: expected [0, 1)");
 }
 
@@ -54,7 +55,7 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
              std::to_string(options.floor_ratio) + " of its largest): nothing cut at the start";
     return r;
   }
-  const std::size_t w = options.window ? options.window : std::max<std::size_t>(4 * options.period, n / 100);
+  const std::size_t w = options.window ? options.window : std::max<std::size_t>(2 * options.period, n / 100);
   const std::size_t windows = n / std::max<std::size_t>(w, 1);
   if (windows < 8) {
     r.rule = "series shorter than 8 RMS windows of " + std::to_string(w) + " samples: nothing cut";
@@ -81,7 +82,15 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   std::vector<double> tail(rms.begin() + static_cast<std::ptrdiff_t>(tail_from), rms.end());
   std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
   const double ref = tail[tail.size() / 2];
-  auto inside = [&](double v) { return std::abs(v - ref) <= options.band * ref; };
+  double band = options.band;
+  if (band == 0.0) {
+    std::vector<double> dev(tail.size());
+    for (std::size_t k = 0; k < tail.size(); ++k) dev[k] = std::abs(tail[k] - ref);
+    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
+    const double scatter = ref > 0.0 ? dev[dev.size() / 2] / ref : 0.0;
+    band = std::clamp(4.0 * scatter, options.band_min, options.band_max);
+  }
+  auto inside = [&](double v) { return std::abs(v - ref) <= band * ref; };
   std::ostringstream rule;
   if (ref == 0.0 || !inside(rms[tail_from]) || !inside(rms[windows - 1])) {
     r.settled = false;
@@ -94,7 +103,7 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   while (k > 0 && inside(rms[k - 1])) --k;
   r.end_index = k * w;
   r.end_time = s.time(r.end_index);
-  rule << "moving RMS in windows of " << w << " samples settles within " << options.band * 100
+  rule << "moving RMS in windows of " << w << " samples settles within " << band * 100
        << " % of the last quarter's median from sample " << r.end_index;
   r.rule = rule.str();
   return r;

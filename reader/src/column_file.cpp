@@ -22,13 +22,40 @@ std::string shorten(std::string_view s) {
   return t;
 }
 
+std::vector<std::string> split_fields(std::string_view line) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0;;) {
+    while (i < line.size() && is_separator(line[i])) ++i;
+    if (i >= line.size()) return out;
+    std::size_t j = i;
+    while (j < line.size() && !is_separator(line[j])) ++j;
+    out.emplace_back(line.substr(i, j - i));
+    i = j;
+  }
+}
+
+/// Every field of the line is a word that cannot be read as a number (so "1 abc" is a bad data row,
+/// not a header, and "nan"/"inf" are values, refused later as non-finite).
+bool is_header(std::string_view line) {
+  const auto fields = split_fields(line);
+  if (fields.empty()) return false;
+  for (const auto& f : fields) {
+    double v = 0.0;
+    const char* first = f.data() + (f.front() == '+' ? 1 : 0);
+    const auto [ptr, ec] = std::from_chars(first, f.data() + f.size(), v);
+    if (ptr != first || ec == std::errc::result_out_of_range) return false;  // starts like a number
+  }
+  return true;
+}
+
 }  // namespace
 
 Table parse_column_text(std::string_view text, const std::string& source, const ColumnFileOptions& options) {
   Table t;
   t.source = source;
   std::size_t ncols = 0;
-  std::size_t line_no = 0;
+  std::size_t line_no = 0, header_line = 0;
+  std::vector<std::string> header;
   std::vector<double> row;
   std::size_t pos = 0;
   while (pos < text.size()) {
@@ -39,6 +66,13 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
     ++line_no;
     if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
     row.clear();
+    // A header (the first line that is not blank or a comment, every field non-numeric, as
+    // `mlce extract` and spreadsheets write it) names the columns; text anywhere else is an error.
+    if (ncols == 0 && header.empty() && is_header(line)) {
+      header = split_fields(line);
+      header_line = line_no;
+      continue;
+    }
     std::size_t i = 0, field = 0;
     while (true) {
       while (i < line.size() && is_separator(line[i])) ++i;
@@ -66,16 +100,21 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
     if (row.empty()) continue;  // blank or comment-only line
     if (ncols == 0) {
       ncols = row.size();
+      if (!header.empty() && header.size() != ncols)
+        throw ReadError(source + ":" + std::to_string(line_no) + ": " + std::to_string(ncols) +
+                        " column(s), but the header on line " + std::to_string(header_line) + " names " +
+                        std::to_string(header.size()));
       for (std::size_t k : options.keep)
         if (k == 0 || k > ncols)
           throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(k) +
                           " requested, but the file has " + std::to_string(ncols) + " column(s)");
       const std::size_t kept = options.keep.empty() ? ncols : options.keep.size();
       t.columns.assign(kept, {});
+      auto name = [&](std::size_t k) { return header.empty() ? "column " + std::to_string(k) : header[k - 1]; };
       if (options.keep.empty())
-        for (std::size_t k = 1; k <= ncols; ++k) t.names.push_back("column " + std::to_string(k));
+        for (std::size_t k = 1; k <= ncols; ++k) t.names.push_back(name(k));
       else
-        for (std::size_t k : options.keep) t.names.push_back("column " + std::to_string(k));
+        for (std::size_t k : options.keep) t.names.push_back(name(k));
     } else if (row.size() != ncols) {
       throw ReadError(source + ":" + std::to_string(line_no) + ": " + std::to_string(row.size()) +
                       " column(s), expected " + std::to_string(ncols) + " as on the first data line");

@@ -7,13 +7,19 @@
 namespace mlce {
 
 struct TransientOptions {
-  /// Window length in samples for the moving RMS; 0 = max(4 * period, N / 100).
+  /// Window length in samples for the moving RMS; 0 = max(2 * period, N / 100). Two periods keep
+  /// the RMS of a periodic motion within ~2 % whatever the phase at which the window starts
+  /// (the oscillating part of the mean square is at most 1/(4 pi) of it per period covered).
   std::size_t window = 0;
   /// Mean period in samples (from estimate_mean_period).
   std::size_t period = 1;
   /// Windows whose RMS lies within this relative band around the RMS of the last quarter of the
-  /// series count as settled.
-  double band = 0.25;
+  /// series count as settled. 0 = automatic: four times the relative scatter of the last
+  /// quarter's window RMS (median absolute deviation / median), kept within [band_min, band_max],
+  /// so a limit cycle (RMS constant to 0.1 %) is settled only once its amplitude is within 2 %,
+  /// while a chaotic motion (RMS scattering by 10 % from window to window) is not cut short.
+  double band = 0.0;
+  double band_min = 0.02, band_max = 0.25;
   /// A settled part whose RMS is below this fraction of the largest window RMS is not a motion but
   /// the noise/underflow floor a decay ends in (paper 001 Fig. 6): the signal ends there.
   double floor_ratio = 1e-6;
@@ -30,9 +36,9 @@ struct TransientResult {
   std::string rule;
 };
 
-/// Rule: RMS about the last quarter's mean in consecutive windows; the transient ends at the start of
-/// the first window from which every later window's RMS is within `band` of the last quarter's
-/// median window RMS. If the last quarter itself drifts (its first and last window RMS differ by
+/// Rule: RMS about the last quarter's mean in consecutive windows (at least 8); the transient ends at
+/// the start of the first window from which every later window's RMS is within `band` of the last
+/// quarter's median window RMS. If the last quarter itself drifts (its first and last window RMS differ by
 /// more than `band`) the motion is a decay or a growth and nothing is cut. First, in 100 windows:
 /// a last quarter whose median RMS is below floor_ratio x the largest window RMS is the floor of
 /// a decay; floor_index = the first window after which the RMS stays within 10x that level.

@@ -1,6 +1,7 @@
 #pragma once
 // Plain column files: whitespace- or comma-separated numbers, '#' starts a comment, one row per
-// line, every row with the same number of columns.
+// line, every row with the same number of columns. An optional header line (the first line that
+// is not blank or a comment, with no field that reads as a number) names the columns.
 #include <string>
 #include <vector>
 
