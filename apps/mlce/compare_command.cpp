@@ -3,11 +3,14 @@
 #include <fmt/format.h>
 
 #include <boost/program_options.hpp>
+#include <cmath>
+#include <limits>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.hpp"
 #include "mlce/compare.hpp"
+#include "mlce/estimate.hpp"
 #include "plot.hpp"
 #include "report.hpp"
 #include "series_input.hpp"
@@ -15,17 +18,86 @@
 namespace po = boost::program_options;
 
 namespace mlce::cli {
+namespace {
+
+/// (c) of the MBDyn-versus-ad-hoc comparison: the MLCE of one channel from both runs, every
+/// parameter automatic, on the same time window. Without --from the window starts where A's
+/// transient ends (`--from auto` on A), so both runs are read on the same stretch of motion.
+struct MlcePair {
+  MlceResult a, b;
+  double from = 0.0, to = 0.0;
+  std::string window_rule;
+};
+
+struct MlceWindow {
+  double from = 0.0, to = 0.0;
+  std::string rule;
+};
+
+/// The window every channel's MLCE is read on: [--from, --to], or from the latest end of A's
+/// transient over the compared channels, each detected on its own (its own mean period and RMS
+/// windows): the system settles as a whole, and a hub driven by a blade's limit cycle may look
+/// steady while the blade still grows.
+MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>& channels, const HistoryComparisonOptions& o) {
+  SeriesInput in;
+  in.file = file_a;
+  in.from = std::isfinite(o.from) ? fmt::format("{}", o.from) : "auto";
+  if (std::isfinite(o.to)) in.to = o.to;
+  MlceWindow w;
+  w.from = -std::numeric_limits<double>::infinity();
+  for (const auto& ch : channels) {
+    in.channels = {ch};
+    const LoadedSeries a = load_series(in);
+    if (a.series.time(0) > w.from) {
+      w.from = a.series.time(0);
+      w.to = a.series.time(a.series.size() - 1);
+      w.rule = std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
+    }
+  }
+  return w;
+}
+
+MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, const std::string& channel,
+                      const MlceWindow& window) {
+  SeriesInput in;
+  in.channels = {channel};
+  in.from = fmt::format("{}", window.from);
+  in.to = window.to;
+  MlcePair p;
+  p.from = window.from;
+  p.to = window.to;
+  p.window_rule = window.rule;
+  in.file = file_a;
+  p.a = estimate_mlce(load_series(in).series, {});
+  in.file = file_b;
+  p.b = estimate_mlce(load_series(in).series, {});
+  return p;
+}
+
+/// The two estimates agree when their 95 % intervals overlap.
+bool intervals_overlap(const MlceResult& a, const MlceResult& b) {
+  return a.ci95_low <= b.ci95_high && b.ci95_low <= a.ci95_high;
+}
+
+nlohmann::json mlce_json(const MlceResult& r) {
+  return {{"lambda", r.lambda}, {"ci95", {r.ci95_low, r.ci95_high}}, {"curve_end", to_string(r.fit.end)},
+          {"delay", r.delay}, {"dim", r.dim}, {"n_points", r.n_points}, {"warnings", r.warnings}};
+}
+
+}  // namespace
 
 int cmd_compare(const std::vector<std::string>& args) {
   std::vector<std::string> channels, files;
   std::string plot_path, csv_path;
-  bool json = false;
+  bool json = false, mlce = false;
   HistoryComparisonOptions o;
   po::options_description d("mlce compare A B --channel SPEC... [options]");
   d.add_options()
       ("channel", po::value(&channels)->composing(), "channel spec present in both runs (repeatable)")
       ("from", po::value(&o.from), "start of the compared window (time units)")
       ("to", po::value(&o.to), "end of the compared window (time units)")
+      ("mlce", po::bool_switch(&mlce), "also the MLCE (Rosenstein, automatic) of every channel from both runs, on "
+                                         "[--from, --to] or, without --from, from the end of A's transient")
       ("json", po::bool_switch(&json), "print one JSON object")
       ("csv", po::value(&csv_path), "write time, A and B (B interpolated onto A's times) per channel")
       ("plot", po::value(&plot_path), "PNG of both histories per channel");
@@ -54,6 +126,15 @@ int cmd_compare(const std::vector<std::string>& args) {
       throw std::runtime_error(channels[c] + ": " + e.what());
     }
   }
+  std::vector<MlcePair> exponents;
+  const MlceWindow window = mlce ? mlce_window(files[0], channels, o) : MlceWindow{};
+  for (std::size_t c = 0; mlce && c < channels.size(); ++c) {
+    try {
+      exponents.push_back(mlce_of_both(files[0], files[1], channels[c], window));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(channels[c] + ": MLCE: " + e.what());
+    }
+  }
   if (!csv_path.empty() || !plot_path.empty()) {
     std::string csv = "time";
     for (const auto& ch : channels) csv += fmt::format(",A {},B {}", ch, ch);
@@ -76,6 +157,10 @@ int cmd_compare(const std::vector<std::string>& args) {
   warnings.insert(warnings.end(), b.warnings.begin(), b.warnings.end());
   for (std::size_t c = 0; c < channels.size(); ++c)
     for (const auto& w : results[c].warnings) warnings.push_back(channels[c] + ": " + w);
+  for (std::size_t c = 0; c < exponents.size(); ++c) {
+    for (const auto& w : exponents[c].a.warnings) warnings.push_back(channels[c] + ": MLCE of A: " + w);
+    for (const auto& w : exponents[c].b.warnings) warnings.push_back(channels[c] + ": MLCE of B: " + w);
+  }
   if (json) {
     nlohmann::json j;
     j["a"] = files[0];
@@ -87,6 +172,13 @@ int cmd_compare(const std::vector<std::string>& args) {
                                {"max_abs_difference", r.max_abs_difference}, {"time_of_max", r.time_of_max},
                                {"rms_difference", r.rms_difference}, {"range_a", {r.min_a, r.max_a}},
                                {"range_b", {r.min_b, r.max_b}}, {"range_relative_difference", r.range_relative_difference}});
+      if (c < exponents.size()) {
+        const auto& e = exponents[c];
+        j["channels"].back()["mlce"] = {{"window", {e.from, e.to}}, {"window_rule", e.window_rule},
+                                        {"a", mlce_json(e.a)}, {"b", mlce_json(e.b)},
+                                        {"difference", e.b.lambda - e.a.lambda},
+                                        {"intervals_overlap", intervals_overlap(e.a, e.b)}};
+      }
     }
     j["warnings"] = warnings;
     std::cout << j.dump() << "\n";
@@ -99,6 +191,20 @@ int cmd_compare(const std::vector<std::string>& args) {
       std::cout << fmt::format("{:<16} {:>8} {:>8.4g}..{:<8.4g} {:>12.4e} {:>12.4e} {:>11.5g}..{:<11.5g} {:>11.5g}..{:<11.5g} {:>9.3g}%\n",
                                channels[c], r.points, r.t_first, r.t_last, r.max_abs_difference, r.rms_difference, r.min_a,
                                r.max_a, r.min_b, r.max_b, 100.0 * r.range_relative_difference);
+    }
+    if (!exponents.empty()) {
+      std::cout << fmt::format("\nMLCE (Rosenstein, every parameter automatic), 1/{}\n", "s");
+      std::cout << fmt::format("{:<16} {:>17} {:>34} {:>34} {:>10} {:>8}\n", "channel", "window", "A [95 % CI]",
+                               "B [95 % CI]", "B - A", "agree");
+      for (std::size_t c = 0; c < exponents.size(); ++c) {
+        const auto& e = exponents[c];
+        auto cell = [](const MlceResult& r) { return fmt::format("{:.5g} [{:.4g}, {:.4g}]", r.lambda, r.ci95_low, r.ci95_high); };
+        std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}\n", channels[c], e.from, e.to,
+                                 cell(e.a), cell(e.b), e.b.lambda - e.a.lambda, intervals_overlap(e.a, e.b) ? "yes" : "NO");
+      }
+      for (std::size_t c = 0; c < exponents.size(); ++c)
+        std::cout << fmt::format("# {}: window: {}; curve end A: {}, B: {}\n", channels[c], exponents[c].window_rule,
+                                 to_string(exponents[c].a.fit.end), to_string(exponents[c].b.fit.end));
     }
   }
   print_warnings(warnings);

@@ -55,41 +55,60 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
              std::to_string(options.floor_ratio) + " of its largest): nothing cut at the start";
     return r;
   }
-  const std::size_t w = options.window ? options.window : std::max<std::size_t>(2 * options.period, n / 100);
-  const std::size_t windows = n / std::max<std::size_t>(w, 1);
-  if (windows < 8) {
-    r.rule = "series shorter than 8 RMS windows of " + std::to_string(w) + " samples: nothing cut";
+  // Window RMS about the last quarter's mean (the centre of the settled motion), the median window
+  // RMS of the last quarter and its relative scatter there (largest deviation / median).
+  struct Windows {
+    std::size_t w = 0, count = 0, tail_from = 0;
+    std::vector<double> rms;
+    double ref = 0.0, scatter = 0.0;
+  };
+  auto measure = [&](std::size_t w) {
+    Windows m;
+    m.w = w;
+    m.count = n / std::max<std::size_t>(w, 1);
+    if (m.count < 8) return m;
+    m.tail_from = m.count - m.count / 4;
+    std::vector<double> mean_tail(s.channel_count(), 0.0);  // once per channel, not once per window
+    for (std::size_t c = 0; c < s.channel_count(); ++c) {
+      for (std::size_t i = m.tail_from * w; i < m.count * w; ++i) mean_tail[c] += s.channels[c][i];
+      mean_tail[c] /= static_cast<double>((m.count - m.tail_from) * w);
+    }
+    m.rms.resize(m.count);
+    for (std::size_t k = 0; k < m.count; ++k) {
+      double acc = 0.0;
+      for (std::size_t c = 0; c < s.channel_count(); ++c)
+        for (std::size_t i = k * w; i < (k + 1) * w; ++i) {
+          const double e = s.channels[c][i] - mean_tail[c];
+          acc += e * e;
+        }
+      m.rms[k] = std::sqrt(acc / static_cast<double>(w));
+    }
+    std::vector<double> tail(m.rms.begin() + static_cast<std::ptrdiff_t>(m.tail_from), m.rms.end());
+    std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
+    m.ref = tail[tail.size() / 2];
+    double largest = 0.0;
+    for (double v : tail) largest = std::max(largest, std::abs(v - m.ref));
+    m.scatter = m.ref > 0.0 ? largest / m.ref : 0.0;
+    return m;
+  };
+  Windows m = measure(options.window ? options.window : std::max<std::size_t>(2 * options.period, n / 100));
+  // A motion with several frequencies (a hub driven by a blade's limit cycle) beats: its RMS over
+  // two mean periods scatters more than a band can absorb. Longer windows average the beat out.
+  if (options.window == 0 && options.band == 0.0)
+    while (m.count >= 16 && 1.5 * m.scatter > options.band_max) {
+      Windows longer = measure(2 * m.w);
+      if (longer.count < 8) break;
+      m = std::move(longer);
+    }
+  if (m.count < 8) {
+    r.rule = "series shorter than 8 RMS windows of " + std::to_string(m.w) + " samples: nothing cut";
     r.end_time = s.time(0);
     return r;
   }
-  const std::size_t tail_from = windows - windows / 4;
-  // Mean of the last quarter: the centre of the settled motion.
-  std::vector<double> mean_tail(s.channel_count(), 0.0);  // once per channel, not once per window
-  for (std::size_t c = 0; c < s.channel_count(); ++c) {
-    for (std::size_t i = tail_from * w; i < windows * w; ++i) mean_tail[c] += s.channels[c][i];
-    mean_tail[c] /= static_cast<double>((windows - tail_from) * w);
-  }
-  std::vector<double> rms(windows);
-  for (std::size_t k = 0; k < windows; ++k) {
-    double acc = 0.0;
-    for (std::size_t c = 0; c < s.channel_count(); ++c)
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) {
-        const double e = s.channels[c][i] - mean_tail[c];
-        acc += e * e;
-      }
-    rms[k] = std::sqrt(acc / static_cast<double>(w));
-  }
-  std::vector<double> tail(rms.begin() + static_cast<std::ptrdiff_t>(tail_from), rms.end());
-  std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
-  const double ref = tail[tail.size() / 2];
-  double band = options.band;
-  if (band == 0.0) {
-    std::vector<double> dev(tail.size());
-    for (std::size_t k = 0; k < tail.size(); ++k) dev[k] = std::abs(tail[k] - ref);
-    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
-    const double scatter = ref > 0.0 ? dev[dev.size() / 2] / ref : 0.0;
-    band = std::clamp(4.0 * scatter, options.band_min, options.band_max);
-  }
+  const std::size_t w = m.w, windows = m.count, tail_from = m.tail_from;
+  const std::vector<double>& rms = m.rms;
+  const double ref = m.ref;
+  const double band = options.band > 0.0 ? options.band : std::clamp(1.5 * m.scatter, options.band_min, options.band_max);
   auto inside = [&](double v) { return std::abs(v - ref) <= band * ref; };
   std::ostringstream rule;
   if (ref == 0.0 || !inside(rms[tail_from]) || !inside(rms[windows - 1])) {

@@ -7,17 +7,20 @@
 namespace mlce {
 
 struct TransientOptions {
-  /// Window length in samples for the moving RMS; 0 = max(2 * period, N / 100). Two periods keep
-  /// the RMS of a periodic motion within ~2 % whatever the phase at which the window starts
-  /// (the oscillating part of the mean square is at most 1/(4 pi) of it per period covered).
+  /// Window length in samples for the moving RMS; 0 = max(2 * period, N / 100), doubled (keeping
+  /// at least 8 windows) while the last quarter's RMS scatters by more than band_max / 1.5 (a beating
+  /// multi-frequency motion). Two periods keep the RMS of a periodic motion within ~2 % whatever
+  /// the phase at which the window starts (the oscillating part of the mean square is at most
+  /// 1/(4 pi) of it per period covered).
   std::size_t window = 0;
   /// Mean period in samples (from estimate_mean_period).
   std::size_t period = 1;
   /// Windows whose RMS lies within this relative band around the RMS of the last quarter of the
-  /// series count as settled. 0 = automatic: four times the relative scatter of the last
-  /// quarter's window RMS (median absolute deviation / median), kept within [band_min, band_max],
-  /// so a limit cycle (RMS constant to 0.1 %) is settled only once its amplitude is within 2 %,
-  /// while a chaotic motion (RMS scattering by 10 % from window to window) is not cut short.
+  /// series count as settled. 0 = automatic: 1.5 times the largest relative deviation of a last-
+  /// quarter window RMS from their median, kept within [band_min, band_max]: a window is settled
+  /// when it looks like the last quarter. A limit cycle (RMS constant to 0.1 %) is settled only
+  /// once its amplitude is within 2 %; a chaotic or beating motion (RMS scattering by 10 % or more
+  /// from window to window) is not cut short.
   double band = 0.0;
   double band_min = 0.02, band_max = 0.25;
   /// A settled part whose RMS is below this fraction of the largest window RMS is not a motion but
