@@ -186,7 +186,10 @@ int cmd_spectrum(const std::vector<std::string>& args) {
                              spectrum::jacobian_method_name(o.jacobian));
     for (const auto& g : r.groups) {
       std::string idx;
-      for (int i : g) idx += (idx.empty() ? "" : ",") + std::to_string(i + 1);
+      for (int i : g) {
+        if (!idx.empty()) idx += ',';
+        idx += std::to_string(i + 1);
+      }
       std::cout << fmt::format("# averaged (multiplicity {}): exponents {}\n", g.size(), idx);
     }
     std::cout << table(r.exponents, nullptr, r.parameters, r.sensitivities, unit);

@@ -1,0 +1,143 @@
+// How precisely can one series of N = 10^4 samples give lambda_1? For Roessler x (dt = 0.1, 1000
+// time units, lambda_1 = 0.0714) and Lorenz x (dt = 0.01, 100 time units, lambda_1 = 0.9056), two
+// independent numbers, no fit rule involved in the first:
+//  1. the finite-time exponent of the trajectory itself: the tangent vector integrated along 20
+//     consecutive segments as long as one series (RK4, renormalised every sample), each
+//     segment's exponent / lambda_1 -- the scatter any estimator from such a series inherits;
+//  2. `estimate_mlce` (every parameter automatic) on 12 series from pseudo-random initial states
+//     (after a transient), and the least-squares slope of the same divergence curves over the first
+//     steps (Roessler 0..100, Lorenz 80..300: no start-up piece skipped / the piece after it), the
+//     slope over the same steps of the curve computed in the true state space (x, y, z), and the
+//     finite-time exponent of the very trajectory each series samples, each / lambda_1.
+//   build/finite_time_spread
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "mlce/estimate.hpp"
+#include "mlce/numerics.hpp"
+#include "reference_systems.hpp"
+
+namespace {
+
+using State = std::array<double, 3>;
+using Tangent = std::array<double, 6>;  // state and tangent vector together
+
+struct System {
+  const char* name;
+  double lambda, dt, h, transient;   // known exponent, sampling step, RK4 step, discarded time
+  std::size_t fit_first, fit_last;   // fixed comparison region of the curve, steps
+  State (*flow)(const State&);
+  Tangent (*with_tangent)(const Tangent&);
+  State start_offset;                // added to the random initial state
+};
+
+State roessler(const State& s) { return {-s[1] - s[2], s[0] + 0.2 * s[1], 0.2 + s[2] * (s[0] - 5.7)}; }
+Tangent roessler_tangent(const Tangent& s) {
+  const auto f = roessler({s[0], s[1], s[2]});
+  return {f[0], f[1], f[2], -s[4] - s[5], s[3] + 0.2 * s[4], s[2] * s[3] + (s[0] - 5.7) * s[5]};
+}
+State lorenz(const State& s) {
+  return {10.0 * (s[1] - s[0]), s[0] * (28.0 - s[2]) - s[1], s[0] * s[1] - 8.0 / 3.0 * s[2]};
+}
+Tangent lorenz_tangent(const Tangent& s) {
+  const auto f = lorenz({s[0], s[1], s[2]});
+  return {f[0], f[1], f[2], 10.0 * (s[4] - s[3]), (28.0 - s[2]) * s[3] - s[4] - s[0] * s[5],
+          s[1] * s[3] + s[0] * s[4] - 8.0 / 3.0 * s[5]};
+}
+
+/// The finite-time exponent of the very trajectory a series samples: the same initial state and
+/// transient (the tangent vector aligns during the transient's last 50 time units), then the tangent
+/// vector's growth over the n sampled steps.
+double own_exponent(const System& sys, const State& x0, std::size_t n, int substeps) {
+  using mlce::reference::rk4_step;
+  State x = x0;
+  double t = 0;
+  for (; t < sys.transient - 50.0; t += sys.h) x = rk4_step<3>(sys.flow, x, sys.h);
+  Tangent s{x[0], x[1], x[2], 1, 0, 0};
+  for (; t < sys.transient; t += sys.h) s = rk4_step<6>(sys.with_tangent, s, sys.h);
+  long double acc = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double norm = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+    if (k > 0) acc += std::log(norm);
+    for (int c = 3; c < 6; ++c) s[c] /= norm;
+    for (int j = 0; j < substeps; ++j) s = rk4_step<6>(sys.with_tangent, s, sys.h);
+  }
+  return static_cast<double>(acc) / ((n - 1) * sys.dt);
+}
+
+void study(const System& sys) {
+  using mlce::reference::rk4_step;
+  constexpr std::size_t n = 10000;
+  const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
+  Tangent s{1, 1, 1 + sys.start_offset[2], 1, 0, 0};
+  for (double t = 0; t < 100.0; t += sys.h) s = rk4_step<6>(sys.with_tangent, s, sys.h);
+  const double aligned = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+  for (int c = 3; c < 6; ++c) s[c] /= aligned;  // the warm-up's growth is not part of segment 1
+  std::printf("%s: finite-time exponent of 20 consecutive %g-time-unit segments / %.4f:\n", sys.name, n * sys.dt,
+              sys.lambda);
+  double sum = 0, sum2 = 0;
+  for (int seg = 0; seg < 20; ++seg) {
+    long double acc = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      for (int j = 0; j < substeps; ++j) s = rk4_step<6>(sys.with_tangent, s, sys.h);
+      const double norm = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+      acc += std::log(norm);
+      for (int c = 3; c < 6; ++c) s[c] /= norm;
+    }
+    const double ratio = static_cast<double>(acc) / (n * sys.dt) / sys.lambda;
+    sum += ratio, sum2 += ratio * ratio;
+    std::printf(" %.3f", ratio);
+  }
+  const double mean = sum / 20, sd = std::sqrt((sum2 - 20 * mean * mean) / 19);
+  std::printf("\n  mean %.3f, standard deviation %.3f\n", mean, sd);
+
+  std::printf("%s: Rosenstein on 12 series (N = 10^4, dt = %g) / %.4f: automatic | slope of steps %zu..%zu | the same in (x, y, z) | the series' own exponent\n",
+              sys.name, sys.dt, sys.lambda, sys.fit_first, sys.fit_last);
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  int within5 = 0, within10 = 0, fixed_within5 = 0, fixed_within10 = 0;
+  double own_sum = 0, own_sum2 = 0, err_sum2 = 0, state_min = 1e300, state_max = -1e300;
+  for (int k = 0; k < 12; ++k) {
+    State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+    for (int c = 0; c < 3; ++c) x0[c] += sys.start_offset[c];
+    const auto x = mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps);
+    const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
+    const double own = own_exponent(sys, x0, n, substeps) / sys.lambda;
+    // The same curve in the true state space (x, y, z; no embedding), same Theiler window.
+    std::vector<std::vector<double>> xyz{x};
+    for (std::size_t c = 1; c < 3; ++c)
+      xyz.push_back(mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps, c));
+    mlce::MlceOptions so;
+    so.dim = 1, so.delay = 1, so.theiler = r.theiler, so.horizon = sys.fit_last + 1;
+
+    const auto& y = r.curve.mean_log_distance;
+    const double fixed =
+        y.size() > sys.fit_last ? mlce::fit_line(y.data(), sys.fit_first, sys.fit_last).slope / sys.dt : NAN;
+    const auto ss = mlce::estimate_mlce(mlce::make_series_with_step(xyz, sys.dt), so);
+    const double state = mlce::fit_line(ss.curve.mean_log_distance.data(), sys.fit_first, sys.fit_last).slope / sys.dt /
+                         sys.lambda;
+    const double a = r.lambda / sys.lambda, f = fixed / sys.lambda;
+    state_min = std::min(state_min, state), state_max = std::max(state_max, state);
+    within5 += std::abs(a - 1) <= 0.05, within10 += std::abs(a - 1) <= 0.1;
+    fixed_within5 += std::abs(f - 1) <= 0.05, fixed_within10 += std::abs(f - 1) <= 0.1;
+    own_sum += own, own_sum2 += own * own, err_sum2 += (a - own) * (a - own);
+    std::printf("  series %2d: %.3f | %.3f | state space %.3f | own %.3f\n", k + 1, a, f, state, own);
+  }
+  std::printf("  within 5 %% / 10 %%: automatic %d / %d of 12, fixed steps %d / %d of 12\n", within5, within10,
+              fixed_within5, fixed_within10);
+  std::printf("  own exponent of the 12 series: mean %.3f, standard deviation %.3f; automatic - own: rms %.3f; "
+              "state-space slope %.3f..%.3f\n",
+              own_sum / 12, std::sqrt((own_sum2 - own_sum * own_sum / 12) / 11), std::sqrt(err_sum2 / 12), state_min,
+              state_max);
+}
+
+}  // namespace
+
+int main() {
+  study({"Roessler x", 0.0714, 0.1, 0.005, 500.0, 0, 100, roessler, roessler_tangent, {0, 0, 0}});
+  study({"Lorenz x", 0.9056, 0.01, 0.001, 50.0, 80, 300, lorenz, lorenz_tangent, {0, 0, 20}});
+}
