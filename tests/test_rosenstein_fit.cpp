@@ -41,6 +41,23 @@ TEST(Fit, TransientLinearPlateauRecoversTheSlope) {
   EXPECT_LE(r.last, 230u);
 }
 
+TEST(Fit, GradualBendIntoThePlateauIsLeftOut) {
+  // Roessler-like: straight at slope 0.05 for 150 steps, then the slope decays exponentially
+  // (time constant 150 steps) into the plateau, with a small oscillation of period 40 steps. The
+  // piece of largest change reaches far into the bend; the rule fits the straight start.
+  std::vector<double> y;
+  double v = -5.0;
+  for (int i = 0; i <= 1500; ++i) {
+    y.push_back(v + 0.02 * std::sin(2 * M_PI * i / 40.0));
+    v += i < 150 ? 0.05 : 0.05 * std::exp(-(i - 150) / 150.0);
+  }
+  FitOptions o;
+  o.period = 40;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_NEAR(r.slope, 0.05, 0.1 * 0.05) << r.rule;
+  EXPECT_LE(r.last, 300u) << r.rule;
+}
+
 TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   std::vector<double> y;
   for (int i = 0; i <= 800; ++i) y.push_back(std::max(-0.02 * i, -10.0) + 1e-3 * std::sin(0.3 * i));
@@ -148,4 +165,88 @@ TEST(Rosenstein, TooShortSeriesIsAClearError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("at least 67"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+/// Channel standardised the way the curve is defined (zero mean, unit standard deviation).
+std::vector<double> standardised(std::vector<double> x) {
+  double mean = 0, var = 0;
+  for (double v : x) mean += v;
+  mean /= static_cast<double>(x.size());
+  for (double v : x) var += (v - mean) * (v - mean);
+  const double sd = std::sqrt(var / static_cast<double>(x.size()));
+  for (double& v : x) v = (v - mean) / sd;
+  return x;
+}
+
+/// ln of the Euclidean distance between the m-dimensional delay vectors (delay J) at position p of
+/// z and at fractional position q of z (linear interpolation), by plain loops and std::log.
+double log_distance(const std::vector<double>& z, std::size_t p, double q, std::size_t m, std::size_t J) {
+  double d2 = 0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double pos = q + static_cast<double>(k * J);
+    const auto a = static_cast<std::size_t>(std::floor(pos));
+    const double f = pos - static_cast<double>(a), other = f > 0 ? (1 - f) * z[a] + f * z[a + 1] : z[a];
+    d2 += (z[p + k * J] - other) * (z[p + k * J] - other);
+  }
+  return 0.5 * std::log(d2);
+}
+}  // namespace
+
+TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignment) {
+  // Independent of the product-of-distances accumulation, the e^2 recurrence and the least-squares
+  // phase: every pair's distances by plain loops, the aligned neighbour's phase by a grid search
+  // over one sample either way (step 1e-4 sample).
+  const auto x = reference::lorenz_x(3000, 0.01);
+  const Series s = make_series_with_step({x}, 0.01);
+  RosensteinOptions o;
+  o.dim = 3, o.delay = 17, o.theiler = 150, o.horizon = 200, o.max_references = 200;
+  const NeighbourPairs pairs = find_pairs(s, o);
+  const auto z = standardised(x);
+  for (const bool align : {false, true}) {
+    o.align_phase = align;
+    const DivergenceCurve c = follow_pairs(s, o, pairs);
+    std::vector<double> sum(o.horizon + 1, 0.0);
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < pairs.references.size(); ++k) {
+      const std::size_t j = pairs.references[k], n = pairs.nearest.neighbour[k];
+      if (n == NeighbourResult::none) continue;
+      double q = static_cast<double>(n);
+      if (align) {
+        double best = log_distance(z, j, q, o.dim, o.delay);
+        for (int g = -10000; g <= 10000; ++g) {
+          const double cand = static_cast<double>(n) + g * 1e-4;
+          if (cand < 0 || cand + 1 + static_cast<double>(o.horizon + (o.dim - 1) * o.delay) >= static_cast<double>(z.size())) continue;
+          const double l = log_distance(z, j, cand, o.dim, o.delay);
+          if (l < best) best = l, q = cand;
+        }
+      }
+      for (std::size_t i = 0; i <= o.horizon; ++i) sum[i] += log_distance(z, j + i, q + static_cast<double>(i), o.dim, o.delay);
+      ++count;
+    }
+    ASSERT_EQ(count, c.pairs);
+    EXPECT_EQ(c.phase_aligned, align);
+    for (std::size_t i = 0; i <= o.horizon; ++i)
+      EXPECT_NEAR(c.mean_log_distance[i], sum[i] / static_cast<double>(count), align ? 2e-4 : 1e-10) << "step " << i;
+  }
+}
+
+TEST(Rosenstein, PhaseAlignmentRemovesTheOffsetAlongTheFlow) {
+  // A sine of period 50.5 samples repeats exactly every 101 samples (zero-distance candidates,
+  // passed over); every other candidate is at least half a sample off in phase, so each nearest
+  // neighbour is half a sample along the flow from its reference. Moved to the reference's phase
+  // it is only the linear-interpolation error away: (1/8) w^2 against w/2, ~30x closer.
+  std::vector<double> x;
+  for (int i = 0; i < 4000; ++i) x.push_back(std::sin(2 * M_PI * (i % 101) / 50.5));  // tiled: exact repeats
+  const Series s = make_series_with_step({x}, 1.0);
+  RosensteinOptions o;
+  o.dim = 2, o.delay = 12, o.theiler = 51, o.horizon = 100;
+  const NeighbourPairs pairs = find_pairs(s, o);
+  const DivergenceCurve plain = follow_pairs(s, o, pairs);
+  o.align_phase = true;
+  const DivergenceCurve aligned = follow_pairs(s, o, pairs);
+  EXPECT_LT(aligned.mean_log_distance[0], plain.mean_log_distance[0] - 3.0);
+  EXPECT_NEAR(aligned.mean_phase_shift, 0.5, 0.05);
+  EXPECT_FALSE(plain.phase_aligned);
+  EXPECT_DOUBLE_EQ(plain.mean_phase_shift, 0.0);
 }

@@ -97,7 +97,8 @@ ProgressCallback progress_printer(bool quiet) {
 
 int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
-  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000";
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
+              align = "auto";
   std::string curve_path, plot_path;
   bool json = false, quiet = false;
   po::options_description d("mlce estimate FILE [options]");
@@ -111,6 +112,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("fit", po::value(&fit), "fit region A:B in curve steps, or auto")
       ("refs", po::value(&refs), "reference points of the curve (evenly strided), or 'all'")
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
+      ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
@@ -131,6 +133,10 @@ int cmd_estimate(const std::vector<std::string>& args) {
     o.eps = vm["eps"].as<double>();
     if (!(o.eps >= 0.0) || !std::isfinite(o.eps)) throw po::error("--eps: expected a non-negative number");
   }
+  if (align == "auto") o.phase_alignment = PhaseAlignment::automatic;
+  else if (align == "on") o.phase_alignment = PhaseAlignment::on;
+  else if (align == "off") o.phase_alignment = PhaseAlignment::off;
+  else throw po::error("--align-phase '" + align + "': expected auto, on or off");
   if (fit != "auto") {
     const auto colon = fit.find(':');
     if (colon == std::string::npos) throw po::error("--fit '" + fit + "': expected auto or A:B");

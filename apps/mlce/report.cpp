@@ -49,6 +49,9 @@ nlohmann::json to_json(const MlceResult& r) {
   j["fit_automatic"] = r.fit.automatic;
   j["curve_end"] = to_string(r.fit.end);
   j["attractor_log_distance"] = finite_or_null(r.curve.attractor_log_distance);
+  j["phase_aligned"] = r.curve.phase_aligned;
+  if (r.curve.phase_aligned) j["mean_phase_shift"] = r.curve.mean_phase_shift;
+  j["unaligned_lambda"] = finite_or_null(r.unaligned_lambda);
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
   j["dt"] = r.dt;
@@ -85,6 +88,10 @@ std::string to_text(const MlceResult& r) {
   }
   s += fmt::format("Theiler window  {} samples\n", r.theiler);
   s += fmt::format("curve           steps 0..{}, {} pairs ({} references)\n", r.horizon, r.curve.pairs, r.curve.references);
+  if (r.curve.phase_aligned)
+    s += fmt::format("phase aligned   neighbours moved along their trajectories by {:.3f} samples on average{}\n",
+                     r.curve.mean_phase_shift,
+                     std::isfinite(r.unaligned_lambda) ? fmt::format(" (plain curve: {:.6g} {})", r.unaligned_lambda, u) : "");
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";
   return s;

@@ -86,10 +86,12 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
   if (fo.period == 0) fo.period = period;
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
+  NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs
   if (options.horizon) {
     ro.horizon = *options.horizon;
     report(options, "divergence curve", 0.0);
-    r.curve = divergence_curve(series, ro);
+    pairs = find_pairs(series, ro);
+    r.curve = follow_pairs(series, ro, pairs);
     r.fit = fit_divergence(r.curve, fo);
   } else {
     // Adaptive horizon: double until the fit rule sees the curve's end, within a third of the points.
@@ -107,7 +109,8 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
     for (int pass = 0;; ++pass) {
       ro.horizon = h;
       report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
-      r.curve = divergence_curve(series, ro);
+      pairs = find_pairs(series, ro);
+      r.curve = follow_pairs(series, ro, pairs);
       r.fit = fit_divergence(r.curve, fo);
       // A bounded curve is read at the longest horizon: its slope tends to 0 as the horizon grows.
       if (options.fit.range || (r.fit.end != CurveEnd::none && r.fit.end != CurveEnd::bounded) || h >= h_max) break;
@@ -116,6 +119,24 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
     if (r.fit.end == CurveEnd::none && r.fit.slope > 0 && r.fit.last + 1 >= r.curve.mean_log_distance.size())
       r.warnings.push_back("the divergence curve still rises at the largest horizon (" + std::to_string(h_max) +
                            " steps): no saturation seen, the slope may underestimate lambda");
+  }
+  // Sampled flows: the part of a neighbour's initial separation along the flow belongs to the
+  // flow's zero exponent and aligns with the unstable direction only at the rate lambda_1 - 0, so
+  // where lambda_1 is small against the saturation (Roessler) it holds the whole curve's slope below
+  // lambda_1. A curve that grows into a saturation plateau is therefore recomputed, at the same
+  // horizon, with every neighbour moved along its own trajectory to the sub-sample phase closest to
+  // its reference (RosensteinOptions::align_phase), and fitted by the same rule. Limit cycles and
+  // decays keep the plain curve: their separation is mostly along the flow, which is what they measure.
+  const bool sampled_flow = period >= kMinFlowPeriod;
+  const bool align = options.phase_alignment == PhaseAlignment::on ||
+                     (options.phase_alignment == PhaseAlignment::automatic && sampled_flow && !options.fit.range &&
+                      r.fit.end == CurveEnd::saturation && r.fit.slope > 0.0);
+  if (align) {
+    r.unaligned_lambda = r.fit.slope / series.dt;
+    ro.align_phase = true;
+    report(options, "phase-aligned curve", 0.0);
+    r.curve = follow_pairs(series, ro, pairs);
+    r.fit = fit_divergence(r.curve, fo);
   }
   r.horizon = ro.horizon;
   append(r.warnings, r.curve.warnings);

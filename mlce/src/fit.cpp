@@ -152,6 +152,7 @@ void FitOptions::validate() const {
   if (!(merge_tolerance >= 0.0 && merge_tolerance < 1.0)) throw OptionError("fit.merge_tolerance: expected [0, 1)");
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
+  if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
@@ -228,11 +229,33 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         skip = 1;
       const std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
       pick = skip + pick_largest_change(candidates);
+      // An earlier piece at least as steep and at least a period long is the linear region: the
+      // bend into the plateau only ever lowers the slope, so the longest-change piece of a curve
+      // that bends gradually (Roessler) reaches into the bend.
+      const std::size_t largest = pick;
+      for (std::size_t k = skip; k < largest; ++k)
+        if (inner[k].b - inner[k].a + 1 >= 2 * min_len && std::abs(inner[k].slope) >= std::abs(inner[largest].slope)) {
+          pick = k;
+          break;
+        }
       r.first = inner[pick].a;
       r.last = inner[pick].b;
+      // Straightness: while the second half of the region is flatter than straightness x the first
+      // half, the region reaches into the bend: keep its first three quarters.
+      std::size_t trimmed = 0;
+      while (r.last - r.first + 1 >= 4 * min_len) {
+        const std::size_t mid = r.first + (r.last - r.first) / 2;
+        const double s1 = fit_line(y.data(), r.first, mid).slope, s2 = fit_line(y.data(), mid, r.last).slope;
+        if (std::abs(s2) >= options.straightness * std::abs(s1)) break;
+        r.last = r.first + 3 * (r.last - r.first) / 4;
+        ++trimmed;
+      }
       rule << "; ";
       describe("before the end", inner);
-      rule << (skip ? "; start-up transient skipped" : "") << "; fitted the piece of largest |slope| x length";
+      rule << (skip ? "; start-up transient skipped" : "")
+           << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
+                               : "; fitted the piece of largest |slope| x length");
+      if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";
       if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
     }
   }

@@ -1,7 +1,10 @@
 #include "mlce/rosenstein.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <stdexcept>
 
 #include "mlce/embedding.hpp"
 #include "mlce/neighbours.hpp"
@@ -50,7 +53,7 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
 
 std::size_t minimum_length(const RosensteinOptions& o) { return (o.dim - 1) * o.delay + o.horizon + o.theiler + 2; }
 
-DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options) {
+NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options) {
   options.validate();
   validate_series(series);
   const std::size_t n = series.size();
@@ -62,26 +65,70 @@ DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& 
   const Series s = standardized(series);
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);
-  const std::size_t H = options.horizon;
   const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
-  const std::size_t L = M - H;  // points whose trajectory can be followed for H steps
+  const std::size_t L = M - options.horizon;  // points whose trajectory can be followed for H steps
   const DelayEmbedding admissible(channels, options.dim, options.delay, L);
-  const DelayEmbedding all(channels, options.dim, options.delay, M);
-
-  DivergenceCurve curve;
-  curve.dt = s.dt;
-  curve.admissible_points = L;
-  const auto refs = strided_indices(L, options.max_references);
-  curve.references = refs.size();
+  NeighbourPairs pairs;
+  pairs.references = strided_indices(L, options.max_references);
+  pairs.dim = options.dim, pairs.delay = options.delay, pairs.horizon = options.horizon, pairs.theiler = options.theiler;
   NeighbourOptions nopt;
   nopt.theiler = options.theiler;
   nopt.eps = options.eps;
-  const NeighbourResult nn = find_nearest_neighbours(admissible, refs, nopt);  // eq. 18 with eq. 20
+  pairs.nearest = find_nearest_neighbours(admissible, pairs.references, nopt);  // eq. 18 with eq. 20
+  return pairs;
+}
+
+DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
+  options.validate();
+  validate_series(series);
+  if (pairs.dim != options.dim || pairs.delay != options.delay || pairs.horizon != options.horizon ||
+      pairs.references.size() != pairs.nearest.neighbour.size())
+    throw std::logic_error("follow_pairs: the pairs were found for other options (m, delay, horizon)");
+  const std::size_t n = series.size();
+  const Series s = standardized(series);
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
+  const std::size_t H = options.horizon;
+  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
+  const DelayEmbedding all(channels, options.dim, options.delay, M);
+  const auto& refs = pairs.references;
+  const NeighbourResult& nn = pairs.nearest;
+
+  DivergenceCurve curve;
+  curve.dt = s.dt;
+  curve.admissible_points = M - H;
+  curve.references = refs.size();
   curve.zero_distance_candidates = nn.zero_distance_candidates;
   curve.pairs = refs.size() - nn.without_neighbour;
   if (curve.pairs == 0)
     throw InputError("no reference point has a neighbour outside the Theiler window of " +
                      std::to_string(options.theiler) + " samples: the series is too short for it");
+
+  // Neighbour positions along their own trajectories: base sample and fraction of the way to the
+  // next one (align_phase), chosen on the two segments around the neighbour by least squares.
+  std::vector<std::size_t> base(refs.size(), 0);
+  std::vector<double> fraction(refs.size(), 0.0);
+  CompensatedSum shift;
+  for (std::size_t k = 0; k < refs.size(); ++k) {
+    if (nn.neighbour[k] == NeighbourResult::none) continue;
+    base[k] = nn.neighbour[k];
+    if (!options.align_phase) continue;
+    const std::size_t j = refs[k], jn = nn.neighbour[k];
+    double best = all.squared_distance(j, jn);
+    for (const std::size_t a : {jn - 1, jn}) {
+      if ((a == jn - 1 && jn == 0) || a + 1 + H >= M) continue;  // both ends followed for H steps
+      const double d00 = all.squared_distance(a, a + 1);
+      if (!(d00 > 0.0)) continue;
+      // |p_j - p_a - f (p_{a+1} - p_a)|^2 is least at f = (p_j - p_a).(p_{a+1} - p_a) / |p_{a+1} - p_a|^2.
+      const double dot = 0.5 * (all.squared_distance(j, a) + d00 - all.squared_distance(j, a + 1));
+      const double f = std::clamp(dot / d00, 0.0, 1.0);
+      const double d2 = all.squared_distance_between(j, a, f);
+      if (d2 < best) best = d2, base[k] = a, fraction[k] = f;
+    }
+    shift.add(std::abs(static_cast<double>(base[k]) + fraction[k] - static_cast<double>(jn)));
+  }
+  curve.phase_aligned = options.align_phase;
+  if (options.align_phase && curve.pairs > 0) curve.mean_phase_shift = shift.value() / static_cast<double>(curve.pairs);
 
   // Per batch of contiguous references: sums of ln d_j(i) (eq. 22), computed batch by batch so the
   // result is the same whatever the thread count.
@@ -89,25 +136,65 @@ DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& 
   std::vector<std::vector<double>> batch_sum(B, std::vector<double>(H + 1, 0.0));
   std::vector<std::vector<std::size_t>> batch_terms(B, std::vector<std::size_t>(H + 1, 0));
   std::size_t zero_terms = 0;
+  const std::size_t m = options.dim, J = options.delay, span = H + (m - 1) * J;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : zero_terms)
   for (std::ptrdiff_t bb = 0; bb < static_cast<std::ptrdiff_t>(B); ++bb) {
     const auto b = static_cast<std::size_t>(bb);
-    std::vector<CompensatedSum> sum(H + 1);
+    // sum_j ln d_j(i) = ln prod_j d_j(i)^2 / 2, the product kept as mantissa x 2^exponent: the
+    // running product is renormalised (frexp) whenever it leaves [2^-600, 2^600], and a factor
+    // outside [2^-400, 2^400] enters by its mantissa, so no product under- or overflows. One log
+    // per step instead of one per term; the rounding error of 10^4 factors is ~1e-12 relative.
+    std::vector<double> mantissa(H + 1, 1.0);
+    std::vector<long long> exponent(H + 1, 0);
+    std::vector<std::size_t> terms(H + 1, 0);
+    // Squared differences of the two trajectories' samples, summed over channels: the squared
+    // distance of the embedded points i steps on is the sum of m of them, J apart (eq. 16).
+    std::vector<double> e2(span + 1);
     const std::size_t k0 = b * refs.size() / B, k1 = (b + 1) * refs.size() / B;
     for (std::size_t k = k0; k < k1; ++k) {
       if (nn.neighbour[k] == NeighbourResult::none) continue;
-      const std::size_t j = refs[k], jn = nn.neighbour[k];
+      const std::size_t j = refs[k], jn = base[k];
+      const double f = fraction[k];
+      std::fill(e2.begin(), e2.end(), 0.0);
+      for (const auto& x : s.channels) {
+        if (f > 0.0) {
+          for (std::size_t t = 0; t <= span; ++t) {
+            const double e = x[j + t] - ((1.0 - f) * x[jn + t] + f * x[jn + t + 1]);
+            e2[t] += e * e;
+          }
+        } else {
+          for (std::size_t t = 0; t <= span; ++t) {
+            const double e = x[j + t] - x[jn + t];
+            e2[t] += e * e;
+          }
+        }
+      }
       for (std::size_t i = 0; i <= H; ++i) {
-        const double d2 = all.squared_distance(j + i, jn + i);
+        double d2 = 0.0;
+        for (std::size_t lag = 0; lag < m; ++lag) d2 += e2[i + lag * J];
         if (d2 > 0.0) {
-          sum[i].add(0.5 * std::log(d2));  // ln d = ln(d^2)/2
-          ++batch_terms[b][i];
+          double& p = mantissa[i];
+          int e = 0;
+          if (d2 > 0x1p-400 && d2 < 0x1p400) {
+            p *= d2;  // p in [2^-600, 2^600] before: the product stays a normal number
+          } else {
+            p *= std::frexp(d2, &e);  // an extreme (e.g. subnormal) factor enters by its mantissa
+            exponent[i] += e;
+          }
+          if (!(p > 0x1p-600 && p < 0x1p600)) {
+            p = std::frexp(p, &e);
+            exponent[i] += e;
+          }
+          ++terms[i];
         } else {
           ++zero_terms;  // the pair's trajectories coincide: no log(0), term left out
         }
       }
     }
-    for (std::size_t i = 0; i <= H; ++i) batch_sum[b][i] = sum[i].value();
+    for (std::size_t i = 0; i <= H; ++i) {
+      batch_sum[b][i] = 0.5 * (std::log(mantissa[i]) + static_cast<double>(exponent[i]) * std::numbers::ln2);
+      batch_terms[b][i] = terms[i];
+    }
   }
   curve.zero_distance_terms = zero_terms;
   curve.attractor_log_distance = attractor_log_distance(all, options.theiler);
@@ -138,6 +225,10 @@ DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& 
     curve.warnings.push_back(std::to_string(nn.without_neighbour) +
                              " reference points had no neighbour outside the Theiler window");
   return curve;
+}
+
+DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options) {
+  return follow_pairs(series, options, find_pairs(series, options));
 }
 
 }  // namespace mlce

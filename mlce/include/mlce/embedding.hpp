@@ -41,6 +41,17 @@ class DelayEmbedding {
     return s;
   }
 
+  /// Squared distance from point i to the point a fraction f in [0, 1] of the way from point j to
+  /// point j + 1 (linear interpolation along the sampled trajectory; j + 1 must exist).
+  double squared_distance_between(std::size_t i, std::size_t j, double f) const {
+    double s = 0.0;
+    for (std::size_t d = 0, D = dimension(); d < D; ++d) {
+      const double e = coordinate(i, d) - ((1.0 - f) * coordinate(j, d) + f * coordinate(j + 1, d));
+      s += e * e;
+    }
+    return s;
+  }
+
   // nanoflann dataset-adaptor interface
   std::size_t kdtree_get_point_count() const { return points_; }
   double kdtree_get_pt(std::size_t i, std::size_t d) const { return coordinate(i, d); }

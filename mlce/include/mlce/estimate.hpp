@@ -2,6 +2,7 @@
 // The whole automatic pipeline: mean period -> AMI delay -> FNN dimension -> Rosenstein curve ->
 // fit, with every parameter automatic unless given.
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -18,6 +19,14 @@ namespace mlce {
 /// Called with the stage name and the fraction of the stage done.
 using ProgressCallback = std::function<void(std::string_view stage, double fraction)>;
 
+/// Whether neighbours are moved along their own trajectories to the reference's phase
+/// (RosensteinOptions::align_phase). automatic: for sampled flows (mean period >= kMinFlowPeriod
+/// samples) whose plain curve grows into a saturation plateau (lambda > 0).
+enum class PhaseAlignment { automatic, off, on };
+/// A series whose mean period is shorter than this many samples is treated as a map (or a flow
+/// sampled too coarsely to interpolate between samples): no phase alignment.
+inline constexpr std::size_t kMinFlowPeriod = 8;
+
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
   std::optional<std::size_t> dim;      ///< m; automatic: FNN
@@ -33,6 +42,7 @@ struct MlceOptions {
   /// error of the mean curve negligible while bounding the cost for very long series.
   std::size_t max_references = 20000;
   double eps = 0.0;
+  PhaseAlignment phase_alignment = PhaseAlignment::automatic;
   /// A series that decays into a noise/underflow floor below this fraction of its largest RMS is
   /// analysed only up to the floor (detect_floor; paper 001 Fig. 6: otherwise the estimate drifts
   /// with the run length). 0 = never cut.
@@ -53,8 +63,10 @@ struct MlceResult {
   MeanPeriodResult mean_period;
   std::optional<AmiResult> ami;  ///< when the delay was automatic
   std::optional<FnnResult> fnn;  ///< when the dimension was automatic
-  DivergenceCurve curve;
+  DivergenceCurve curve;  ///< the curve fitted (phase-aligned when curve.phase_aligned)
   FitResult fit;
+  /// lambda of the plain curve when the reported one comes from the phase-aligned curve; NaN otherwise
+  double unaligned_lambda = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 

@@ -29,6 +29,10 @@ struct FitOptions {
   /// scale (DivergenceCurve::attractor_log_distance), after it has stopped rising, is bounded:
   /// the neighbours never separate (limit cycle, torus) and lambda is ~0, not the start-up rise.
   double bounded_margin = 2.0;
+  /// The chosen region is straight when the slope of its second half is at least this fraction of
+  /// its first half's; otherwise it reaches into the bend and its last quarter is dropped (repeated
+  /// while the region is at least 4 minimum pieces long). 1 would trim any concave region.
+  double straightness = 0.9;
   void validate() const;
 };
 
@@ -62,8 +66,12 @@ struct FitResult {
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
 ///     bend into the plateau). A first piece steeper and shorter than the next is the start-up
-///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length. The 95 % interval comes from batch means: the slope of each batch's curve over
-/// the same region, t-distributed over the batches.
+///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length,
+///     or an earlier piece at least a period (2 minimum pieces) long whose |slope| is at least as
+///     large (the bend only lowers the slope). While the region's second half has less than
+///     `straightness` x its first half's slope, its last quarter is dropped.
+/// The 95 % interval comes from batch means: the slope of each batch's curve over the same region,
+/// t-distributed over the batches.
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
 
 const char* to_string(CurveEnd end);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/neighbours.hpp"
 #include "mlce/series.hpp"
 
 namespace mlce {
@@ -19,6 +20,14 @@ struct RosensteinOptions {
   /// Contiguous batches of references for the batch-means confidence interval of the slope.
   std::size_t batches = 16;
   double eps = 0.0;  ///< approximate neighbour search (speed study only); 0 = exact
+  /// Sampled flows: move each neighbour along its own trajectory by the fraction of a sample
+  /// (linear interpolation, within one sample either way) that brings it closest to the reference,
+  /// and follow it from there. The part of the initial separation along the flow belongs to the
+  /// flow's zero exponent: it neither grows nor decays and aligns with the unstable direction only
+  /// at the rate lambda_1, so while it is comparable to the transverse part it holds the curve's
+  /// slope below lambda_1 (Roessler x at dt = 0.1: ~0.8 lambda_1 over its whole linear region).
+  /// Meaningless for maps: the points between two samples are not on the attractor.
+  bool align_phase = false;
   void validate() const;
 };
 
@@ -40,6 +49,8 @@ struct DivergenceCurve {
   std::size_t admissible_points = 0;
   std::size_t zero_distance_terms = 0;  ///< d_j(i) = 0 terms left out of the average (never log 0)
   std::size_t zero_distance_candidates = 0;
+  bool phase_aligned = false;           ///< neighbours were moved along their trajectories (align_phase)
+  double mean_phase_shift = 0.0;        ///< mean |shift| of the neighbours, samples (align_phase)
   /// <ln d> over unrelated pairs of embedded points (deterministic pseudo-random pairs, more than
   /// a Theiler window apart): the level a chaotic divergence saturates at, the attractor's scale in
   /// the same units as mean_log_distance. NaN when not computed.
@@ -48,6 +59,20 @@ struct DivergenceCurve {
   std::vector<std::string> warnings;
 };
 
+/// Reference points of a curve and the nearest neighbour of each (eq. 18 with the Theiler
+/// exclusion of eq. 20), found for the options' m, delay, horizon and Theiler window.
+struct NeighbourPairs {
+  std::vector<std::uint32_t> references;
+  NeighbourResult nearest;
+  std::size_t dim = 0, delay = 0, horizon = 0, theiler = 0;
+};
+
+NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options);
+
+/// The curve of given pairs (e.g. the same pairs with and without align_phase, one search).
+DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
+
+/// find_pairs + follow_pairs.
 DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options);
 
 }  // namespace mlce
