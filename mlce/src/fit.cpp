@@ -229,12 +229,13 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         skip = 1;
       const std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
       pick = skip + pick_largest_change(candidates);
-      // An earlier piece at least as steep and at least a period long is the linear region: the
-      // bend into the plateau only ever lowers the slope, so the longest-change piece of a curve
-      // that bends gradually (Roessler) reaches into the bend.
+      // An earlier piece of the same sign, at least as steep and at least a period long is the
+      // linear region: the bend into the plateau only ever lowers the slope, so the largest-change
+      // piece of a curve that bends gradually (Roessler) reaches into the bend.
       const std::size_t largest = pick;
       for (std::size_t k = skip; k < largest; ++k)
-        if (inner[k].b - inner[k].a + 1 >= 2 * min_len && std::abs(inner[k].slope) >= std::abs(inner[largest].slope)) {
+        if (inner[k].b - inner[k].a + 1 >= 2 * min_len && inner[k].slope * inner[largest].slope > 0.0 &&
+            std::abs(inner[k].slope) >= std::abs(inner[largest].slope)) {
           pick = k;
           break;
         }

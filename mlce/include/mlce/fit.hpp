@@ -67,8 +67,8 @@ struct FitResult {
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
 ///     bend into the plateau). A first piece steeper and shorter than the next is the start-up
 ///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length,
-///     or an earlier piece at least a period (2 minimum pieces) long whose |slope| is at least as
-///     large (the bend only lowers the slope). While the region's second half has less than
+///     or an earlier piece at least a period (2 minimum pieces) long with a slope of the same sign
+///     and at least as large in magnitude (the bend only lowers the slope). While the region's second half has less than
 ///     `straightness` x its first half's slope, its last quarter is dropped.
 /// The 95 % interval comes from batch means: the slope of each batch's curve over the same region,
 /// t-distributed over the batches.
