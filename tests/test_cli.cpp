@@ -127,6 +127,26 @@ TEST_F(Cli, AmbiguousColumnsAndBadOptions) {
   expect_one_line_error(run("estimate " + f + " --column 5"), "--column 5 requested, but the file has 2 column(s)");
   expect_one_line_error(run("estimate " + f + " --column 2 --delay x"), "--delay 'x'", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --fit 9:3"), "expected first < last", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --align-phase maybe"),
+                        "--align-phase 'maybe': expected auto, on or off", 2);
+}
+
+TEST_F(Cli, PhaseAlignmentSwitch) {
+  // Roessler x: automatic alignment (a saturating curve of a sampled flow), off gives the plain
+  // curve's lambda, which `auto` reports as unaligned_lambda.
+  const auto f = series_file(mlce::reference::roessler_x(10000, 0.1), 0.1);
+  const auto on = nlohmann::json::parse(run("estimate " + f + " --column 2 --time-column 1 --json --quiet").out);
+  const auto off =
+      nlohmann::json::parse(run("estimate " + f + " --column 2 --time-column 1 --json --quiet --align-phase off").out);
+  EXPECT_TRUE(on["phase_aligned"].get<bool>());
+  EXPECT_GT(on["mean_phase_shift"].get<double>(), 0.0);
+  EXPECT_FALSE(off["phase_aligned"].get<bool>());
+  EXPECT_TRUE(off["unaligned_lambda"].is_null());
+  EXPECT_DOUBLE_EQ(on["unaligned_lambda"].get<double>(), off["lambda"].get<double>());
+  EXPECT_NEAR(on["lambda"].get<double>(), 0.0714, 0.1 * 0.0714);
+  // A map (Henon, mean period < 8 samples) is never aligned automatically.
+  const auto h = series_file(mlce::reference::henon_x(5000), 1.0);
+  EXPECT_FALSE(nlohmann::json::parse(run("estimate " + h + " --column 2 --json --quiet").out)["phase_aligned"].get<bool>());
 }
 
 TEST_F(Cli, FailedRunLeavesNoOutputFile) {
