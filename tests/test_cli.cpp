@@ -144,6 +144,13 @@ TEST_F(Cli, PhaseAlignmentSwitch) {
   EXPECT_TRUE(off["unaligned_lambda"].is_null());
   EXPECT_DOUBLE_EQ(on["unaligned_lambda"].get<double>(), off["lambda"].get<double>());
   EXPECT_NEAR(on["lambda"].get<double>(), 0.0714, 0.1 * 0.0714);
+  // The curve CSV carries the plain curve next to the aligned one, and only then.
+  const auto curve = (dir / "aligned.csv").string(), plain_curve = (dir / "plain.csv").string();
+  ASSERT_EQ(run("estimate " + f + " --column 2 --time-column 1 --quiet --curve " + curve).status, 0);
+  ASSERT_EQ(run("estimate " + f + " --column 2 --time-column 1 --quiet --align-phase off --curve " + plain_curve).status, 0);
+  const std::string a = slurp(curve), p = slurp(plain_curve);
+  EXPECT_EQ(a.substr(0, a.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance");
+  EXPECT_EQ(p.substr(0, p.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line");
   // A map (Henon, mean period < 8 samples) is never aligned automatically.
   const auto h = series_file(mlce::reference::henon_x(5000), 1.0);
   EXPECT_FALSE(nlohmann::json::parse(run("estimate " + h + " --column 2 --json --quiet").out)["phase_aligned"].get<bool>());

@@ -39,9 +39,14 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
-        "plot '{}' every ::1 using 2:3 with lines lw 2 title 'mean log divergence', "
-        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'\n",
-        png, u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data);
+        "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
+        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}\n",
+        png, u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data,
+        r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
+        r.unaligned_curve.empty()
+            ? ""
+            : fmt::format(", '' every ::1 using 2:7 with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
+                          r.unaligned_lambda));
   });
 }
 

@@ -115,12 +115,16 @@ std::string to_text(const FnnResult& r) {
 }
 
 std::string curve_csv(const MlceResult& r) {
-  std::string s = "step,time,mean_log_distance,terms,in_fit,fit_line\n";
+  // A phase-aligned curve is followed by the plain one (same pairs) in a last column.
+  const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
+  std::string s = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") +
+                  (plain ? ",plain_mean_log_distance\n" : "\n");
   const auto& y = r.curve.mean_log_distance;
   for (std::size_t i = 0; i < y.size(); ++i) {
     const bool in = i >= r.fit.first && i <= r.fit.last;
-    s += fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}\n", i, r.dt * static_cast<double>(i), y[i], r.curve.terms[i],
+    s += fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}", i, r.dt * static_cast<double>(i), y[i], r.curve.terms[i],
                      in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
+    s += plain ? fmt::format(",{:.10g}\n", r.unaligned_curve[i]) : "\n";
   }
   return s;
 }

@@ -133,6 +133,7 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
                       r.fit.end == CurveEnd::saturation && r.fit.slope > 0.0);
   if (align) {
     r.unaligned_lambda = r.fit.slope / series.dt;
+    r.unaligned_curve = r.curve.mean_log_distance;
     ro.align_phase = true;
     report(options, "phase-aligned curve", 0.0);
     r.curve = follow_pairs(series, ro, pairs);

@@ -67,6 +67,8 @@ struct MlceResult {
   FitResult fit;
   /// lambda of the plain curve when the reported one comes from the phase-aligned curve; NaN otherwise
   double unaligned_lambda = std::numeric_limits<double>::quiet_NaN();
+  /// the plain curve's mean_log_distance when the reported curve is phase-aligned; empty otherwise
+  std::vector<double> unaligned_curve;
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 
