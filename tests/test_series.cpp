@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "mlce/series.hpp"
 #include "reference_systems.hpp"
@@ -95,15 +97,25 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
 
 #include "mlce/transient.hpp"
 
+namespace {
+/// envelope(t) sin(2 pi t), t = 0, dt, ..., (n-1) dt: a unit-frequency oscillation whose
+/// amplitude settles (or grows into saturation) as the envelope says.
+template <class Envelope>
+std::vector<double> enveloped_sine(int n, double dt, Envelope envelope) {
+  std::vector<double> x;
+  for (int i = 0; i < n; ++i) {
+    const double t = dt * i;
+    x.push_back(envelope(t) * std::sin(2 * M_PI * t));
+  }
+  return x;
+}
+}  // namespace
+
 TEST(Transient, DecayOntoASteadyOscillationIsCutWhereItSettles) {
   // amplitude 1 + 4 e^{-t/5} sin(2 pi t). The settled sine's window RMS does not scatter, so the
   // automatic band is its floor, 2 %: settled after t = 5 ln(4 / 0.02) = 26.5. A given band of
   // 25 % settles after t = 5 ln 16 = 13.9.
-  std::vector<double> x;
-  for (int i = 0; i < 40000; ++i) {
-    const double t = 0.01 * i;
-    x.push_back((1.0 + 4.0 * std::exp(-t / 5.0)) * std::sin(2 * M_PI * t));
-  }
+  const auto x = enveloped_sine(40000, 0.01, [](double t) { return 1.0 + 4.0 * std::exp(-t / 5.0); });
   TransientOptions o;
   o.period = 100;
   const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
@@ -120,11 +132,7 @@ TEST(Transient, ShortRunOfALongPeriodOscillationIsStillCut) {
   // 30 periods of 200 samples (a 30 s MBDyn run of a 1 s limit cycle at 5 ms output): the
   // amplitude grows as e^{0.3 t} to saturate at 1 near t = 15 s. Windows of two periods give 15
   // windows; the old four-period windows gave 7 and nothing was cut.
-  std::vector<double> x;
-  for (int i = 0; i < 6000; ++i) {
-    const double t = 0.005 * i;
-    x.push_back(std::min(1.0, 0.011 * std::exp(0.3 * t)) * std::sin(2 * M_PI * t));
-  }
+  const auto x = enveloped_sine(6000, 0.005, [](double t) { return std::min(1.0, 0.011 * std::exp(0.3 * t)); });
   TransientOptions o;
   o.period = 200;
   const auto r = detect_transient(make_series_with_step({x}, 0.005), o);
