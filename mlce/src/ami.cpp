@@ -73,7 +73,12 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     }
     if (candidate != 0) {
       const double depth = r.smoothed[0] - r.smoothed[candidate];
-      const double need = std::max(o.significance * r.floor, 0.01 * depth);
+      // Near the floor the estimator's bias b hides structure (maps decay into it within a few
+      // lags and then wiggle): there a rise must exceed significance x b. Well above it the curve
+      // of a sampled flow is smooth, b is an offset shared by neighbouring lags, and a shallow
+      // first minimum (Lorenz x: ~1 % of the drop from I(0)) is the minimum.
+      const bool near_floor = r.smoothed[candidate] < o.floor_zone * r.floor;
+      const double need = near_floor ? std::max(o.significance * r.floor, 0.01 * depth) : o.relative_rise * depth;
       if (r.smoothed[t] < r.smoothed[candidate]) {
         candidate = 0;  // the curve kept falling: not a minimum
       } else if (r.smoothed[t] - r.smoothed[candidate] >= need) {
@@ -103,6 +108,8 @@ void AmiOptions::validate() const {
     throw OptionError("ami.smoothing = " + std::to_string(smoothing) + ": expected an odd width >= 1");
   if (bins == 1 || bins > 4096) throw OptionError("ami.bins = " + std::to_string(bins) + ": expected 2..4096 (0 = auto)");
   if (!(significance >= 0.0)) throw OptionError("ami.significance: expected >= 0");
+  if (!(floor_zone >= 0.0)) throw OptionError("ami.floor_zone: expected >= 0");
+  if (!(relative_rise >= 0.0 && relative_rise < 1.0)) throw OptionError("ami.relative_rise: expected 0 <= value < 1");
 }
 
 std::size_t autocorrelation_time(const std::vector<double>& x, std::size_t max_lag) {

@@ -83,8 +83,10 @@ std::vector<Piece> segment_exact(const std::vector<double>& y, std::size_t piece
   std::vector<std::vector<double>> best(K, std::vector<double>(n + 1, inf));
   std::vector<std::vector<std::size_t>> from(K, std::vector<std::size_t>(n + 1, 0));
   for (std::size_t e = min_len; e <= n; ++e) best[0][e] = cost.sse(0, e - 1);
+  // Every layer but the last is needed at every end point; the last only at e = n (the whole
+  // curve), which makes it O(n) instead of O(n^2): a third to a half of the cost.
   for (std::size_t k = 1; k < K; ++k)
-    for (std::size_t e = (k + 1) * min_len; e <= n; ++e)
+    for (std::size_t e = k + 1 == K ? n : (k + 1) * min_len; e <= n; ++e)
       for (std::size_t s = k * min_len; s + min_len <= e; ++s) {
         if (best[k - 1][s] == inf) continue;
         const double c = best[k - 1][s] + cost.sse(s, e - 1);

@@ -17,10 +17,17 @@ struct AmiOptions {
   std::size_t bins = 0;
   /// Width (odd, samples) of the centred moving average applied before the minimum search.
   std::size_t smoothing = 3;
-  /// A local minimum counts only if the smoothed curve rises after it by at least
-  /// max(significance * b, 0.01 * (I(0) - I(min))), b = (B-1)^2 / (2 n) being the bias of the
-  /// histogram estimator for independent samples: minima inside the noise floor are ignored.
+  /// A local minimum of the smoothed curve counts only if the curve rises after it (within as many
+  /// lags again) by at least
+  ///  - max(significance x b, 0.01 x (I(0) - I(min))) when I(min) < floor_zone x b, b = (B-1)^2 / (2 n)
+  ///    being the bias of the histogram estimator for independent samples: wiggles of a curve that
+  ///    has decayed into its noise floor (maps, noise) are not minima;
+  ///  - relative_rise x (I(0) - I(min)) when I(min) >= floor_zone x b: there b is an offset shared
+  ///    by neighbouring lags, not a fluctuation, and the smooth curve of a sampled flow may have a
+  ///    shallow first minimum (Lorenz x at N = 10^4: a rise of ~1 % of the drop, < 2 b).
   double significance = 2.0;
+  double floor_zone = 10.0;
+  double relative_rise = 0.005;
   /// Stop at the first accepted minimum (the estimator's use); off: whole curve (the `ami` command).
   bool stop_at_minimum = false;
   void validate() const;
