@@ -1,6 +1,6 @@
 // Writes a reference series as a two-column file "time value" (the bundled demo data and the
 // benchmark inputs are made by this program, not by hand).
-//   make_series lorenz|roessler|vanderpol|henon|logistic|oscillator N [dt] > file
+//   make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt] > file
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -9,7 +9,7 @@
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: make_series lorenz|roessler|vanderpol|henon|logistic|oscillator N [dt]\n");
+    std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   using namespace mlce::reference;
   if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01);
   else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
+  else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);
   else if (name == "oscillator") x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, 0.05, 2.0 * M_PI);
   else if (name == "henon") x = henon_x(n), dt = 1.0;

@@ -90,6 +90,27 @@ TEST(Ami, ShallowFirstMinimumOfLorenzIsFoundOnShortSeries) {
   }
 }
 
+TEST(Ami, SeriesThatDecorrelatesIntoTheFloorTakesTheEndOfTheDecline) {
+  // Roessler z is ~0 for most of each loop and spikes once per loop (~5.9 time units, 59 samples at
+  // dt = 0.1): its AMI falls to the level of independent samples within ~1 time unit, lies flat
+  // there, and rises only when the next spike recurs. The decline ends where the curve reaches that
+  // level; the last wiggle before the recurrence (~45 samples, most of a loop, which folded the
+  // embedding and gave lambda = -0.93 on the canonical series) is not a first minimum.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int k = 0; k < 8; ++k) {
+    const auto z = reference::roessler(10000, 0.1, {u(gen), u(gen), std::abs(u(gen)) / 3}, 2);
+    const auto r = estimate_delay_ami(make_series_with_step({z}, 0.1), {});
+    EXPECT_LE(r.delay, 15u) << k;  // within a quarter of the loop
+    // At the delay the curve is at the floor level of the lags that follow (within b) ...
+    double floor_level = r.smoothed[r.delay];
+    for (std::size_t t = r.delay; t <= 40; ++t) floor_level = std::min(floor_level, r.smoothed[t]);
+    EXPECT_LE(r.smoothed[r.delay], floor_level + r.noise_floor) << k;
+    // ... and a few lags earlier it was clearly above it: still declining.
+    EXPECT_GT(r.smoothed[r.delay - 3], floor_level + r.noise_floor) << k;
+  }
+}
+
 TEST(Ami, RejectsBadOptions) {
   AmiOptions o;
   o.smoothing = 2;

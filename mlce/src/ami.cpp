@@ -83,6 +83,12 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
         candidate = 0;  // the curve kept falling: not a minimum
       } else if (r.smoothed[t] - r.smoothed[candidate] >= need) {
         r.delay = candidate;  // significant rise after it: accepted
+        // A minimum at the level of independent samples (below significance x b) is the floor of a
+        // series that decorrelates completely and rises again only at its next recurrence (the
+        // spikes of Roessler z): the decline ended where the curve first came within b of that
+        // level, not at the last wiggle before the recurrence.
+        if (r.smoothed[candidate] < o.significance * r.floor)
+          while (r.delay > 1 && r.smoothed[r.delay - 1] <= r.smoothed[candidate] + r.floor) --r.delay;
         if (o.stop_at_minimum) break;
         continue;
       } else if (t > 2 * candidate + 2 * h + 2) {

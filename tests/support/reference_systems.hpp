@@ -46,12 +46,16 @@ inline std::vector<double> lorenz_x(std::size_t n, double dt = 0.01, std::array<
   return sample_flow<3>(f, x0, dt, n, 50.0, 10);
 }
 
-/// Roessler a = b = 0.2, c = 5.7; lambda_1 = 0.0714. From x0 after 500 time units.
-inline std::vector<double> roessler_x(std::size_t n, double dt = 0.1, std::array<double, 3> x0 = {1.0, 1.0, 0.0}) {
+/// Roessler a = b = 0.2, c = 5.7; lambda_1 = 0.0714. Component `component` (0 = x, 2 = z) from x0
+/// after 500 time units.
+inline std::vector<double> roessler(std::size_t n, double dt, std::array<double, 3> x0, std::size_t component) {
   auto f = [](const std::array<double, 3>& s) {
     return std::array<double, 3>{-s[1] - s[2], s[0] + 0.2 * s[1], 0.2 + s[2] * (s[0] - 5.7)};
   };
-  return sample_flow<3>(f, x0, dt, n, 500.0, 10);
+  return sample_flow<3>(f, x0, dt, n, 500.0, 10, component);
+}
+inline std::vector<double> roessler_x(std::size_t n, double dt = 0.1, std::array<double, 3> x0 = {1.0, 1.0, 0.0}) {
+  return roessler(n, dt, x0, 0);
 }
 
 /// van der Pol mu = 1 on its limit cycle; lambda_1 = 0.

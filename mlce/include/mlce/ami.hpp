@@ -25,6 +25,9 @@ struct AmiOptions {
   ///  - relative_rise x (I(0) - I(min)) when I(min) >= floor_zone x b: there b is an offset shared
   ///    by neighbouring lags, not a fluctuation, and the smooth curve of a sampled flow may have a
   ///    shallow first minimum (Lorenz x at N = 10^4: a rise of ~1 % of the drop, < 2 b).
+  /// An accepted minimum below significance x b (the level of independent samples: the series
+  /// decorrelates completely and the rise is its next recurrence, as for the spikes of Roessler z)
+  /// is moved back to the first lag whose smoothed value is within b of it: the end of the decline.
   double significance = 2.0;
   double floor_zone = 10.0;
   double relative_rise = 0.005;
