@@ -75,6 +75,26 @@ TEST(EstimateSystems, HenonWithinTwoPercent) {
   EXPECT_EQ(r.dim, 2u);
 }
 
+TEST(EstimateSystems, HenonWithinTwoPercentOnMostSeries) {
+  // 16 series from random initial states (seed independent of bench/finite_time_spread's).
+  std::mt19937 gen(20261121);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  std::vector<double> q;
+  for (int k = 0; k < 16; ++k) {
+    double x = u(gen), y = 0.3 * u(gen);
+    std::vector<double> h(10000);
+    for (std::size_t i = 0; i < 1000 + h.size(); ++i) {
+      if (i >= 1000) h[i - 1000] = x;
+      const double xn = 1.0 - 1.4 * x * x + y;
+      y = 0.3 * x, x = xn;
+    }
+    q.push_back(run(h, 1.0).lambda / 0.41922);
+  }
+  std::printf("Henon lambda / 0.41922 on 16 series: %s\n", listed(q).c_str());
+  EXPECT_GE(count_within(q, 0.02), 15) << listed(q);
+  EXPECT_NEAR(median(q), 1.0, 0.01) << listed(q);
+}
+
 TEST(EstimateSystems, LogisticWithinTwoPercentOfLn2) {
   const auto r = run(reference::logistic(10000), 1.0);
   EXPECT_NEAR(r.lambda, std::log(2.0), 0.02 * std::log(2.0)) << r.fit.rule;

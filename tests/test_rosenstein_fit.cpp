@@ -58,6 +58,22 @@ TEST(Fit, GradualBendIntoThePlateauIsLeftOut) {
   EXPECT_LE(r.last, 300u) << r.rule;
 }
 
+TEST(Fit, MapCurveLosesItsSlowFirstStepAndItsBend) {
+  // A map's curve (Henon-like, 32 iterations): the first iteration rises at 0.7 lambda (the
+  // neighbour's separation still has its contracting component), the next ones at lambda, then the
+  // local slope falls smoothly into the plateau, lambda / (1 + e^((k - 14) / 1.5)). The fit must
+  // start at step 1 and stop before the bend has taken more than a few per cent of the slope.
+  const double lambda = 0.42;
+  std::vector<double> y{-7.0};
+  for (int k = 0; k < 32; ++k) y.push_back(y.back() + (k == 0 ? 0.7 * lambda : lambda / (1.0 + std::exp((k - 14) / 1.5))));
+  FitOptions o;
+  o.period = 4;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(r.first, 1u) << r.rule;
+  EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
+  EXPECT_NEAR(r.slope, lambda, 0.02 * lambda) << r.rule;
+}
+
 TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   std::vector<double> y;
   for (int i = 0; i <= 800; ++i) y.push_back(std::max(-0.02 * i, -10.0) + 1e-3 * std::sin(0.3 * i));

@@ -243,6 +243,16 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         }
       r.first = inner[pick].a;
       r.last = inner[pick].b;
+      // The curve's first step is part of the start-up when it changes the log distance by less
+      // than 0.9 x the second step does: the nearest neighbour's separation still has a component
+      // along the contracting directions, which shrinks during that step. A piece cannot be one
+      // step long (at least 3), so for maps, which align within an iteration, this is decided here
+      // (Henon: the first step rises at ~0.7 lambda, the next ones at lambda).
+      bool first_step_skipped = false;
+      if (r.first == 0 && r.last >= 3) {
+        const double sign = inner[pick].slope >= 0.0 ? 1.0 : -1.0;
+        if (sign * (y[1] - y[0]) < 0.9 * sign * (y[2] - y[1])) r.first = 1, first_step_skipped = true;
+      }
       // Straightness: while the second half of the region is flatter than straightness x the first
       // half, the region reaches into the bend: keep its first three quarters.
       std::size_t trimmed = 0;
@@ -255,7 +265,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       }
       rule << "; ";
       describe("before the end", inner);
-      rule << (skip ? "; start-up transient skipped" : "")
+      rule << (skip ? "; start-up transient skipped" : "") << (first_step_skipped ? "; slow first step skipped" : "")
            << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
                                : "; fitted the piece of largest |slope| x length");
       if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";

@@ -31,8 +31,11 @@ struct FitOptions {
   double bounded_margin = 2.0;
   /// The chosen region is straight when the slope of its second half is at least this fraction of
   /// its first half's; otherwise it reaches into the bend and its last quarter is dropped (repeated
-  /// while the region is at least 4 minimum pieces long). 1 would trim any concave region.
-  double straightness = 0.9;
+  /// while the region is at least 4 minimum pieces long). 1 would trim any concave region. 0.97
+  /// (was 0.9): Henon x at N = 10^4 within 2 % on 19 of 32 random series at 0.9 (the region
+  /// reached ~6 iterations into the bend), 32 at 0.97 with the slow-first-step rule; Roessler x rms
+  /// error 8.7 -> 6.7 %, Lorenz x unchanged (build/finite_time_spread).
+  double straightness = 0.97;
   void validate() const;
 };
 
@@ -68,7 +71,10 @@ struct FitResult {
 ///     bend into the plateau). A first piece steeper and shorter than the next is the start-up
 ///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length,
 ///     or an earlier piece at least a period (2 minimum pieces) long with a slope of the same sign
-///     and at least as large in magnitude (the bend only lowers the slope). While the region's second half has less than
+///     and at least as large in magnitude (the bend only lowers the slope). A region that starts
+///     at step 0 loses that step when it changes the curve by less than 0.9 x the second step (the
+///     separation still shrinking along the contracting directions; maps align within one
+///     iteration, below the shortest piece). While the region's second half has less than
 ///     `straightness` x its first half's slope, its last quarter is dropped.
 /// The 95 % interval comes from batch means: the slope of each batch's curve over the same region,
 /// t-distributed over the batches.
