@@ -73,17 +73,32 @@ double own_exponent(const System& sys, const State& x0, std::size_t n, int subst
 }
 
 /// Ratios to the known exponent: how many within 5 % / 10 %, mean, rms error, rms from the series' own exponent.
+/// ... and the correlation of the estimates with the series' own exponents (does an estimator track
+/// the trajectory it was given, or scatter independently of it?).
 struct Tally {
   int within5 = 0, within10 = 0;
   double sum = 0, err2 = 0, own_err2 = 0, lo = 1e300, hi = -1e300;
+  std::vector<double> values, owns;
   void add(double q, double own) {
     within5 += std::abs(q - 1) <= 0.05, within10 += std::abs(q - 1) <= 0.1;
     sum += q, err2 += (q - 1) * (q - 1), own_err2 += (q - own) * (q - own);
     lo = std::min(lo, q), hi = std::max(hi, q);
+    values.push_back(q), owns.push_back(own);
+  }
+  double correlation_with_own() const {
+    const double n = static_cast<double>(values.size());
+    double mq = 0, mo = 0;
+    for (std::size_t k = 0; k < values.size(); ++k) mq += values[k] / n, mo += owns[k] / n;
+    double sqo = 0, sqq = 0, soo = 0;
+    for (std::size_t k = 0; k < values.size(); ++k)
+      sqo += (values[k] - mq) * (owns[k] - mo), sqq += (values[k] - mq) * (values[k] - mq), soo += (owns[k] - mo) * (owns[k] - mo);
+    return sqq > 0 && soo > 0 ? sqo / std::sqrt(sqq * soo) : 1.0;
   }
   void print(const char* what, int n) const {
-    std::printf("  %-30s within 5 %% %2d / 10 %% %2d of %d, %.3f..%.3f, mean %.3f, rms error %.3f, rms from own %.3f\n",
-                what, within5, within10, n, lo, hi, sum / n, std::sqrt(err2 / n), std::sqrt(own_err2 / n));
+    std::printf("  %-30s within 5 %% %2d / 10 %% %2d of %d, %.3f..%.3f, mean %.3f, rms error %.3f, rms from own %.3f, "
+                "correlation with own %+.2f\n",
+                what, within5, within10, n, lo, hi, sum / n, std::sqrt(err2 / n), std::sqrt(own_err2 / n),
+                correlation_with_own());
   }
 };
 
