@@ -39,7 +39,9 @@ TEST_F(SpectrumCli, EigenFloquetAndQrAgreeOnTheIsotropicScene) {
   for (std::size_t i = 0; i < 12; ++i) {
     EXPECT_NEAR(e["exponents"][i].get<double>(), f["exponents"][i].get<double>(), 1e-7) << i;
     EXPECT_NEAR(q["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 2e-3) << i;
-    if (i > 0) EXPECT_LE(e["exponents"][i].get<double>(), e["exponents"][i - 1].get<double>());
+    if (i > 0) {
+      EXPECT_LE(e["exponents"][i].get<double>(), e["exponents"][i - 1].get<double>());
+    }
     pair += std::abs(e["exponents"][i].get<double>() + 1.875) < 1e-3;
   }
   EXPECT_EQ(pair, 4);  // collective and reactionless: -c / (2 I_b), twice each

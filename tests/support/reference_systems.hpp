@@ -77,9 +77,9 @@ inline std::vector<double> damped_oscillator(std::size_t n, double dt, double ze
   return out;
 }
 
-/// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration.
-inline std::vector<double> henon_x(std::size_t n) {
-  double x = 0.1, y = 0.1;
+/// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration. From (x0, y0) after 1000 iterations.
+inline std::vector<double> henon_x(std::size_t n, double x0 = 0.1, double y0 = 0.1) {
+  double x = x0, y = y0;
   for (int i = 0; i < 1000; ++i) {
     const double xn = 1.0 - 1.4 * x * x + y;
     y = 0.3 * x;
