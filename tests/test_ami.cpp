@@ -90,6 +90,23 @@ TEST(Ami, ShallowFirstMinimumOfLorenzIsFoundOnShortSeries) {
   }
 }
 
+TEST(Ami, FlatShoulderAfterTheDeclineIsTheFirstMinimum) {
+  // On about one Lorenz x series in 100 at N = 10^4 the curve stops falling at ~0.23 time units and
+  // stays flat, within +-0.5 % of its drop from I(0), for ~8 lags: its wiggles never rise enough to
+  // count as a minimum, and the first that does is the deep minimum at 61 samples (two thirds of a
+  // loop; the delay until commit 1445d69, with lambda 8 % high on such a series). The decline has
+  // ended at the shoulder, which is the delay.
+  const auto x = reference::lorenz_x(10000, 0.01, {1.57534823570629, -8.7381661977669687, 5.0104624751462534});
+  const auto r = estimate_delay_ami(make_series_with_step({x}, 0.01), {});
+  EXPECT_EQ(r.rule, DelayRule::first_minimum);
+  EXPECT_GE(r.delay, 13u);
+  EXPECT_LE(r.delay, 30u);
+  // Flat to 0.5 % of the drop for a third of the delay after it; falling steeply before it.
+  const double tol = 0.005 * (r.smoothed[0] - r.smoothed[r.delay]);
+  for (std::size_t t = r.delay; t <= r.delay + r.delay / 3; ++t) EXPECT_LE(std::abs(r.smoothed[t] - r.smoothed[r.delay]), tol) << t;
+  EXPECT_GT(r.smoothed[r.delay - 5] - r.smoothed[r.delay], 2 * tol);
+}
+
 TEST(Ami, SeriesThatDecorrelatesIntoTheFloorTakesTheEndOfTheDecline) {
   // Roessler z is ~0 for most of each loop and spikes once per loop (~5.9 time units, 59 samples at
   // dt = 0.1): its AMI falls to the level of independent samples within ~1 time unit, lies flat

@@ -74,6 +74,26 @@ TEST(Fit, MapCurveLosesItsSlowFirstStepAndItsBend) {
   EXPECT_NEAR(r.slope, lambda, 0.02 * lambda) << r.rule;
 }
 
+TEST(Fit, StartUpAsLongAsTheNextPieceIsStillTheStartUp) {
+  // Lorenz-like curve (period 165 samples, so pieces are at least 83 steps) whose start-up lasts
+  // exactly one shortest piece and whose linear region bends early, so that the next piece is no
+  // longer than the start-up: start-up 0..82 at slope 0.0205, then 0.011, 0.0077, 0.0043 and the
+  // plateau (the pieces of a Lorenz x series from (0.1, 0, 0) after 10 time units). Until commit
+  // 1445d69 the start-up had to be strictly shorter than the next piece; as the piece of largest
+  // change it was fitted and read 2.2 lambda_1. Any region after it has at most the second slope.
+  const std::vector<std::pair<int, double>> pieces{{83, 0.0205}, {83, 0.011}, {133, 0.0077}, {226, 0.0043}, {796, 0.0}};
+  std::vector<double> y{-4.1};
+  for (const auto& [length, slope] : pieces)
+    for (int k = 0; k < length; ++k) y.push_back(y.back() + slope);
+  FitOptions o;
+  o.period = 165;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_GE(r.first, 80u) << r.rule;
+  EXPECT_LE(r.slope, 0.0111) << r.rule;
+  EXPECT_GE(r.slope, 0.0075) << r.rule;
+  EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
+}
+
 TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   std::vector<double> y;
   for (int i = 0; i <= 800; ++i) y.push_back(std::max(-0.02 * i, -10.0) + 1e-3 * std::sin(0.3 * i));

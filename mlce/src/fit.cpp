@@ -227,7 +227,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       // separations still aligning with the unstable direction): it is never the linear region.
       std::size_t skip = 0;
       if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
-          inner[0].b - inner[0].a < inner[1].b - inner[1].a)
+          inner[0].b - inner[0].a <= inner[1].b - inner[1].a)
         skip = 1;
       const std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
       pick = skip + pick_largest_change(candidates);
