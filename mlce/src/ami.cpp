@@ -65,7 +65,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
   std::size_t shoulder = 0;   // first local minimum of a stretch that may be flat (see below)
   for (std::size_t tau = 0; tau <= max_delay; ++tau) {
     r.ami.push_back(mutual_information(b, bins, tau, joint));
-    if (tau < 2 * h) continue;
+    if (tau < h) continue;  // smoothed[t] is centred on lag t (the first h lags unsmoothed)
     r.smoothed.push_back(smooth_at(tau - h));
     const std::size_t t = r.smoothed.size() - 1;  // newest smoothed index
     if (r.delay != 0) {
