@@ -123,16 +123,22 @@ std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<
   return pieces;
 }
 
-/// Rule 0b: the curve stays bounded_margin below the attractor scale; it starts in the lower half of
+/// Rule 0b: the curve stays bounded_margin below the attractor scale and starts in the lower half of
 /// its range (nearest neighbours start closer than they later are: no decay, which starts at the
-/// top); and it has settled: over its second half its least-squares line changes by less than 0.25
-/// or by less than 0.4 of the curve's range (a straight rise changes by half of it there).
-bool is_bounded(const std::vector<double>& y, double attractor, double margin) {
+/// top). It is bounded when it has settled, over its second half its least-squares line changing
+/// by less than 0.25 or by less than 0.4 of the curve's range (a straight rise changes by half of it
+/// there), or when it falls back over its second half by more than that: a growth saturates at the
+/// attractor scale and never falls; a limit cycle that has not fully settled does (its neighbours
+/// drift apart by the search's selection bias, then close in again as the residual decaying mode dies
+/// out: Hammond at 240 rpm, blade 3 inoperative, rose by 1.3 and fell by 0.7 over 25 s).
+enum class Bounded { no, settled, falls_back };
+Bounded bounded_kind(const std::vector<double>& y, double attractor, double margin) {
   const std::size_t n = y.size(), half = n / 2;
   const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi)) return false;
+  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi)) return Bounded::no;
   const double late = fit_line(y.data(), half, n - 1).slope * static_cast<double>(n - 1 - half);
-  return std::abs(late) < std::max(0.25, 0.4 * (*hi - *lo));
+  const double tolerance = std::max(0.25, 0.4 * (*hi - *lo));
+  return std::abs(late) < tolerance ? Bounded::settled : late < 0.0 ? Bounded::falls_back : Bounded::no;
 }
 
 }  // namespace
@@ -199,14 +205,24 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       r.end = CurveEnd::flat;
       r.end_index = n - 1;
       rule << "flat curve (range " << *hi - *lo << " < 0.25): whole curve fitted";
-    } else if (const auto half = n / 2; n >= 6 && is_bounded(y, curve.attractor_log_distance, options.bounded_margin)) {
-      r.first = half;
+    } else if (const auto kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin) : Bounded::no;
+               kind != Bounded::no) {
+      // Settled: the second half, whose slope tends to 0 as the horizon grows. Falling back: from
+      // where the curve first reached its final level, so that the rise and the fall it fits end
+      // at the same level (the second half alone would be the residual decay, not the cycle's 0).
+      std::size_t first = n / 2;
+      if (kind == Bounded::falls_back) {
+        first = 0;
+        while (first + 3 < n && y[first] < y[n - 1]) ++first;
+      }
+      r.first = first;
       r.last = n - 1;
       r.end = CurveEnd::bounded;
-      r.end_index = half;
-      rule << "bounded divergence: the curve stops rising at " << *hi << ", "
-           << curve.attractor_log_distance - *hi
-           << " below the attractor scale (neighbours never separate: limit cycle or torus); second half fitted";
+      r.end_index = first;
+      rule << "bounded divergence: the curve " << (kind == Bounded::settled ? "stops rising" : "rises and falls back")
+           << " at " << *hi << ", " << curve.attractor_log_distance - *hi
+           << " below the attractor scale (neighbours never separate: limit cycle or torus); "
+           << (kind == Bounded::settled ? "second half fitted" : "fitted from where it first reached its final level");
     } else {
       // Stage 1: where does the curve stop changing (plateau for lambda > 0, floor for lambda < 0)?
       auto pieces = merge_collinear(segment(y, 3, min_len), y, options.merge_tolerance);
@@ -223,8 +239,11 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       // Stage 2: before that end, split off a start-up transient and the bend into the end.
       std::vector<double> head(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop) + 1);
       auto inner = merge_collinear(segment(head, options.pieces, min_len), head, options.merge_tolerance);
-      // A first piece steeper and shorter than the next is the start-up transient (neighbour
-      // separations still aligning with the unstable direction): it is never the linear region.
+      // A first piece steeper than the next and no longer than it is the start-up transient
+      // (neighbour separations still aligning with the unstable direction): it is never the linear
+      // region. "No longer", not "shorter": when the start-up lasts one shortest piece and the
+      // linear region bends early, the next piece is a shortest piece too (Lorenz x from (0.1, 0, 0)
+      // after 10 time units: both 83 steps; the start-up was fitted and read 2.2 lambda_1).
       std::size_t skip = 0;
       if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
           inner[0].b - inner[0].a <= inner[1].b - inner[1].a)

@@ -63,13 +63,16 @@ struct FitResult {
 ///     bounded: pairs selected as nearest neighbours drift apart by the selection bias of the
 ///     search and then wander without separating (limit cycle, torus, paper 001 §5.2's LCOs). No
 ///     exponential region exists; its second half is fitted, whose slope tends to lambda = 0 as
-///     the horizon grows (the estimator then uses the longest horizon).
+///     the horizon grows (the estimator then uses the longest horizon). So is such a curve whose
+///     second half falls back by more than that tolerance (a growth saturates and never falls; a
+///     limit cycle that has not fully settled closes in again as its residual decaying mode dies
+///     out): it is fitted from where it first reached its final level, rise and fall together.
 ///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
-///     bend into the plateau). A first piece steeper and shorter than the next is the start-up
-///     transient and is skipped; the linear region is the remaining piece of largest |slope| x length,
+///     bend into the plateau). A first piece steeper than the next and no longer than it is the
+///     start-up transient and is skipped; the linear region is the remaining piece of largest |slope| x length,
 ///     or an earlier piece at least a period (2 minimum pieces) long with a slope of the same sign
 ///     and at least as large in magnitude (the bend only lowers the slope). A region that starts
 ///     at step 0 loses that step when it changes the curve by less than 0.9 x the second step (the
