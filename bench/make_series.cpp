@@ -1,6 +1,7 @@
 // Writes a reference series as a two-column file "time value" (the bundled demo data and the
 // benchmark inputs are made by this program, not by hand).
 //   make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt] > file
+//   make_series lorenz N dt TRANSIENT > file   (Lorenz from (1, 1, 1) after TRANSIENT time units; default 50)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -9,7 +10,8 @@
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n");
+    std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n"
+                         "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -17,7 +19,7 @@ int main(int argc, char** argv) {
   double dt = argc > 3 ? std::strtod(argv[3], nullptr) : 0.0;
   std::vector<double> x;
   using namespace mlce::reference;
-  if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01);
+  if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01, {1.0, 1.0, 1.0}, argc > 4 ? std::strtod(argv[4], nullptr) : 50.0);
   else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
   else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);

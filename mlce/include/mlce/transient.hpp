@@ -20,9 +20,13 @@ struct TransientOptions {
   /// quarter window RMS from their median, kept within [band_min, band_max]: a window is settled
   /// when it looks like the last quarter. A limit cycle (RMS constant to 0.1 %) is settled only
   /// once its amplitude is within 2 %; a chaotic or beating motion (RMS scattering by 10 % or more
-  /// from window to window) is not cut short.
+  /// from window to window) is not cut short. The band is widened, up to band_max_irregular, to
+  /// 8 robust standard deviations of the window RMS over the last quarter (1.4826 x the median
+  /// |second difference| / sqrt 6, blind to a smooth trend): its few windows may agree closely by
+  /// chance while the motion is irregular (chaos), and an excursion would then cut the series up to
+  /// it. The drift test of the last quarter uses the band without the widening.
   double band = 0.0;
-  double band_min = 0.02, band_max = 0.25;
+  double band_min = 0.02, band_max = 0.25, band_max_irregular = 0.5;
   /// A settled part whose RMS is below this fraction of the largest window RMS is not a motion but
   /// the noise/underflow floor a decay ends in (paper 001 Fig. 6): the signal ends there.
   double floor_ratio = 1e-6;
