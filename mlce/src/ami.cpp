@@ -68,10 +68,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     if (tau < h) continue;  // smoothed[t] is centred on lag t (the first h lags unsmoothed)
     r.smoothed.push_back(smooth_at(tau - h));
     const std::size_t t = r.smoothed.size() - 1;  // newest smoothed index
-    if (r.delay != 0) {
-      if (o.stop_at_minimum) break;
-      continue;
-    }
+    if (r.delay != 0) continue;  // the whole curve is wanted (`ami` command): only extend it
     if (candidate != 0) {
       const double depth = r.smoothed[0] - r.smoothed[candidate];
       // Near the floor the estimator's bias b hides structure (maps decay into it within a few
@@ -90,8 +87,6 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
         // level, not at the last wiggle before the recurrence.
         if (r.smoothed[candidate] < o.significance * r.floor)
           while (r.delay > 1 && r.smoothed[r.delay - 1] <= r.smoothed[candidate] + r.floor) --r.delay;
-        if (o.stop_at_minimum) break;
-        continue;
       } else if (t > 2 * candidate + 2 * h + 2) {
         candidate = 0;  // no significant rise within as many steps again: noise-floor wiggle
       }
@@ -109,10 +104,10 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
         shoulder = 0;
       else if (t >= shoulder + std::max(shoulder / 3, 2 * h + 2))
         r.delay = shoulder;
-      if (r.delay != 0) {
-        if (o.stop_at_minimum) break;
-        continue;
-      }
+    }
+    if (r.delay != 0) {
+      if (o.stop_at_minimum) break;
+      continue;
     }
     const bool local_minimum = t >= 2 && r.smoothed[t - 1] < r.smoothed[t - 2] && r.smoothed[t - 1] <= r.smoothed[t];
     if (local_minimum && candidate == 0) candidate = t - 1;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace mlce {
@@ -15,6 +16,14 @@ void TransientOptions::validate() const {
   if (!(band_max_irregular >= band_max)) throw OptionError("transient.band_max_irregular: expected >= band_max");
   if (!(floor_ratio >= 0.0 && floor_ratio < 1.0)) throw OptionError("transient.floor_ratio: expected [0, 1)");
 }
+
+namespace {
+/// The element of rank size/2 (the median for odd sizes, the upper one for even sizes); v non-empty.
+double upper_median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+}  // namespace
 
 std::size_t detect_floor(const Series& s, double floor_ratio) {
   const std::size_t n = s.size(), windows = 100, w = n / windows;
@@ -33,9 +42,7 @@ std::size_t detect_floor(const Series& s, double floor_ratio) {
       for (std::size_t i = k * w; i < (k + 1) * w; ++i) rms[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
   }
   for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
-  std::vector<double> tail(rms.begin() + 75, rms.end());
-  std::nth_element(tail.begin(), tail.begin() + 12, tail.end());
-  const double level = tail[12], peak = *std::max_element(rms.begin(), rms.end());
+  const double level = upper_median({rms.begin() + 75, rms.end()}), peak = *std::max_element(rms.begin(), rms.end());
   if (!(level < floor_ratio * peak)) return 0;
   std::size_t k = windows;
   while (k > 0 && rms[k - 1] <= 10.0 * level) --k;
@@ -84,9 +91,8 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
         }
       m.rms[k] = std::sqrt(acc / static_cast<double>(w));
     }
-    std::vector<double> tail(m.rms.begin() + static_cast<std::ptrdiff_t>(m.tail_from), m.rms.end());
-    std::nth_element(tail.begin(), tail.begin() + static_cast<std::ptrdiff_t>(tail.size() / 2), tail.end());
-    m.ref = tail[tail.size() / 2];
+    const std::vector<double> tail(m.rms.begin() + static_cast<std::ptrdiff_t>(m.tail_from), m.rms.end());
+    m.ref = upper_median(tail);
     double largest = 0.0;
     for (double v : tail) largest = std::max(largest, std::abs(v - m.ref));
     m.scatter = m.ref > 0.0 ? largest / m.ref : 0.0;
@@ -118,16 +124,13 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   // The deviation is estimated from second differences,
   // 1.4826 x median |rms_{k+1} - 2 rms_k + rms_{k-1}| / sqrt 6: a settling limit cycle's RMS trend
   // has no curvature to speak of, so its band stays 2 % (first differences widened it with the
-  // trend, and 30-s runs of the rotor were cut inside their overshoot: MLCE 1.8 1/s instead of
-  // 0.23). 8 deviations, not 3-5: the median of ~5 second differences can underestimate them by 2x,
-  // and Lorenz's window RMS are heavy-tailed.
+  // trend, and 30-s runs of the rotor were then cut inside their overshoot; bench/speed_accuracy.sh's
+  // "run 30 s" row keeps its error). 8 deviations, not 3-5: the median of ~5 second differences can
+  // underestimate them by 2x, and Lorenz's window RMS are heavy-tailed.
   std::vector<double> dev;
   for (std::size_t k = tail_from + 1; k + 1 < windows; ++k) dev.push_back(std::abs(rms[k + 1] - 2.0 * rms[k] + rms[k - 1]));
-  double robust_sd = 0.0;  // fewer than 3 second differences: no widening
-  if (dev.size() >= 3 && ref > 0.0) {
-    std::nth_element(dev.begin(), dev.begin() + static_cast<std::ptrdiff_t>(dev.size() / 2), dev.end());
-    robust_sd = 1.4826 * dev[dev.size() / 2] / std::sqrt(6.0) / ref;
-  }
+  // Fewer than 3 second differences: no widening.
+  const double robust_sd = dev.size() >= 3 && ref > 0.0 ? 1.4826 * upper_median(std::move(dev)) / std::sqrt(6.0) / ref : 0.0;
   // The last quarter drifts (decay or growth) when its first or last window leaves the band of the
   // last quarter itself; the widening applies to the search for the transient's end only.
   const double tail_band = options.band > 0.0 ? options.band : std::clamp(1.5 * m.scatter, options.band_min, options.band_max);
