@@ -91,7 +91,7 @@ TEST(Ami, ShallowFirstMinimumOfLorenzIsFoundOnShortSeries) {
 }
 
 TEST(Ami, FlatShoulderAfterTheDeclineIsTheFirstMinimum) {
-  // On about one Lorenz x series in 100 at N = 10^4 the curve stops falling at ~0.23 time units and
+  // On some Lorenz x series of N = 10^4 the curve stops falling at ~0.23 time units and
   // stays flat, within +-0.5 % of its drop from I(0), for ~8 lags: its wiggles never rise enough to
   // count as a minimum, and the first that does is the deep minimum at 61 samples (two thirds of a
   // loop; the delay until commit 1445d69, with lambda 8 % high on such a series). The decline has
