@@ -11,11 +11,16 @@
 //     trajectory each series samples, each / lambda_1;
 //  3. Henon x and the logistic map on 32 series from random initial states.
 //   build/finite_time_spread
+// and, for the length a series needs:
+//  4. Lorenz x and Roessler x at N = 5e3 ... 1e5: the automatic estimate and the own exponent of 32
+//     random series at each length.
+//   build/finite_time_spread lengths
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mlce/estimate.hpp"
@@ -177,6 +182,35 @@ void study(const System& sys) {
               own_exponent(sys, sys.canonical_start, n, substeps) / sys.lambda);
 }
 
+/// How long must a series be? The automatic estimate on 32 random series at each length N (same
+/// sampling step, same discarded transient), beside the finite-time exponent of the very trajectory
+/// each series samples (its rms is the floor any estimator inherits at that length).
+void length_study(const System& sys, const std::vector<std::size_t>& lengths) {
+  using mlce::reference::rk4_step;
+  constexpr int kSeries = 32;
+  const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
+  std::printf("%s: automatic estimate and own exponent against series length (32 random series each, dt = %g):\n",
+              sys.name, sys.dt);
+  for (const std::size_t n : lengths) {
+    std::mt19937 gen(1);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    Tally automatic, own;
+    for (int k = 0; k < kSeries; ++k) {
+      State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+      for (int c = 0; c < 3; ++c) x0[c] += sys.start_offset[c];
+      const auto x = mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps);
+      const double o = own_exponent(sys, x0, n, substeps) / sys.lambda;
+      automatic.add(mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {}).lambda / sys.lambda, o);
+      own.add(o, o);
+    }
+    char label[64];
+    std::snprintf(label, sizeof label, "N = %zu, automatic", n);
+    automatic.print(label);
+    std::snprintf(label, sizeof label, "N = %zu, own exponent", n);
+    own.print(label);
+  }
+}
+
 /// Maps (issue 2: Henon x and logistic r = 4 within 2 % at N = 10^4): 32 series from random
 /// initial states after 1000 iterations, every parameter automatic.
 void map_study() {
@@ -199,8 +233,15 @@ void map_study() {
 
 }  // namespace
 
-int main() {
-  study({"Roessler x", 0.0714, 0.1, 0.01, 500.0, 0, 100, roessler, roessler_tangent, {0, 0, 0}, {1, 1, 0}});
-  study({"Lorenz x", 0.9056, 0.01, 0.001, 50.0, 80, 300, lorenz, lorenz_tangent, {0, 0, 20}, {1, 1, 1}});
+int main(int argc, char** argv) {
+  const System roessler_x{"Roessler x", 0.0714, 0.1, 0.01, 500.0, 0, 100, roessler, roessler_tangent, {0, 0, 0}, {1, 1, 0}};
+  const System lorenz_x{"Lorenz x", 0.9056, 0.01, 0.001, 50.0, 80, 300, lorenz, lorenz_tangent, {0, 0, 20}, {1, 1, 1}};
+  if (argc > 1 && std::string(argv[1]) == "lengths") {
+    length_study(lorenz_x, {5000, 10000, 20000, 50000, 100000});
+    length_study(roessler_x, {5000, 10000, 20000, 50000, 100000});
+    return 0;
+  }
+  study(roessler_x);
+  study(lorenz_x);
   map_study();
 }

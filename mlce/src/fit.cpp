@@ -161,6 +161,7 @@ void FitOptions::validate() const {
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
+  if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
@@ -248,7 +249,24 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
           inner[0].b - inner[0].a <= inner[1].b - inner[1].a)
         skip = 1;
-      const std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
+      std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
+      // A curve that grows into a saturation plateau bends into it only by flattening: a later
+      // piece less than bend_ratio x as steep as the steepest before it is the bend, however long
+      // (a short series' curve has no straight stretch, and its slow tail can be longer than its
+      // linear part: Lorenz x at N = 5000 read 0.40 lambda_1 on such a tail). Not for a decay: its
+      // slowest piece is the least negative exponent, the one wanted.
+      std::size_t bend_from = candidates.size();
+      if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation && !candidates.empty()) {
+        double steepest = 0.0;
+        for (std::size_t k = 0; k < candidates.size(); ++k) {
+          if (steepest > 0.0 && candidates[k].slope < options.bend_ratio * steepest) {
+            bend_from = k;
+            break;
+          }
+          steepest = std::max(steepest, candidates[k].slope);
+        }
+        candidates.resize(bend_from);
+      }
       pick = skip + pick_largest_change(candidates);
       // An earlier piece of the same sign, at least as steep and at least a period long is the
       // linear region: the bend into the plateau only ever lowers the slope, so the largest-change
