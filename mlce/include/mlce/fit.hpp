@@ -79,9 +79,10 @@ struct FitResult {
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
 ///     bend into the plateau). A first piece steeper than the next and no longer than it is the
 ///     start-up transient and is skipped; when the cut is a saturation plateau, a piece less than
-///     bend_ratio x as steep as a piece before it is the bend and so is everything after it; the linear region is the remaining piece of largest |slope| x length,
-///     or an earlier piece at least a period (2 minimum pieces) long with a slope of the same sign
-///     and at least as large in magnitude (the bend only lowers the slope). A region that starts
+///     bend_ratio x as steep as a piece before it is the bend and so is everything after it; the
+///     linear region is the remaining piece of largest |slope| x length, or an earlier piece at
+///     least a period (2 minimum pieces) long with a slope of the same sign and at least as large
+///     in magnitude (the bend only lowers the slope). A region that starts
 ///     at step 0 loses that step when it changes the curve by less than 0.9 x the second step (the
 ///     separation still shrinking along the contracting directions; maps align within one
 ///     iteration, below the shortest piece). While the region's second half has less than
