@@ -115,6 +115,8 @@ TEST(Fit, SlowTailBeforeThePlateauIsTheBendNotTheLinearRegion) {
   EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
   o.bend_ratio = 0.0;  // the rule off: the tail is fitted
   EXPECT_LT(fit_divergence(synthetic(y), o).slope, 0.004);
+  o.bend_ratio = 1.0;  // every flatter piece would be "the bend": rejected
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
 TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {

@@ -94,10 +94,10 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     // A shoulder: well above the floor, the curve stops falling at a local minimum and then stays
     // within relative_rise x its drop of it, neither rising nor falling, for a third as many lags
     // again. The decline has ended there even though no minimum rises significantly: Lorenz x
-    // (some series of N = 10^4; build/start_variants counts the delays of 200) stays flat to +-0.4 % of its drop from lag ~20 to ~31,
-    // its wiggles too shallow to count as a rise, and falls again to a deep minimum at ~60 samples,
-    // two thirds of a loop, which is no reconstruction delay (the embedding with m = 3-4 then spans
-    // more than a mean period).
+    // (some series of N = 10^4; build/start_variants counts the delays of 200) stays flat to
+    // +-0.4 % of its drop from lag ~20 to ~31, its wiggles too shallow to count as a rise, and
+    // falls again to a deep minimum at ~60 samples, two thirds of a loop, which is no
+    // reconstruction delay (the embedding with m = 3-4 then spans more than a mean period).
     if (r.delay == 0 && shoulder != 0) {
       const double tol = o.relative_rise * (r.smoothed[0] - r.smoothed[shoulder]);
       if (std::abs(r.smoothed[t] - r.smoothed[shoulder]) > tol)

@@ -255,17 +255,15 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       // (a short series' curve has no straight stretch, and its slow tail can be longer than its
       // linear part: Lorenz x at N = 5000 read 0.40 lambda_1 on such a tail). Not for a decay: its
       // slowest piece is the least negative exponent, the one wanted.
-      std::size_t bend_from = candidates.size();
-      if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation && !candidates.empty()) {
+      if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation) {
         double steepest = 0.0;
         for (std::size_t k = 0; k < candidates.size(); ++k) {
           if (steepest > 0.0 && candidates[k].slope < options.bend_ratio * steepest) {
-            bend_from = k;
+            candidates.resize(k);  // k >= 1: the piece that set `steepest` stays
             break;
           }
           steepest = std::max(steepest, candidates[k].slope);
         }
-        candidates.resize(bend_from);
       }
       pick = skip + pick_largest_change(candidates);
       // An earlier piece of the same sign, at least as steep and at least a period long is the
