@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "mlce/fit.hpp"
 #include "mlce/rosenstein.hpp"
@@ -128,6 +129,30 @@ TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   EXPECT_NEAR(r.slope, -0.02, 0.02 * 0.02);
   EXPECT_EQ(r.end, CurveEnd::floor);
   EXPECT_LE(r.last, 510u);
+}
+
+TEST(Fit, FallTheSignalDoesNotShareIsAConvergenceOntoALimitCycle) {
+  // The curve of Hammond's rotor at 300 rpm (blade 3 inoperative, lag rate 1 rad/s, 51-90 s): it
+  // falls by 0.26 at -0.0026 per step, then stays level. A motion that does not come to rest has
+  // lambda_1 >= 0, so when the signal's amplitude does not fall with the curve (signal_rate ~ 0) the
+  // fall is the neighbours converging onto the limit cycle and the level is fitted.
+  const auto y = piecewise(-6.42, {{100, -0.0026}, {100, -0.0012}, {300, 0.0}});
+  FitOptions o;
+  o.period = 33;
+  const FitResult unknown = fit_divergence(synthetic(y), o);  // signal_rate unknown: a decay into a floor
+  EXPECT_EQ(unknown.end, CurveEnd::floor) << unknown.rule;
+  EXPECT_LT(unknown.slope, -0.0011) << unknown.rule;
+  o.signal_rate = 1e-5;
+  const FitResult persists = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(persists.end, CurveEnd::bounded) << persists.rule;
+  EXPECT_NEAR(persists.slope, 0.0, 1e-12) << persists.rule;
+  EXPECT_GE(persists.first, 200u) << persists.rule;
+  o.signal_rate = -0.002;  // the signal decays with the curve: a decay to rest, read on the fall
+  const FitResult decays = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(decays.end, CurveEnd::floor) << decays.rule;
+  EXPECT_NEAR(decays.slope, unknown.slope, 1e-15);
+  o.signal_rate = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
 TEST(Fit, BoundedDivergenceIsNotReadAsGrowth) {

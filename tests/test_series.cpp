@@ -204,3 +204,24 @@ TEST(Transient, PureDecayIsNotCut) {
   EXPECT_FALSE(r.settled);
   EXPECT_EQ(r.end_index, 0u);
 }
+
+TEST(Envelope, RateOfADecayingOscillationIsItsExponent) {
+  // x = e^{-zeta omega t} cos(omega_d t): the envelope's rate is -zeta omega exactly, per sample -zeta omega dt.
+  const double dt = 0.01, zeta = 0.05, omega = 2 * M_PI;
+  const auto x = reference::damped_oscillator(4000, dt, zeta, omega);
+  EXPECT_NEAR(envelope_rate(make_series_with_step({x}, dt), 100), -zeta * omega * dt, 0.01 * zeta * omega * dt);
+  // Its scale does not matter (no square of 1e200 overflows, none of 1e-200 underflows).
+  for (double scale : {1e-200, 1e200}) {
+    auto y = x;
+    for (double& v : y) v *= scale;
+    EXPECT_NEAR(envelope_rate(make_series_with_step({y}, dt), 100), -zeta * omega * dt, 0.01 * zeta * omega * dt);
+  }
+}
+
+TEST(Envelope, SteadyMotionHasRateZeroAndTooShortOrConstantIsNaN) {
+  const auto lc = reference::van_der_pol_x(20000, 0.01);  // limit cycle, period ~6.66 s = 666 samples
+  EXPECT_NEAR(envelope_rate(make_series_with_step({lc}, 0.01), 666), 0.0, 1e-6);
+  const std::vector<double> flat(1000, 3.0);
+  EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({flat}, 0.01), 10)));  // no log 0
+  EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({lc}, 0.01), 3000)));   // 3 windows
+}

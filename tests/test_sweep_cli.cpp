@@ -86,6 +86,20 @@ TEST_F(SweepCli, RosensteinFollowsFloquetWhereStableAndIsZeroOnTheLimitCycle) {
   EXPECT_TRUE(fs::exists(out("r.png")));
 }
 
+TEST_F(SweepCli, RosensteinIsZeroOnTheLimitCycleNearTheBandEdge) {
+  // Paper 001 Fig. 12 at 300 rpm (the band ends at 307 rpm), lag rate 1 rad/s: the rotor still
+  // settles on a limit cycle, whose lambda_1 is 0. Its curve falls (neighbours converging onto the
+  // cycle at a contracting exponent) and then stays level; the fall read -0.094 1/s until the fit
+  // asked whether the signal itself decays (FitOptions::signal_rate).
+  const auto r = sweep_json(kC3 + " --x0 0 --zetadot0 0,0,1,0 --param rpm=300:300:10 --method rosenstein --out " +
+                            out("edge.csv"));
+  ASSERT_EQ(r["rows"].size(), 1u);
+  const double mlce = r["rows"][0][1];
+  std::printf("300 rpm, lag rate 1: MLCE %.5f (%s)\n", mlce, r["rows"][0][4].get<std::string>().c_str());
+  EXPECT_LT(std::abs(mlce), 0.03);
+  EXPECT_EQ(r["rows"][0][4], "bounded divergence");
+}
+
 TEST_F(SweepCli, FloquetSensitivityColumnsMatchCentralDifferencesOfTheSweep) {
   // Flapping blade (paper 000 Fig. 2): d lambda / d mu from the sweep's analytic sensitivity
   // against central differences of the swept exponents themselves (step 1e-3).

@@ -84,6 +84,10 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
   ro.eps = options.eps;
   FitOptions fo = options.fit;
   if (fo.period == 0) fo.period = period;
+  // Does the signal itself decay? A curve that falls while it does not measures a contraction onto
+  // a motion that persists, not lambda_1 (FitOptions::signal_rate).
+  r.envelope_rate = envelope_rate(series, period);
+  if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
   NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -153,6 +154,36 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
        << " % of the last quarter's median from sample " << r.end_index;
   r.rule = rule.str();
   return r;
+}
+
+double envelope_rate(const Series& s, std::size_t period) {
+  const std::size_t n = s.size(), w = 2 * std::max<std::size_t>(period, 1), windows = w ? n / w : 0;
+  std::vector<double> ms(windows, 0.0);
+  for (const auto& x : s.channels) {
+    double peak = 0.0;
+    for (double v : x) peak = std::max(peak, std::abs(v));
+    if (!(peak > 0.0)) continue;
+    for (std::size_t k = 0; k < windows; ++k) {
+      double mean = 0.0;
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) mean += x[i] / peak;
+      mean /= static_cast<double>(w);
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) ms[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
+    }
+  }
+  std::vector<double> centre, log_rms;
+  for (std::size_t k = 0; k < windows; ++k)
+    if (ms[k] > 0.0) {
+      centre.push_back((static_cast<double>(k) + 0.5) * static_cast<double>(w));
+      log_rms.push_back(0.5 * std::log(ms[k] / static_cast<double>(w)));
+    }
+  if (centre.size() < 4) return std::numeric_limits<double>::quiet_NaN();
+  double mc = 0.0, ml = 0.0;
+  for (std::size_t k = 0; k < centre.size(); ++k) mc += centre[k], ml += log_rms[k];
+  mc /= static_cast<double>(centre.size()), ml /= static_cast<double>(centre.size());
+  double sxy = 0.0, sxx = 0.0;
+  for (std::size_t k = 0; k < centre.size(); ++k)
+    sxy += (centre[k] - mc) * (log_rms[k] - ml), sxx += (centre[k] - mc) * (centre[k] - mc);
+  return sxy / sxx;
 }
 
 Series skip_transient(const Series& series, TransientResult* result) {

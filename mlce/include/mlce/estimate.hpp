@@ -69,6 +69,9 @@ struct MlceResult {
   double unaligned_lambda = std::numeric_limits<double>::quiet_NaN();
   /// the plain curve's mean_log_distance when the reported curve is phase-aligned; empty otherwise
   std::vector<double> unaligned_curve;
+  /// The analysed signal's own amplitude change, per sample (envelope_rate; NaN when too short):
+  /// what tells a decay to rest from neighbours converging onto a motion that persists.
+  double envelope_rate = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 

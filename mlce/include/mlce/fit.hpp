@@ -1,5 +1,6 @@
 #pragma once
 // Least-squares slope of the divergence curve over its linear region (paper 001 eq. 22-23).
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -42,6 +43,15 @@ struct FitOptions {
   /// 15.8 % without; 0.707..1.302, 12.8 % with; unchanged at N >= 10^4: `build/finite_time_spread
   /// lengths`). 0 = off.
   double bend_ratio = 0.5;
+  /// Rate at which the analysed signal's own amplitude changes, per sample (envelope_rate; NaN =
+  /// unknown). A curve that falls into a floor while the signal decays less than persist_share x
+  /// as fast does not measure a decay to rest: its neighbours converge onto a motion that persists
+  /// (a limit cycle: the fall is a contracting exponent, lambda_2), and a bounded motion that does
+  /// not come to rest has lambda_1 >= 0 (the flow direction's exponent is 0). The level the curve
+  /// settles at is then fitted (Hammond at 300 rpm, blade 3 inoperative, from lag rate 1 rad/s: its
+  /// limit cycle read -0.094 1/s on the fall, +0.005 on the level).
+  double signal_rate = std::numeric_limits<double>::quiet_NaN();
+  double persist_share = 0.5;
   void validate() const;
 };
 
@@ -76,6 +86,9 @@ struct FitResult {
 ///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
+///     When the signal is known to decay less than persist_share x as fast as the fall
+///     (signal_rate), the floor is the motion the neighbours converged onto: the region is from the
+///     floor to the curve's end, and the end is reported as bounded divergence (no stage 2).
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
 ///     bend into the plateau). A first piece steeper than the next and no longer than it is the
 ///     start-up transient and is skipped; when the cut is a saturation plateau, a piece less than

@@ -57,6 +57,14 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
 /// level (paper 001 Fig. 6: past it the series carries no dynamics).
 std::size_t detect_floor(const Series& series, double floor_ratio);
 
+/// Rate at which the signal's own amplitude changes, per sample (natural log): the least-squares
+/// slope of ln RMS over consecutive windows of 2 x `period` samples against the window centre (RMS
+/// about each window's own mean, channels summed, each divided by its peak |x| so that no square
+/// overflows). A motion decaying to rest has the rate of its slowest mode, its least negative
+/// exponent; a motion that persists (limit cycle, chaos) ~0. Windows of zero RMS are left out (no
+/// log 0). NaN when fewer than 4 windows with a positive RMS fit in the series.
+double envelope_rate(const Series& series, std::size_t period);
+
 /// `--from auto`: the series from the end of its transient (detect_transient with the default
 /// options and the series' mean period); the rule applied is returned in `result` if given.
 Series skip_transient(const Series& series, TransientResult* result = nullptr);
