@@ -108,6 +108,20 @@ TEST(EstimateSystems, VanDerPolLimitCycleIsZero) {
   }
 }
 
+TEST(EstimateSystems, RunOfOneAndAHalfCyclesIsFlaggedWithItsTrueLength) {
+  // van der Pol at dt = 0.001 over 10 time units: 1.5 of its 6.66-s cycles. The mean period is
+  // clamped to N/4 for the Theiler window; the warning counts the cycles with the spectrum's own
+  // mean period (it said "4 mean periods" from the clamped one).
+  const auto r = run(reference::van_der_pol_x(10000, 0.001), 0.001);
+  EXPECT_TRUE(r.mean_period.clamped);
+  const auto w = std::find_if(r.warnings.begin(), r.warnings.end(),
+                              [](const std::string& s) { return s.find("spans only") != std::string::npos; });
+  ASSERT_NE(w, r.warnings.end());
+  const double spanned = std::stod(w->substr(w->find("spans only") + 11));
+  EXPECT_GT(spanned, 1.0) << *w;
+  EXPECT_LT(spanned, 2.0) << *w;
+}
+
 TEST(EstimateSystems, RoesslerWithinTenPercent) {
   const auto r = run(reference::roessler_x(10000, 0.1), 0.1);
   EXPECT_NEAR(r.lambda, 0.0714, 0.1 * 0.0714) << r.fit.rule;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "mlce/embedding.hpp"
@@ -48,10 +49,16 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
   r.mean_period = estimate_mean_period(series, options.mean_period);
   append(r.warnings, r.mean_period.warnings);
   const std::size_t period = r.mean_period.mean_period;
-  if (r.mean_period.clamped || series.size() < 20 * period)
-    r.warnings.push_back("the series spans only " + std::to_string(series.size() / std::max<std::size_t>(period, 1)) +
-                         " mean periods (" + std::to_string(period) +
-                         " samples each): too few for a reliable exponent; analyse a longer run");
+  // Counted with the spectrum's own mean period, not the clamped one: a series of 1.5 periods
+  // clamped to N/4 would otherwise be said to span 4.
+  const double f = r.mean_period.mean_frequency_per_sample;
+  const double own_period = f > 0.0 ? 1.0 / f : static_cast<double>(period);
+  if (r.mean_period.clamped || series.size() < 20 * period) {
+    char text[160];
+    std::snprintf(text, sizeof text, "the series spans only %.3g mean periods (%.0f samples each)",
+                  static_cast<double>(series.size()) / own_period, std::ceil(own_period));
+    r.warnings.push_back(std::string(text) + ": too few for a reliable exponent; analyse a longer run");
+  }
   r.theiler = options.theiler.value_or(period);  // eq. 20 with T from eq. 19
 
   if (options.delay) {
