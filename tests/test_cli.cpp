@@ -129,6 +129,8 @@ TEST_F(Cli, AmbiguousColumnsAndBadOptions) {
   expect_one_line_error(run("estimate " + f + " --column 2 --fit 9:3"), "expected first < last", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --align-phase maybe"),
                         "--align-phase 'maybe': expected auto, on or off", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --dither -1"), "--dither: expected a width >= 0", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --dither x"), "--dither", 2);
 }
 
 TEST_F(Cli, PhaseAlignmentSwitch) {
@@ -154,6 +156,36 @@ TEST_F(Cli, PhaseAlignmentSwitch) {
   // A map (Henon, mean period < 8 samples) is never aligned automatically.
   const auto h = series_file(mlce::reference::henon_x(5000), 1.0);
   EXPECT_FALSE(nlohmann::json::parse(run("estimate " + h + " --column 2 --json --quiet").out)["phase_aligned"].get<bool>());
+}
+
+TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
+  // Lorenz x rounded to integers (its standard deviation is ~8): the points repeat ~20 times per
+  // reference and the estimate is unreliable, which the warnings say; --dither 1 (one quantum)
+  // makes the distances continuous, says so, and gives the same lambda for the same seed.
+  auto x = mlce::reference::lorenz_x(10000, 0.01);
+  for (double& v : x) v = std::round(v);
+  const auto f = series_file(x, 0.01);
+  const std::string base = "estimate " + f + " --column 2 --time-column 1 --json --quiet";
+  auto has = [](const nlohmann::json& j, const std::string& what) {
+    for (const auto& w : j["warnings"])
+      if (w.get<std::string>().find(what) != std::string::npos) return true;
+    return false;
+  };
+  const auto plain = nlohmann::json::parse(run(base).out);
+  EXPECT_TRUE(has(plain, "lambda is unreliable")) << plain["warnings"];
+  const auto d1 = nlohmann::json::parse(run(base + " --dither 1").out);
+  const auto d1again = nlohmann::json::parse(run(base + " --dither 1 --seed 1").out);
+  const auto d7 = nlohmann::json::parse(run(base + " --dither 1 --seed 7").out);
+  EXPECT_TRUE(has(d1, "dithered: uniform noise of width 1")) << d1["warnings"];
+  EXPECT_FALSE(has(d1, "lambda is unreliable")) << d1["warnings"];
+  EXPECT_EQ(d1["lambda"].get<double>(), d1again["lambda"].get<double>());
+  EXPECT_NE(d1["lambda"].get<double>(), d7["lambda"].get<double>());
+  // Closer to lambda_1 = 0.9056 than the rounded series' reading (1.6-1.8), within 20 %.
+  for (const auto& j : {d1, d7}) {
+    std::printf("rounded: %.4f, dithered: %.4f\n", plain["lambda"].get<double>(), j["lambda"].get<double>());
+    EXPECT_NEAR(j["lambda"].get<double>(), 0.9056, 0.2 * 0.9056);
+    EXPECT_LT(std::abs(j["lambda"].get<double>() - 0.9056), std::abs(plain["lambda"].get<double>() - 0.9056));
+  }
 }
 
 TEST_F(Cli, FailedRunLeavesNoOutputFile) {

@@ -113,6 +113,8 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("refs", po::value(&refs), "reference points of the curve (evenly strided), or 'all'")
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
       ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
+      ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
+      ("seed", po::value<std::uint64_t>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
@@ -133,6 +135,11 @@ int cmd_estimate(const std::vector<std::string>& args) {
     o.eps = vm["eps"].as<double>();
     if (!(o.eps >= 0.0) || !std::isfinite(o.eps)) throw po::error("--eps: expected a non-negative number");
   }
+  if (vm.count("dither")) {
+    o.dither = vm["dither"].as<double>();
+    if (!(o.dither >= 0.0) || !std::isfinite(o.dither)) throw po::error("--dither: expected a width >= 0");
+  }
+  if (vm.count("seed")) o.dither_seed = vm["seed"].as<std::uint64_t>();
   if (align == "auto") o.phase_alignment = PhaseAlignment::automatic;
   else if (align == "on") o.phase_alignment = PhaseAlignment::on;
   else if (align == "off") o.phase_alignment = PhaseAlignment::off;

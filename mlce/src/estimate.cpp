@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "mlce/embedding.hpp"
+#include "mlce/numerics.hpp"
 #include "mlce/transient.hpp"
 
 namespace mlce {
@@ -21,8 +22,18 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& from) 
 
 }  // namespace
 
-MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
-  validate_series(input);
+MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
+  validate_series(raw);
+  if (!(options.dither >= 0.0) || !std::isfinite(options.dither)) throw OptionError("dither: expected a finite width >= 0");
+  Series dithered;
+  if (options.dither > 0.0) {
+    dithered = raw;
+    std::uint64_t state = options.dither_seed;
+    for (auto& c : dithered.channels)
+      for (double& v : c) v += options.dither * (uniform01(state) - 0.5);
+    validate_series(dithered);  // a width beyond the double range would leave infinities
+  }
+  const Series& input = options.dither > 0.0 ? dithered : raw;
   if (!(options.floor_ratio >= 0.0 && options.floor_ratio < 1.0)) throw OptionError("floor_ratio: expected [0, 1)");
   // A decay into the noise/underflow floor is analysed up to the floor only.
   Series cut;
@@ -41,6 +52,12 @@ MlceResult estimate_mlce(const Series& input, const MlceOptions& options) {
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
   MlceResult r;
   r.n_points = series.size();
+  if (options.dither > 0.0) {
+    char text[200];
+    std::snprintf(text, sizeof text, "dithered: uniform noise of width %.6g added to every sample (seed %llu)",
+                  options.dither, static_cast<unsigned long long>(options.dither_seed));
+    r.warnings.push_back(text);
+  }
   if (!floor_warning.empty()) r.warnings.push_back(floor_warning);
   r.dt = series.dt;
   r.time_unit = series.time_unit;

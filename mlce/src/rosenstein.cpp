@@ -22,15 +22,6 @@ void RosensteinOptions::validate() const {
 
 namespace {
 
-/// splitmix64: a fixed, platform-independent pseudo-random sequence (the attractor scale must be
-/// the same on every machine and thread count).
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 /// Mean ln distance between unrelated embedded points: up to 20000 pseudo-random pairs more than
 /// `theiler` samples apart. NaN when no such pair has a positive distance.
 double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler) {
@@ -214,10 +205,20 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
                        " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
     curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
   }
-  if (nn.zero_distance_candidates > 0)
+  if (nn.zero_distance_candidates > 0) {
     curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
                              " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "
                              "passed over; the nearest neighbour at a positive distance was used");
+    // As many repeats as references: the series' resolution (its quantum, or the digits it was
+    // printed with) is as coarse as the nearest-neighbour distances, which then jump in steps of it
+    // (Lorenz x rounded to 1 read 1.84 lambda_1; to 0.01, as unrounded).
+    if (nn.zero_distance_candidates >= refs.size())
+      curve.warnings.push_back("the series repeats its points " +
+                               std::to_string(nn.zero_distance_candidates / std::max<std::size_t>(refs.size(), 1)) +
+                               " times per reference point on average: its resolution (quantum or printed digits) is as "
+                               "coarse as the neighbour distances and lambda is unreliable; write it with more digits, "
+                               "or dither it by one quantum (--dither)");
+  }
   if (zero_terms > 0)
     curve.warnings.push_back(std::to_string(zero_terms) +
                              " zero distances along the followed pairs were left out of the mean log-distance "

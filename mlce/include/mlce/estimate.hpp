@@ -1,6 +1,7 @@
 #pragma once
 // The whole automatic pipeline: mean period -> AMI delay -> FNN dimension -> Rosenstein curve ->
 // fit, with every parameter automatic unless given.
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -43,6 +44,13 @@ struct MlceOptions {
   std::size_t max_references = 20000;
   double eps = 0.0;
   PhaseAlignment phase_alignment = PhaseAlignment::automatic;
+  /// Width A of uniform noise in [-A/2, A/2) added to every sample of every channel before
+  /// anything else, in the channels' units; 0 = none. A quantised signal (coarse printed digits,
+  /// ADC counts) repeats its points and its distances jump in steps of the quantum; dithering by one
+  /// quantum makes them continuous, at the price of noise of that size. Deterministic: the noise
+  /// comes from splitmix64 seeded with dither_seed (a rerun gives the same lambda).
+  double dither = 0.0;
+  std::uint64_t dither_seed = 1;
   /// A series that decays into a noise/underflow floor below this fraction of its largest RMS is
   /// analysed only up to the floor (detect_floor; paper 001 Fig. 6: otherwise the estimate drifts
   /// with the run length). 0 = never cut.

@@ -2,6 +2,7 @@
 // Small numerical helpers shared by the estimators.
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace mlce {
 
@@ -32,6 +33,18 @@ struct LineFit {
   std::size_t n = 0;
 };
 LineFit fit_line(const double* y, std::size_t first, std::size_t last);
+
+/// splitmix64 (Steele, Lea and Flood 2014): a fixed, platform-independent pseudo-random sequence,
+/// so that what is drawn from it (the attractor scale's pairs, a dither) is the same on every
+/// machine, compiler and thread count, unlike std::uniform_real_distribution.
+inline std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+/// Uniform in [0, 1) from the top 53 bits of splitmix64.
+inline double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
 
 /// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom.
 double student_t95(std::size_t dof);
