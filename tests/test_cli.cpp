@@ -131,6 +131,7 @@ TEST_F(Cli, AmbiguousColumnsAndBadOptions) {
                         "--align-phase 'maybe': expected auto, on or off", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --dither -1"), "--dither: expected a width >= 0", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --dither x"), "--dither", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --dither 1 --seed -3"), "--seed '-3'", 2);
 }
 
 TEST_F(Cli, PhaseAlignmentSwitch) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -114,7 +115,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
       ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
-      ("seed", po::value<std::uint64_t>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
+      ("seed", po::value<std::string>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
@@ -139,7 +140,12 @@ int cmd_estimate(const std::vector<std::string>& args) {
     o.dither = vm["dither"].as<double>();
     if (!(o.dither >= 0.0) || !std::isfinite(o.dither)) throw po::error("--dither: expected a width >= 0");
   }
-  if (vm.count("seed")) o.dither_seed = vm["seed"].as<std::uint64_t>();
+  if (vm.count("seed")) {
+    const std::string seed = vm["seed"].as<std::string>();  // parsed here: "-3" is an error, not 2^64 - 3
+    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), o.dither_seed);
+    if (ec != std::errc() || end != seed.data() + seed.size())
+      throw po::error("--seed '" + seed + "': expected an integer 0 .. 2^64-1");
+  }
   if (align == "auto") o.phase_alignment = PhaseAlignment::automatic;
   else if (align == "on") o.phase_alignment = PhaseAlignment::on;
   else if (align == "off") o.phase_alignment = PhaseAlignment::off;
