@@ -141,6 +141,98 @@ Bounded bounded_kind(const std::vector<double>& y, double attractor, double marg
   return std::abs(late) < tolerance ? Bounded::settled : late < 0.0 ? Bounded::falls_back : Bounded::no;
 }
 
+/// The piece of largest |slope| x length (the change it explains).
+std::size_t pick_largest_change(const std::vector<Piece>& pieces) {
+  std::size_t pick = 0;
+  double best_change = -1.0;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const double change = std::abs(pieces[k].slope) * static_cast<double>(pieces[k].b - pieces[k].a);
+    if (change > best_change) best_change = change, pick = k;
+  }
+  return pick;
+}
+
+void describe(std::ostringstream& rule, const char* stage, const std::vector<Piece>& pieces) {
+  rule << stage << " [";
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    rule << (k ? ", " : "") << pieces[k].a << ".." << pieces[k].b << " slope " << pieces[k].slope;
+  rule << "]";
+}
+
+/// Stage 2 of the rule (fit.hpp): the linear region of y[0..stop], the part before the plateau or
+/// floor that stage 1 found (r.end, r.end_index); sets r.first and r.last and accounts in `rule`.
+void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len,
+                          const FitOptions& options, FitResult& r, std::ostringstream& rule) {
+  // Stage 2: before that end, split off a start-up transient and the bend into the end.
+  std::vector<double> head(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop) + 1);
+  auto inner = merge_collinear(segment(head, options.pieces, min_len), head, options.merge_tolerance);
+  // A first piece steeper than the next and no longer than it is the start-up transient
+  // (neighbour separations still aligning with the unstable direction): it is never the linear
+  // region. "No longer", not "shorter": when the start-up lasts one shortest piece and the
+  // linear region bends early, the next piece is a shortest piece too (Lorenz x from (0.1, 0, 0)
+  // after 10 time units: both 83 steps; the start-up was fitted and read 2.2 lambda_1).
+  std::size_t skip = 0;
+  if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
+      inner[0].b - inner[0].a <= inner[1].b - inner[1].a)
+    skip = 1;
+  std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
+  // A curve that grows into a saturation plateau bends into it only by flattening: a later
+  // piece less than bend_ratio x as steep as the steepest before it is the bend, however long
+  // (a short series' curve has no straight stretch, and its slow tail can be longer than its
+  // linear part: Lorenz x at N = 5000 read 0.40 lambda_1 on such a tail). Not for a decay: its
+  // slowest piece is the least negative exponent, the one wanted.
+  if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation) {
+    double steepest = 0.0;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      if (steepest > 0.0 && candidates[k].slope < options.bend_ratio * steepest) {
+        candidates.resize(k);  // k >= 1: the piece that set `steepest` stays
+        break;
+      }
+      steepest = std::max(steepest, candidates[k].slope);
+    }
+  }
+  std::size_t pick = skip + pick_largest_change(candidates);
+  // An earlier piece of the same sign, at least as steep and at least a period long is the
+  // linear region: the bend into the plateau only ever lowers the slope, so the largest-change
+  // piece of a curve that bends gradually (Roessler) reaches into the bend.
+  const std::size_t largest = pick;
+  for (std::size_t k = skip; k < largest; ++k)
+    if (inner[k].b - inner[k].a + 1 >= 2 * min_len && inner[k].slope * inner[largest].slope > 0.0 &&
+        std::abs(inner[k].slope) >= std::abs(inner[largest].slope)) {
+      pick = k;
+      break;
+    }
+  r.first = inner[pick].a;
+  r.last = inner[pick].b;
+  // The curve's first step is part of the start-up when it changes the log distance by less
+  // than 0.9 x the second step does: the nearest neighbour's separation still has a component
+  // along the contracting directions, which shrinks during that step. A piece cannot be one
+  // step long (at least 3), so for maps, which align within an iteration, this is decided here
+  // (Henon: the first step rises at ~0.7 lambda, the next ones at lambda).
+  bool first_step_skipped = false;
+  if (r.first == 0 && r.last >= 3) {
+    const double sign = inner[pick].slope >= 0.0 ? 1.0 : -1.0;
+    if (sign * (y[1] - y[0]) < 0.9 * sign * (y[2] - y[1])) r.first = 1, first_step_skipped = true;
+  }
+  // Straightness: while the second half of the region is flatter than straightness x the first
+  // half, the region reaches into the bend: keep its first three quarters.
+  std::size_t trimmed = 0;
+  while (r.last - r.first + 1 >= 4 * min_len) {
+    const std::size_t mid = r.first + (r.last - r.first) / 2;
+    const double s1 = fit_line(y.data(), r.first, mid).slope, s2 = fit_line(y.data(), mid, r.last).slope;
+    if (std::abs(s2) >= options.straightness * std::abs(s1)) break;
+    r.last = r.first + 3 * (r.last - r.first) / 4;
+    ++trimmed;
+  }
+  rule << "; ";
+  describe(rule, "before the end", inner);
+  rule << (skip ? "; start-up transient skipped" : "") << (first_step_skipped ? "; slow first step skipped" : "")
+       << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
+                           : "; fitted the piece of largest |slope| x length");
+  if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";
+  if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
+}
+
 }  // namespace
 
 const char* to_string(CurveEnd end) {
@@ -185,21 +277,6 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
     const std::size_t period = std::max<std::size_t>(1, options.period);
     const std::size_t min_len = std::max<std::size_t>(3, period / 2 + 1);
     const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-    auto pick_largest_change = [](const std::vector<Piece>& pieces) {
-      std::size_t pick = 0;
-      double best_change = -1.0;
-      for (std::size_t k = 0; k < pieces.size(); ++k) {
-        const double change = std::abs(pieces[k].slope) * static_cast<double>(pieces[k].b - pieces[k].a);
-        if (change > best_change) best_change = change, pick = k;
-      }
-      return pick;
-    };
-    auto describe = [&](const char* stage, const std::vector<Piece>& pieces) {
-      rule << stage << " [";
-      for (std::size_t k = 0; k < pieces.size(); ++k)
-        rule << (k ? ", " : "") << pieces[k].a << ".." << pieces[k].b << " slope " << pieces[k].slope;
-      rule << "]";
-    };
     if (*hi - *lo < 0.25) {
       // The distances change by less than a factor e^0.25 over the whole curve: lambda ~ 0
       // (limit cycle, quasi-periodic motion). Any sub-region would fit wiggles: fit it all.
@@ -238,7 +315,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
           stop = pieces[k].a - 1;
           break;
         }
-      describe("curve pieces", pieces);
+      describe(rule, "curve pieces", pieces);
       // A fall the signal itself does not share: the neighbours converge onto a motion that persists.
       const double fall = pieces[pick].slope;
       const bool persists = std::isfinite(options.signal_rate) && options.signal_rate > options.persist_share * fall;
@@ -250,74 +327,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
              << options.signal_rate << " (not " << options.persist_share << " x the fall): the neighbours converge "
              << "onto a motion that persists (limit cycle; lambda_1 >= 0); fitted the level it settles at";
       } else {
-        // Stage 2: before that end, split off a start-up transient and the bend into the end.
-        std::vector<double> head(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop) + 1);
-        auto inner = merge_collinear(segment(head, options.pieces, min_len), head, options.merge_tolerance);
-        // A first piece steeper than the next and no longer than it is the start-up transient
-        // (neighbour separations still aligning with the unstable direction): it is never the linear
-        // region. "No longer", not "shorter": when the start-up lasts one shortest piece and the
-        // linear region bends early, the next piece is a shortest piece too (Lorenz x from (0.1, 0, 0)
-        // after 10 time units: both 83 steps; the start-up was fitted and read 2.2 lambda_1).
-        std::size_t skip = 0;
-        if (inner.size() > 1 && std::abs(inner[0].slope) > std::abs(inner[1].slope) &&
-            inner[0].b - inner[0].a <= inner[1].b - inner[1].a)
-          skip = 1;
-        std::vector<Piece> candidates(inner.begin() + static_cast<std::ptrdiff_t>(skip), inner.end());
-        // A curve that grows into a saturation plateau bends into it only by flattening: a later
-        // piece less than bend_ratio x as steep as the steepest before it is the bend, however long
-        // (a short series' curve has no straight stretch, and its slow tail can be longer than its
-        // linear part: Lorenz x at N = 5000 read 0.40 lambda_1 on such a tail). Not for a decay: its
-        // slowest piece is the least negative exponent, the one wanted.
-        if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation) {
-          double steepest = 0.0;
-          for (std::size_t k = 0; k < candidates.size(); ++k) {
-            if (steepest > 0.0 && candidates[k].slope < options.bend_ratio * steepest) {
-              candidates.resize(k);  // k >= 1: the piece that set `steepest` stays
-              break;
-            }
-            steepest = std::max(steepest, candidates[k].slope);
-          }
-        }
-        pick = skip + pick_largest_change(candidates);
-        // An earlier piece of the same sign, at least as steep and at least a period long is the
-        // linear region: the bend into the plateau only ever lowers the slope, so the largest-change
-        // piece of a curve that bends gradually (Roessler) reaches into the bend.
-        const std::size_t largest = pick;
-        for (std::size_t k = skip; k < largest; ++k)
-          if (inner[k].b - inner[k].a + 1 >= 2 * min_len && inner[k].slope * inner[largest].slope > 0.0 &&
-              std::abs(inner[k].slope) >= std::abs(inner[largest].slope)) {
-            pick = k;
-            break;
-          }
-        r.first = inner[pick].a;
-        r.last = inner[pick].b;
-        // The curve's first step is part of the start-up when it changes the log distance by less
-        // than 0.9 x the second step does: the nearest neighbour's separation still has a component
-        // along the contracting directions, which shrinks during that step. A piece cannot be one
-        // step long (at least 3), so for maps, which align within an iteration, this is decided here
-        // (Henon: the first step rises at ~0.7 lambda, the next ones at lambda).
-        bool first_step_skipped = false;
-        if (r.first == 0 && r.last >= 3) {
-          const double sign = inner[pick].slope >= 0.0 ? 1.0 : -1.0;
-          if (sign * (y[1] - y[0]) < 0.9 * sign * (y[2] - y[1])) r.first = 1, first_step_skipped = true;
-        }
-        // Straightness: while the second half of the region is flatter than straightness x the first
-        // half, the region reaches into the bend: keep its first three quarters.
-        std::size_t trimmed = 0;
-        while (r.last - r.first + 1 >= 4 * min_len) {
-          const std::size_t mid = r.first + (r.last - r.first) / 2;
-          const double s1 = fit_line(y.data(), r.first, mid).slope, s2 = fit_line(y.data(), mid, r.last).slope;
-          if (std::abs(s2) >= options.straightness * std::abs(s1)) break;
-          r.last = r.first + 3 * (r.last - r.first) / 4;
-          ++trimmed;
-        }
-        rule << "; ";
-        describe("before the end", inner);
-        rule << (skip ? "; start-up transient skipped" : "") << (first_step_skipped ? "; slow first step skipped" : "")
-             << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
-                                 : "; fitted the piece of largest |slope| x length");
-        if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";
-        if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
+        choose_linear_region(y, stop, min_len, options, r, rule);
       }
     }
   }
