@@ -204,6 +204,15 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
     }
   r.first = inner[pick].a;
   r.last = inner[pick].b;
+  // A growth that only flattens from the start-up to the pick (every piece between them steeper):
+  // the curve is concave, with no straight stretch, and the pieces before the pick are the same
+  // growth, not transient. The pick alone is its flattest part; the region spans them all.
+  bool joined = false;
+  if (r.end == CurveEnd::saturation && pick == largest && pick > skip && inner[pick].slope > 0.0) {
+    bool concave = true;
+    for (std::size_t k = skip; k < pick; ++k) concave = concave && inner[k].slope > inner[k + 1].slope;
+    if (concave) r.first = inner[skip].a, joined = true;
+  }
   // The curve's first step is part of the start-up when it changes the log distance by less
   // than 0.9 x the second step does: the nearest neighbour's separation still has a component
   // along the contracting directions, which shrinks during that step. A piece cannot be one
@@ -229,6 +238,7 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   rule << (skip ? "; start-up transient skipped" : "") << (first_step_skipped ? "; slow first step skipped" : "")
        << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
                            : "; fitted the piece of largest |slope| x length");
+  if (joined) rule << ", joined with the steeper pieces after the start-up (concave growth)";
   if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";
   if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
 }

@@ -40,7 +40,8 @@ struct FitOptions {
   /// Curves that grow into a saturation plateau: a piece after the start-up whose slope is below
   /// this fraction of the steepest piece before it is the bend into the plateau, never the linear
   /// region, however long (Lorenz x at N = 5000: 32 random series 0.397..1.302 lambda_1, rms error
-  /// 15.8 % without; 0.707..1.302, 12.8 % with; unchanged at N >= 10^4: `build/finite_time_spread
+  /// 15.8 % without; 0.707..1.302, 12.8 % with, 0.746..1.302, 12.4 % since the concave-growth join
+  /// of fit_divergence's rule 2; unchanged at N >= 10^4: `build/finite_time_spread
   /// lengths`). 0 = off.
   double bend_ratio = 0.5;
   /// Rate at which the analysed signal's own amplitude changes, per sample (envelope_rate; NaN =
@@ -95,7 +96,10 @@ struct FitResult {
 ///     bend_ratio x as steep as a piece before it is the bend and so is everything after it; the
 ///     linear region is the remaining piece of largest |slope| x length, or an earlier piece at
 ///     least a period (2 minimum pieces) long with a slope of the same sign and at least as large
-///     in magnitude (the bend only lowers the slope). A region that starts
+///     in magnitude (the bend only lowers the slope). When the pick is not the first piece after the
+///     start-up and every piece from there to it is steeper than the next (a growth that only
+///     flattens, with no straight stretch), the region starts at the start-up's end: the pick alone
+///     would be the growth's flattest part. A region that starts
 ///     at step 0 loses that step when it changes the curve by less than 0.9 x the second step (the
 ///     separation still shrinking along the contracting directions; maps align within one
 ///     iteration, below the shortest piece). While the region's second half has less than
