@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "mlce/fit.hpp"
+#include "mlce/numerics.hpp"
 #include "mlce/rosenstein.hpp"
 #include "reference_systems.hpp"
 
@@ -39,6 +40,23 @@ FitResult fit_pieces(double y0, const std::vector<std::pair<int, double>>& piece
   return fit_divergence(synthetic(piecewise(y0, pieces)), o);
 }
 }  // namespace
+
+TEST(LineFit, UnequallySpacedPointsOnAKnownLine) {
+  // y = 3 - 0.25 x at abscissae with a gap (windows left out) and a large offset: exact slope and
+  // intercept; on equally spaced x the same fit as over the curve's steps.
+  const std::vector<double> x{1e6 + 0.5, 1e6 + 1.5, 1e6 + 4.5, 1e6 + 5.5, 1e6 + 9.5};
+  std::vector<double> y;
+  for (double v : x) y.push_back(3.0 - 0.25 * v);
+  const LineFit f = fit_line(x.data(), y.data(), x.size());
+  EXPECT_NEAR(f.slope, -0.25, 1e-12);
+  EXPECT_NEAR(f.intercept, 3.0, 1e-5);
+  EXPECT_NEAR(f.r2, 1.0, 1e-12);
+  const std::vector<double> steps{2, 3, 4, 5, 6}, z{0.1, 0.5, 0.2, 0.9, 0.7};
+  const LineFit a = fit_line(steps.data(), z.data(), z.size()), b = fit_line(z.data() - 2, 2, 6);
+  EXPECT_NEAR(a.slope, b.slope, 1e-15);
+  EXPECT_NEAR(a.intercept, b.intercept, 1e-14);
+  EXPECT_NEAR(a.slope, 0.16, 1e-12);  // sum dx dy / sum dx^2 = 1.6 / 10 by hand
+}
 
 TEST(Fit, TransientLinearPlateauRecoversTheSlope) {
   // transient (steep, 10 steps), linear region slope 0.05 (200 steps), smooth bend, plateau.

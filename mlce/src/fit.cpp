@@ -209,9 +209,10 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // growth, not transient. The pick alone is its flattest part; the region spans them all.
   bool joined = false;
   if (r.end == CurveEnd::saturation && pick == largest && pick > skip && inner[pick].slope > 0.0) {
-    bool concave = true;
-    for (std::size_t k = skip; k < pick; ++k) concave = concave && inner[k].slope > inner[k + 1].slope;
-    if (concave) r.first = inner[skip].a, joined = true;
+    const auto from = inner.begin() + static_cast<std::ptrdiff_t>(skip), to = inner.begin() + static_cast<std::ptrdiff_t>(pick) + 1;
+    const bool only_flattens =
+        std::adjacent_find(from, to, [](const Piece& p, const Piece& q) { return p.slope <= q.slope; }) == to;
+    if (only_flattens) r.first = inner[skip].a, joined = true;
   }
   // The curve's first step is part of the start-up when it changes the log distance by less
   // than 0.9 x the second step does: the nearest neighbour's separation still has a component

@@ -5,21 +5,23 @@
 
 namespace mlce {
 
-LineFit fit_line(const double* y, std::size_t first, std::size_t last) {
+namespace {
+/// Least squares over i = first..last with abscissae x(i) whose mean is xm (centring keeps the
+/// normal equations well conditioned).
+template <class X>
+LineFit fit_line_about(X x, double xm, const double* y, std::size_t first, std::size_t last) {
   LineFit f;
   f.n = last - first + 1;
   if (f.n < 2) {
     f.intercept = y[first];
     return f;
   }
-  // Centre x to keep the normal equations well conditioned.
-  const double xm = 0.5 * static_cast<double>(first + last);
   CompensatedSum sy;
   for (std::size_t i = first; i <= last; ++i) sy.add(y[i]);
   const double ym = sy.value() / static_cast<double>(f.n);
   CompensatedSum sxx, sxy, syy;
   for (std::size_t i = first; i <= last; ++i) {
-    const double dx = static_cast<double>(i) - xm, dy = y[i] - ym;
+    const double dx = x(i) - xm, dy = y[i] - ym;
     sxx.add(dx * dx);
     sxy.add(dx * dy);
     syy.add(dy * dy);
@@ -30,6 +32,18 @@ LineFit fit_line(const double* y, std::size_t first, std::size_t last) {
   f.r2 = syy.value() > 0.0 ? 1.0 - sse / syy.value() : 1.0;
   if (f.n > 2) f.slope_stderr = std::sqrt(sse / static_cast<double>(f.n - 2) / sxx.value());
   return f;
+}
+}  // namespace
+
+LineFit fit_line(const double* y, std::size_t first, std::size_t last) {
+  return fit_line_about([](std::size_t i) { return static_cast<double>(i); }, 0.5 * static_cast<double>(first + last),
+                        y, first, last);
+}
+
+LineFit fit_line(const double* x, const double* y, std::size_t n) {
+  CompensatedSum sx;
+  for (std::size_t i = 0; i < n; ++i) sx.add(x[i]);
+  return fit_line_about([x](std::size_t i) { return x[i]; }, sx.value() / static_cast<double>(n), y, 0, n - 1);
 }
 
 double student_t95(std::size_t dof) {

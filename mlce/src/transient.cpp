@@ -1,10 +1,12 @@
 #include "mlce/transient.hpp"
 
 #include "mlce/mean_period.hpp"
+#include "mlce/numerics.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -24,24 +26,39 @@ double upper_median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return v[v.size() / 2];
 }
+
+/// Per window of `count` consecutive windows of `w` samples: the sum over channels of the squared
+/// deviations, each channel divided by its peak |x| first (squares of 1e300 would overflow; the
+/// callers compare levels or their logarithms' slope, so the scale does not matter otherwise).
+/// Deviations about the channel's mean over samples [about_from, count * w), or, without about_from,
+/// about each window's own mean. All-zero channels add nothing.
+std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size_t count,
+                                       std::optional<std::size_t> about_from) {
+  std::vector<double> sums(count, 0.0);
+  for (const auto& x : s.channels) {
+    double peak = 0.0;
+    for (double v : x) peak = std::max(peak, std::abs(v));
+    if (!(peak > 0.0)) continue;
+    auto mean_over = [&](std::size_t from, std::size_t to) {
+      double mean = 0.0;
+      for (std::size_t i = from; i < to; ++i) mean += x[i] / peak;
+      return mean / static_cast<double>(to - from);
+    };
+    const double shared = about_from ? mean_over(*about_from, count * w) : 0.0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const double mean = about_from ? shared : mean_over(k * w, (k + 1) * w);
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) sums[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
+    }
+  }
+  return sums;
+}
 }  // namespace
 
 std::size_t detect_floor(const Series& s, double floor_ratio) {
   const std::size_t n = s.size(), windows = 100, w = n / windows;
   if (w < 2 || floor_ratio <= 0.0) return 0;
-  // In place, no standardised copy: each channel divided by its peak |x| (squares of 1e300 would
-  // overflow); the test is a ratio of RMS levels, so the scale does not matter otherwise.
-  std::vector<double> rms(windows, 0.0);
-  for (const auto& x : s.channels) {
-    double peak = 0.0;
-    for (double v : x) peak = std::max(peak, std::abs(v));
-    if (peak == 0.0) continue;
-    double mean = 0.0;
-    for (std::size_t i = 75 * w; i < windows * w; ++i) mean += x[i] / peak;
-    mean /= static_cast<double>(25 * w);
-    for (std::size_t k = 0; k < windows; ++k)
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) rms[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
-  }
+  // In place, no standardised copy; about the last quarter's mean (the level the series settles at).
+  std::vector<double> rms = window_square_sums(s, w, windows, 75 * w);
   for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
   const double level = upper_median({rms.begin() + 75, rms.end()}), peak = *std::max_element(rms.begin(), rms.end());
   if (!(level < floor_ratio * peak)) return 0;
@@ -157,33 +174,16 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
 }
 
 double envelope_rate(const Series& s, std::size_t period) {
-  const std::size_t n = s.size(), w = 2 * std::max<std::size_t>(period, 1), windows = w ? n / w : 0;
-  std::vector<double> ms(windows, 0.0);
-  for (const auto& x : s.channels) {
-    double peak = 0.0;
-    for (double v : x) peak = std::max(peak, std::abs(v));
-    if (!(peak > 0.0)) continue;
-    for (std::size_t k = 0; k < windows; ++k) {
-      double mean = 0.0;
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) mean += x[i] / peak;
-      mean /= static_cast<double>(w);
-      for (std::size_t i = k * w; i < (k + 1) * w; ++i) ms[k] += (x[i] / peak - mean) * (x[i] / peak - mean);
-    }
-  }
+  const std::size_t w = 2 * std::max<std::size_t>(period, 1), windows = s.size() / w;
+  const std::vector<double> sums = window_square_sums(s, w, windows, std::nullopt);
   std::vector<double> centre, log_rms;
   for (std::size_t k = 0; k < windows; ++k)
-    if (ms[k] > 0.0) {
+    if (sums[k] > 0.0) {  // no log 0
       centre.push_back((static_cast<double>(k) + 0.5) * static_cast<double>(w));
-      log_rms.push_back(0.5 * std::log(ms[k] / static_cast<double>(w)));
+      log_rms.push_back(0.5 * std::log(sums[k] / static_cast<double>(w)));
     }
   if (centre.size() < 4) return std::numeric_limits<double>::quiet_NaN();
-  double mc = 0.0, ml = 0.0;
-  for (std::size_t k = 0; k < centre.size(); ++k) mc += centre[k], ml += log_rms[k];
-  mc /= static_cast<double>(centre.size()), ml /= static_cast<double>(centre.size());
-  double sxy = 0.0, sxx = 0.0;
-  for (std::size_t k = 0; k < centre.size(); ++k)
-    sxy += (centre[k] - mc) * (log_rms[k] - ml), sxx += (centre[k] - mc) * (centre[k] - mc);
-  return sxy / sxx;
+  return fit_line(centre.data(), log_rms.data(), centre.size()).slope;
 }
 
 Series skip_transient(const Series& series, TransientResult* result) {

@@ -24,7 +24,7 @@ class CompensatedSum {
   double c_ = 0.0;
 };
 
-/// Ordinary least squares y = a + b x over equally spaced x = first..last.
+/// Ordinary least squares y = a + b x (compensated sums, x centred on its mean).
 struct LineFit {
   double slope = 0.0;
   double intercept = 0.0;
@@ -32,7 +32,10 @@ struct LineFit {
   double slope_stderr = 0.0;  ///< formal standard error (iid residuals)
   std::size_t n = 0;
 };
+/// Over equally spaced x = first..last (the steps of a curve).
 LineFit fit_line(const double* y, std::size_t first, std::size_t last);
+/// Over the points (x[i], y[i]), i = 0..n-1 (n >= 1; x not all equal when n >= 2).
+LineFit fit_line(const double* x, const double* y, std::size_t n);
 
 /// splitmix64 (Steele, Lea and Flood 2014): a fixed, platform-independent pseudo-random sequence,
 /// so that what is drawn from it (the attractor scale's pairs, a dither) is the same on every
