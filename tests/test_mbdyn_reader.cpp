@@ -14,6 +14,8 @@
 #include "mlce/reader/orientation.hpp"
 #include "mlce/reader/table.hpp"
 
+#include <netcdf.h>
+
 namespace fs = std::filesystem;
 using namespace mlce::reader;
 
@@ -200,6 +202,58 @@ SyntheticSet make_set(Orientation o, int axis, const std::string& name) {
   return s;
 }
 
+/// The same motion as make_set as MBDyn writes it to NetCDF (format doc section 11): records
+/// along the unlimited dimension `time`, node.struct.<L>.X, and one orientation variable per
+/// node: .E (degrees, the sequence named in its `description`), .Phi, or .R stored column-major
+/// (R11 R21 R31 R12 ..., the transpose of the text files' row order). A .log beside it gives the
+/// initial configuration, as MBDyn's would.
+SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
+  SyntheticSet s = make_set(o, axis, "nc_" + name);  // the text set gives zeta and the .log
+  const fs::path nc_path = s.dir / "run.nc";
+  const Matrix3 rel0 = axis_rot(2, 0.5 * std::numbers::pi);
+  auto B = [](double t) { return mul(axis_rot(0, 0.2), axis_rot(2, 3.0 * t)); };
+  auto A = [&](double t, double z) { return mul(mul(B(t), axis_rot(axis, z)), rel0); };
+  auto ok = [](int status) { ASSERT_EQ(status, NC_NOERR) << nc_strerror(status); };
+  int id = 0, time_dim = 0, vec3 = 0, time_var = 0;
+  ok(nc_create(nc_path.c_str(), NC_CLOBBER, &id));
+  ok(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim));
+  ok(nc_def_dim(id, "Vec3", 3, &vec3));  // Z's spelling; M writes vec3: the reader must not care
+  ok(nc_def_var(id, "time", NC_DOUBLE, 1, &time_dim, &time_var));
+  const char* suffix = o == Orientation::mat ? ".R" : o == Orientation::phi ? ".Phi" : ".E";
+  const char* sequence = o == Orientation::euler313 ? "(313)" : o == Orientation::euler321 ? "(321)" : "(123)";
+  int X[2] = {0, 0}, R[2] = {0, 0};
+  for (int node = 1; node <= 2; ++node) {
+    const std::string base = "node.struct." + std::to_string(node);
+    const int dims2[2] = {time_dim, vec3}, dims3[3] = {time_dim, vec3, vec3};
+    ok(nc_def_var(id, (base + ".X").c_str(), NC_DOUBLE, 2, dims2, &X[node - 1]));
+    ok(nc_def_var(id, (base + suffix).c_str(), NC_DOUBLE, o == Orientation::mat ? 3 : 2,
+                  o == Orientation::mat ? dims3 : dims2, &R[node - 1]));
+    const std::string description = o == Orientation::mat ? "global orientation matrix (R11, R21, R31, R12, ...)"
+                                    : o == Orientation::phi ? "global orientation vector"
+                                    : std::string("global orientation Euler angles ") + sequence;
+    ok(nc_put_att_text(id, R[node - 1], "description", description.size(), description.c_str()));
+  }
+  ok(nc_enddef(id));
+  for (std::size_t k = 0; k < s.zeta.size(); ++k) {
+    const double t = 0.05 * static_cast<double>(k);
+    const std::size_t start[3] = {k, 0, 0}, one[1] = {1}, row[2] = {1, 3}, block[3] = {1, 3, 3};
+    ok(nc_put_vara_double(id, time_var, start, one, &t));
+    for (int node = 1; node <= 2; ++node) {
+      const Matrix3 Rk = node == 1 ? B(t) : A(t, s.zeta[k]);
+      const double x[3] = {static_cast<double>(node - 1), 0, 0};
+      ok(nc_put_vara_double(id, X[node - 1], start, row, x));
+      std::vector<double> v = orientation_values(o, Rk);
+      if (o == Orientation::mat)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) v[3 * j + i] = Rk[3 * i + j];  // column-major
+      ok(nc_put_vara_double(id, R[node - 1], start, o == Orientation::mat ? block : row, v.data()));
+    }
+  }
+  ok(nc_close(id));
+  s.prefix = nc_path.string();
+  return s;
+}
+
 }  // namespace
 
 class OrientationRoundTrip : public ::testing::TestWithParam<std::tuple<Orientation, int>> {};
@@ -212,6 +266,25 @@ TEST_P(OrientationRoundTrip, KnownRelativeRotationReadsBackUnwrapped) {
   ASSERT_EQ(cs.values[0].size(), set.zeta.size());
   for (std::size_t k = 0; k < set.zeta.size(); ++k)
     ASSERT_NEAR(cs.values[0][k], set.zeta[k], 1e-9) << orientation_name(o) << " sample " << k;
+  fs::remove_all(set.dir);
+}
+
+// The same known motion through the NetCDF reader: a matrix stored column-major read row-major
+// would turn the other way (zeta -> -zeta), an Euler sequence ignored would give another axis.
+TEST_P(OrientationRoundTrip, NetcdfKnownRelativeRotationReadsBackUnwrapped) {
+  const auto [o, axis] = GetParam();
+  const std::string axis_name(1, static_cast<char>('x' + axis));
+  const auto set = make_netcdf_set(o, axis, std::string(orientation_name(o)) + axis_name);
+  const auto cs = read_mbdyn_netcdf(set.prefix, specs({("rel:2:1:" + axis_name).c_str(), "node:2:x", "node:2:r2"}));
+  ASSERT_EQ(cs.values[0].size(), set.zeta.size());
+  EXPECT_TRUE(cs.warnings.empty());  // the .log beside the file gave the initial configuration
+  const auto text = read_mbdyn_text((set.dir / "run").string(), specs({"node:2:r2"}));
+  for (std::size_t k = 0; k < set.zeta.size(); ++k) {
+    ASSERT_NEAR(cs.values[0][k], set.zeta[k], 1e-9) << orientation_name(o) << " record " << k;
+    ASSERT_EQ(cs.values[1][k], 1.0);
+    // The second orientation number as the text file writes it (R12 for a matrix, row by row).
+    ASSERT_NEAR(cs.values[2][k], text.values[0][k], 1e-12) << orientation_name(o) << " record " << k;
+  }
   fs::remove_all(set.dir);
 }
 

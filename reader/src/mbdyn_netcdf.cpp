@@ -49,14 +49,18 @@ class NcFile {
     }
     return out;
   }
-  /// Component `comp` of a (time[, n]) variable, first `n` records.
+  /// Component `comp` of a (time[, n]) or (time, n1, n2) variable, first `n` records; in the
+  /// latter `comp` counts in storage order (comp = n2 * i + j for element [i][j]: MBDyn's .R).
   std::vector<double> column(int v, std::size_t comp, std::size_t n, const std::string& name) const {
     const auto sh = shape(v);
     std::vector<double> out(n);
     if (n == 0) return out;
-    std::size_t start[2] = {0, comp}, count[2] = {n, 1};
-    if (sh.empty() || (sh.size() == 1 && comp > 0) || (sh.size() == 2 && comp >= sh[1]) || sh.size() > 2)
+    std::size_t width = 1;
+    for (std::size_t d = 1; d < sh.size(); ++d) width *= sh[d];
+    if (sh.empty() || sh.size() > 3 || comp >= width)
       throw ReadError(path_ + ": variable '" + name + "' has no component " + std::to_string(comp + 1));
+    std::size_t start[3] = {0, comp, 0}, count[3] = {n, 1, 1};
+    if (sh.size() == 3) start[1] = comp / sh[2], start[2] = comp % sh[2];
     const int rc = nc_get_vara_double(id_, v, start, count, out.data());
     if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
     for (std::size_t k = 0; k < n; ++k)
@@ -116,10 +120,14 @@ NodeOrientation node_orientation(const NcFile& nc, long label) {
   return {Orientation::none, ""};
 }
 
-/// Orientation number `r` (0-based) of every record as the text file would write it: a matrix
-/// row by row there, column-major in NetCDF (format doc section 11), so R(i,j) is element 3j+i.
+/// Storage index of the r-th (0-based) number of a 3x3 matrix as a text file writes it: row by
+/// row there, column-major in NetCDF (format doc section 11: R11, R21, R31, R12, ...), so R(i,j),
+/// text number 3i+j, is stored at 3j+i.
+constexpr std::size_t matrix_storage_index(std::size_t r) { return 3 * (r % 3) + r / 3; }
+
+/// Orientation number `r` (0-based) of every record as the text file would write it.
 std::vector<double> orientation_column(const NcFile& nc, const NodeOrientation& o, std::size_t r, std::size_t n) {
-  const std::size_t comp = o.kind == Orientation::mat ? 3 * (r % 3) + r / 3 : r;
+  const std::size_t comp = o.kind == Orientation::mat ? matrix_storage_index(r) : r;
   return nc.column(nc.require(o.var, "orientation"), comp, n, o.var);
 }
 
@@ -129,7 +137,8 @@ std::vector<std::vector<double>> orientation_columns(const NcFile& nc, const Nod
   return cols;
 }
 
-/// (variable, component) of column K (1-based) of a joint row as the .jnt file would hold it.
+/// (variable, storage component) of column K (1-based) of a joint row as the .jnt file would hold
+/// it; a matrix variable (time, 3, 3), e.g. a revolute hinge's .R, is written row by row there.
 std::pair<std::string, std::size_t> joint_column(const NcFile& nc, long label, std::size_t K) {
   const std::string base = "elem.joint." + std::to_string(label);
   if (!nc.var(base + ".f")) throw ReadError(nc.path() + ": no joint " + std::to_string(label));
@@ -142,8 +151,10 @@ std::pair<std::string, std::size_t> joint_column(const NcFile& nc, long label, s
   std::size_t col = 2;
   for (const auto& name : order) {
     const auto sh = nc.shape(*nc.var(name));
-    const std::size_t width = sh.size() == 2 ? sh[1] : 1;
-    if (K < col + width) return {name, K - col};
+    std::size_t width = 1;
+    for (std::size_t d = 1; d < sh.size(); ++d) width *= sh[d];
+    const bool matrix = sh.size() == 3 && sh[1] == 3 && sh[2] == 3;
+    if (K < col + width) return {name, matrix ? matrix_storage_index(K - col) : K - col};
     col += width;
   }
   throw ReadError(nc.path() + ": joint " + std::to_string(label) + " has " + std::to_string(col - 1) +
