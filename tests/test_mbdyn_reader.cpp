@@ -167,6 +167,7 @@ struct SyntheticSet {
   fs::path dir;
   std::string prefix;
   std::vector<double> zeta;
+  std::vector<double> r12;  ///< make_netcdf_set: R12 of node 2, as joint 7's .R holds it
 };
 
 /// Node 1 (B) turns about a tilted axis; node 2 (A) = B * R_axis(zeta(t)) * R_rel0, zeta sweeping
@@ -206,7 +207,8 @@ SyntheticSet make_set(Orientation o, int axis, const std::string& name) {
 /// along the unlimited dimension `time`, node.struct.<L>.X, and one orientation variable per
 /// node: .E (degrees, the sequence named in its `description`), .Phi, or .R stored column-major
 /// (R11 R21 R31 R12 ..., the transpose of the text files' row order). A .log beside it gives the
-/// initial configuration, as MBDyn's would.
+/// initial configuration, as MBDyn's would. Joint 7 (a revolute hinge's variables: .f .m .F .M,
+/// then its relative rotation .R and .Omega) holds node 2's matrix in its .R.
 SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
   SyntheticSet s = make_set(o, axis, "nc_" + name);  // the text set gives zeta and the .log
   const fs::path nc_path = s.dir / "run.nc";
@@ -233,6 +235,13 @@ SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
                                     : std::string("global orientation Euler angles ") + sequence;
     ok(nc_put_att_text(id, R[node - 1], "description", description.size(), description.c_str()));
   }
+  int joint[6] = {};
+  const char* joint_vars[6] = {".f", ".m", ".F", ".M", ".R", ".Omega"};
+  for (int v = 0; v < 6; ++v) {
+    const int dims2[2] = {time_dim, vec3}, dims3[3] = {time_dim, vec3, vec3};
+    ok(nc_def_var(id, (std::string("elem.joint.7") + joint_vars[v]).c_str(), NC_DOUBLE, v == 4 ? 3 : 2,
+                  v == 4 ? dims3 : dims2, &joint[v]));
+  }
   ok(nc_enddef(id));
   for (std::size_t k = 0; k < s.zeta.size(); ++k) {
     const double t = 0.05 * static_cast<double>(k);
@@ -248,6 +257,14 @@ SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
           for (int j = 0; j < 3; ++j) v[3 * j + i] = Rk[3 * i + j];  // column-major
       ok(nc_put_vara_double(id, R[node - 1], start, o == Orientation::mat ? block : row, v.data()));
     }
+    const Matrix3 Rk = A(t, s.zeta[k]);
+    double column_major[9], w[3] = {-1.0, -2.0, -3.0};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) column_major[3 * j + i] = Rk[3 * i + j];
+    for (int v = 0; v < 4; ++v) ok(nc_put_vara_double(id, joint[v], start, row, w));
+    ok(nc_put_vara_double(id, joint[4], start, block, column_major));
+    ok(nc_put_vara_double(id, joint[5], start, row, w));
+    s.r12.push_back(Rk[1]);
   }
   ok(nc_close(id));
   s.prefix = nc_path.string();
@@ -279,6 +296,12 @@ TEST_P(OrientationRoundTrip, NetcdfKnownRelativeRotationReadsBackUnwrapped) {
   ASSERT_EQ(cs.values[0].size(), set.zeta.size());
   EXPECT_TRUE(cs.warnings.empty());  // the .log beside the file gave the initial configuration
   const auto text = read_mbdyn_text((set.dir / "run").string(), specs({"node:2:r2"}));
+  // Joint columns as the .jnt would number them: 2-13 f m F M, 14-22 R row by row, 23-25 Omega.
+  const auto jnt = read_mbdyn_netcdf(set.prefix, specs({"joint:7:15", "joint:7:23"}));
+  for (std::size_t k = 0; k < set.zeta.size(); ++k) {
+    ASSERT_EQ(jnt.values[0][k], set.r12[k]) << "record " << k;
+    ASSERT_EQ(jnt.values[1][k], -1.0);
+  }
   for (std::size_t k = 0; k < set.zeta.size(); ++k) {
     ASSERT_NEAR(cs.values[0][k], set.zeta[k], 1e-9) << orientation_name(o) << " record " << k;
     ASSERT_EQ(cs.values[1][k], 1.0);
