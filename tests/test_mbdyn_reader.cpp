@@ -311,6 +311,37 @@ TEST_P(OrientationRoundTrip, NetcdfKnownRelativeRotationReadsBackUnwrapped) {
   fs::remove_all(set.dir);
 }
 
+// A record that the solver never wrote holds the NetCDF fill value (9.97e36, finite): an error
+// naming the variable and the record, never a number passed on to the estimator.
+TEST(MbdynNetcdf, RecordNeverWrittenIsAnErrorNotAHugeNumber) {
+  const fs::path path = fs::temp_directory_path() / ("mlce_fill_" + std::to_string(::getpid()) + ".nc");
+  int id = 0, time_dim = 0, vec3 = 0, t_var = 0, x_var = 0;
+  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER, &id), NC_NOERR);
+  ASSERT_EQ(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim), NC_NOERR);
+  ASSERT_EQ(nc_def_dim(id, "vec3", 3, &vec3), NC_NOERR);
+  const int dims[2] = {time_dim, vec3};
+  ASSERT_EQ(nc_def_var(id, "time", NC_DOUBLE, 1, &time_dim, &t_var), NC_NOERR);
+  ASSERT_EQ(nc_def_var(id, "node.struct.1.X", NC_DOUBLE, 2, dims, &x_var), NC_NOERR);
+  ASSERT_EQ(nc_enddef(id), NC_NOERR);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double t = 0.1 * static_cast<double>(k), x[3] = {1.0, 2.0, 3.0};
+    const std::size_t start[2] = {k, 0}, one[1] = {1}, row[2] = {1, 3};
+    ASSERT_EQ(nc_put_vara_double(id, t_var, start, one, &t), NC_NOERR);
+    if (k < 2) {  // record 2 left unwritten
+      ASSERT_EQ(nc_put_vara_double(id, x_var, start, row, x), NC_NOERR);
+    }
+  }
+  ASSERT_EQ(nc_close(id), NC_NOERR);
+  try {
+    read_mbdyn_netcdf(path.string(), specs({"node:1:y"}));
+    ADD_FAILURE() << "expected a ReadError";
+  } catch (const ReadError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'node.struct.1.X' record 2: holds the NetCDF fill value"), std::string::npos) << what;
+  }
+  fs::remove(path);
+}
+
 INSTANTIATE_TEST_SUITE_P(EveryParametrization, OrientationRoundTrip,
                          ::testing::Combine(::testing::Values(Orientation::euler123, Orientation::euler313,
                                                               Orientation::euler321, Orientation::phi,

@@ -63,9 +63,18 @@ class NcFile {
     if (sh.size() == 3) start[1] = comp / sh[2], start[2] = comp % sh[2];
     const int rc = nc_get_vara_double(id_, v, start, count, out.data());
     if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
-    for (std::size_t k = 0; k < n; ++k)
+    // A record the solver never wrote holds the fill value (the variable's _FillValue, else the
+    // library's default): a finite number (9.97e36) that must not pass for data. MBDyn declares
+    // some variables whose writers are still TODO (format doc section 11).
+    double fill = NC_FILL_DOUBLE, declared = 0;
+    if (nc_get_att_double(id_, v, "_FillValue", &declared) == NC_NOERR) fill = declared;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (out[k] == fill)
+        throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) +
+                        ": holds the NetCDF fill value (never written by the solver)");
       if (!std::isfinite(out[k]))
         throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) + ": expected a finite number");
+    }
     return out;
   }
   std::string text_attribute(int v, const char* att) const {
