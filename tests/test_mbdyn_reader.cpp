@@ -170,16 +170,21 @@ struct SyntheticSet {
   std::vector<double> r12;  ///< make_netcdf_set: R12 of node 2, as joint 7's .R holds it
 };
 
-/// Node 1 (B) turns about a tilted axis; node 2 (A) = B * R_axis(zeta(t)) * R_rel0, zeta sweeping
-/// beyond +-pi, written in parametrization `o` with 16 digits.
+/// The synthetic motion: node 1 (B) turns about a tilted axis; node 2 (A) = B * R_axis(zeta) * R_rel0.
+Matrix3 node1_pose(double t) { return mul(axis_rot(0, 0.2), axis_rot(2, 3.0 * t)); }
+Matrix3 node2_pose(double t, double zeta, int axis) {
+  return mul(mul(node1_pose(t), axis_rot(axis, zeta)), axis_rot(2, 0.5 * std::numbers::pi));
+}
+
+/// Node 1 and node 2 as above, zeta sweeping beyond +-pi, written in parametrization `o` with 16
+/// digits.
 SyntheticSet make_set(Orientation o, int axis, const std::string& name) {
   SyntheticSet s;
   s.dir = fs::temp_directory_path() / ("mlce_syn_" + std::to_string(::getpid()) + "_" + name);
   fs::create_directories(s.dir);
   s.prefix = (s.dir / "run").string();
-  const Matrix3 rel0 = axis_rot(2, 0.5 * std::numbers::pi);
-  auto B = [](double t) { return mul(axis_rot(0, 0.2), axis_rot(2, 3.0 * t)); };
-  auto A = [&](double t, double z) { return mul(mul(B(t), axis_rot(axis, z)), rel0); };
+  auto B = [](double t) { return node1_pose(t); };
+  auto A = [&](double t, double z) { return node2_pose(t, z, axis); };
   auto values = [&](const Matrix3& R) {
     std::string out;
     char buf[40];
@@ -212,9 +217,12 @@ SyntheticSet make_set(Orientation o, int axis, const std::string& name) {
 SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
   SyntheticSet s = make_set(o, axis, "nc_" + name);  // the text set gives zeta and the .log
   const fs::path nc_path = s.dir / "run.nc";
-  const Matrix3 rel0 = axis_rot(2, 0.5 * std::numbers::pi);
-  auto B = [](double t) { return mul(axis_rot(0, 0.2), axis_rot(2, 3.0 * t)); };
-  auto A = [&](double t, double z) { return mul(mul(B(t), axis_rot(axis, z)), rel0); };
+  auto column_major = [](const Matrix3& R) {  // R11 R21 R31 R12 ...: how MBDyn stores .R
+    std::vector<double> v(9);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) v[3 * j + i] = R[3 * i + j];
+    return v;
+  };
   auto ok = [](int status) { ASSERT_EQ(status, NC_NOERR) << nc_strerror(status); };
   int id = 0, time_dim = 0, vec3 = 0, time_var = 0;
   ok(nc_create(nc_path.c_str(), NC_CLOBBER, &id));
@@ -248,21 +256,16 @@ SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
     const std::size_t start[3] = {k, 0, 0}, one[1] = {1}, row[2] = {1, 3}, block[3] = {1, 3, 3};
     ok(nc_put_vara_double(id, time_var, start, one, &t));
     for (int node = 1; node <= 2; ++node) {
-      const Matrix3 Rk = node == 1 ? B(t) : A(t, s.zeta[k]);
+      const Matrix3 Rk = node == 1 ? node1_pose(t) : node2_pose(t, s.zeta[k], axis);
       const double x[3] = {static_cast<double>(node - 1), 0, 0};
       ok(nc_put_vara_double(id, X[node - 1], start, row, x));
-      std::vector<double> v = orientation_values(o, Rk);
-      if (o == Orientation::mat)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) v[3 * j + i] = Rk[3 * i + j];  // column-major
+      const std::vector<double> v = o == Orientation::mat ? column_major(Rk) : orientation_values(o, Rk);
       ok(nc_put_vara_double(id, R[node - 1], start, o == Orientation::mat ? block : row, v.data()));
     }
-    const Matrix3 Rk = A(t, s.zeta[k]);
-    double column_major[9], w[3] = {-1.0, -2.0, -3.0};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) column_major[3 * j + i] = Rk[3 * i + j];
+    const Matrix3 Rk = node2_pose(t, s.zeta[k], axis);
+    const double w[3] = {-1.0, -2.0, -3.0};
     for (int v = 0; v < 4; ++v) ok(nc_put_vara_double(id, joint[v], start, row, w));
-    ok(nc_put_vara_double(id, joint[4], start, block, column_major));
+    ok(nc_put_vara_double(id, joint[4], start, block, column_major(Rk).data()));
     ok(nc_put_vara_double(id, joint[5], start, row, w));
     s.r12.push_back(Rk[1]);
   }

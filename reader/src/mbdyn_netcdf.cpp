@@ -64,8 +64,8 @@ class NcFile {
     const int rc = nc_get_vara_double(id_, v, start, count, out.data());
     if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
     // A record the solver never wrote holds the fill value (the variable's _FillValue, else the
-    // library's default): a finite number (9.97e36) that must not pass for data. MBDyn declares
-    // some variables whose writers are still TODO (format doc section 11).
+    // library's default): a finite number (9.97e36) that must not pass for data. MBDyn 1.7.3
+    // declares some variables it never writes (revolute hinge, forces: format doc section 11).
     double fill = NC_FILL_DOUBLE, declared = 0;
     if (nc_get_att_double(id_, v, "_FillValue", &declared) == NC_NOERR) fill = declared;
     for (std::size_t k = 0; k < n; ++k) {
