@@ -56,6 +56,35 @@ TEST_F(Cli, OneColumnFileIsTheSeriesPerSample) {
   EXPECT_NEAR(j["lambda"].get<double>(), std::log(2.0), 0.03);
 }
 
+TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
+  // A spreadsheet / pandas export: comma-separated, a header naming the columns.
+  const auto henon = mlce::reference::henon_x(4000);
+  const auto logistic = mlce::reference::logistic(4000);
+  std::ostringstream s;
+  s.precision(17);
+  s << "t,henon,logistic\n";
+  for (std::size_t i = 0; i < henon.size(); ++i) s << i << "," << henon[i] << "," << logistic[i] << "\n";
+  const auto f = write("named.csv", s.str()).string();
+  CliRun r = run("estimate " + f + " --time-column t --column logistic --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), std::log(2.0), 0.03);
+  r = run("estimate " + f + " --time-column t --column henon --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), 0.419, 0.02);
+  // Names and numbers mix; a number is always the 1-based position.
+  r = run("estimate " + f + " --time-column 1 --column logistic --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), std::log(2.0), 0.03);
+  expect_one_line_error(run("estimate " + f + " --time-column t --column x"),
+                        "named.csv: --column 'x': no such column; the header names t, henon, logistic");
+  expect_one_line_error(run("estimate " + f + " --time-column time --column 2"),
+                        "named.csv: --time-column 'time': no such column");
+  // Without a header a name cannot be resolved.
+  const auto g = series_file(henon, 1.0);
+  expect_one_line_error(run("estimate " + g + " --time-column 1 --column x"),
+                        "series.txt: --column 'x': expected a 1-based column number (the file has no header line");
+}
+
 TEST_F(Cli, CurveCsvAndGivenParameters) {
   const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
   const auto csv = dir / "curve.csv";

@@ -68,8 +68,8 @@ po::options_description series_options(cli::SeriesInput& in) {
   po::options_description d("series");
   d.add_options()
       ("channel", po::value(&in.channels)->composing(), "channel spec (repeat for a multivariate series): node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, col:K")
-      ("column", po::value(&in.columns)->composing(), "1-based column(s) to analyse (repeat for a multivariate series)")
-      ("time-column", po::value<std::size_t>(), "1-based column holding time (must be uniform)")
+      ("column", po::value(&in.columns)->composing(), "column(s) to analyse, 1-based number or header name (repeat for a multivariate series)")
+      ("time-column", po::value<std::string>(), "column holding time, 1-based number or header name (must be uniform)")
       ("dt", po::value<double>(), "sampling step when the file has no time column")
       ("time-unit", po::value(&in.time_unit)->default_value("s"), "name of the time unit")
       ("resample", po::bool_switch(&in.resample), "resample a non-uniform time column linearly (explicit opt-in)")
@@ -79,7 +79,7 @@ po::options_description series_options(cli::SeriesInput& in) {
 }
 
 void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
-  if (vm.count("time-column")) in.time_column = vm["time-column"].as<std::size_t>();
+  if (vm.count("time-column")) in.time_column = vm["time-column"].as<std::string>();
   if (vm.count("dt")) in.dt = vm["dt"].as<double>();
   if (vm.count("to")) in.to = vm["to"].as<double>();
   if (!vm.count("file")) throw po::error("missing FILE");

@@ -1,6 +1,7 @@
 #include "series_input.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "mlce/mean_period.hpp"
 #include "mlce/reader/column_file.hpp"
@@ -72,11 +73,32 @@ LoadedSeries load_series(const SeriesInput& in_) {
       }
       if (c.kind != reader::ChannelSpec::Kind::column)
         throw OptionError(in.file + " is a column file: channel '" + spec + "' does not apply (use col:K or --column K)");
-      in.columns.push_back(c.column);
+      in.columns.push_back(std::to_string(c.column));
     }
     out = load_column_series(in);
   }
   return apply_window(in, std::move(out));
+}
+
+/// A --column / --time-column value: a 1-based number, or a name from the file's header line.
+/// A header name that is itself a number is not reachable by name; its number always works.
+std::size_t resolve_column(const reader::Table& table, const std::string& file, const std::string& given, const char* option) {
+  using reader::ReadError;
+  const std::size_t ncols = table.columns.size();
+  const bool numeric = !given.empty() && given.find_first_not_of("0123456789") == std::string::npos;
+  if (numeric) {
+    const std::size_t number = given.size() > 9 ? ncols + 1 : std::stoul(given);
+    if (number == 0 || number > ncols)
+      throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s)", file, option, given, ncols));
+    return number;
+  }
+  if (!table.has_header)
+    throw ReadError(fmt::format("{}: {} '{}': expected a 1-based column number (the file has no header line naming "
+                                "its columns)", file, option, given));
+  for (std::size_t k = 0; k < ncols; ++k)
+    if (table.names[k] == given) return k + 1;
+  throw ReadError(fmt::format("{}: {} '{}': no such column; the header names {}", file, option, given,
+                              fmt::join(table.names, ", ")));
 }
 
 LoadedSeries load_column_series(const SeriesInput& in) {
@@ -84,32 +106,29 @@ LoadedSeries load_column_series(const SeriesInput& in) {
   if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
   reader::Table table = reader::read_column_file(in.file);
   const std::size_t ncols = table.columns.size();
-  std::vector<std::size_t> cols = in.columns;
+  std::optional<std::size_t> time_column;
+  if (in.time_column) time_column = resolve_column(table, in.file, *in.time_column, "--time-column");
+  std::vector<std::size_t> cols;
+  for (const auto& c : in.columns) cols.push_back(resolve_column(table, in.file, c, "--column"));
   if (cols.empty()) {
     if (ncols == 1) {
       cols.push_back(1);
-    } else if (ncols == 2 && in.time_column && *in.time_column <= 2) {
-      cols.push_back(*in.time_column == 1 ? 2 : 1);
+    } else if (ncols == 2 && time_column) {
+      cols.push_back(*time_column == 1 ? 2 : 1);
     } else {
       throw ReadError(fmt::format("{}: the file has {} columns: say which to analyse with --column K "
                                   "(and --time-column K or --dt DT)", in.file, ncols));
     }
   }
-  auto check_col = [&](std::size_t k, const char* what) {
-    if (k == 0 || k > ncols)
-      throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s)", in.file, what, k, ncols));
-  };
-  for (std::size_t k : cols) check_col(k, "--column");
-  if (in.time_column) check_col(*in.time_column, "--time-column");
 
   LoadedSeries out;
   std::vector<std::vector<double>> channels;
   for (std::size_t k : cols) channels.push_back(table.columns[k - 1]);
   try {
-    if (in.time_column) {
+    if (time_column) {
       SamplingOptions so;
       so.resample = in.resample;
-      out.series = make_series_from_time(table.columns[*in.time_column - 1], std::move(channels), so, &out.warnings,
+      out.series = make_series_from_time(table.columns[*time_column - 1], std::move(channels), so, &out.warnings,
                                          in.time_unit);
     } else if (in.dt) {
       out.series = make_series_with_step(std::move(channels), *in.dt, in.time_unit);

@@ -11,9 +11,11 @@ namespace mlce::cli {
 
 struct SeriesInput {
   std::string file;
-  std::vector<std::size_t> columns;        ///< 1-based; empty: the file's only column
+  /// Column files: 1-based numbers or names from the file's header line; empty: the file's only
+  /// column (or, in a two-column file with a time column, the other one).
+  std::vector<std::string> columns;
   std::vector<std::string> channels;       ///< channel specs (node:, joint:, rel:, EXT:, col:)
-  std::optional<std::size_t> time_column;  ///< 1-based
+  std::optional<std::string> time_column;  ///< 1-based number or header name
   std::optional<double> dt;
   std::string time_unit = "s";
   bool resample = false;

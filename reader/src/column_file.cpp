@@ -111,6 +111,7 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
       const std::size_t kept = options.keep.empty() ? ncols : options.keep.size();
       t.columns.assign(kept, {});
       auto name = [&](std::size_t k) { return header.empty() ? "column " + std::to_string(k) : header[k - 1]; };
+      t.has_header = !header.empty();
       if (options.keep.empty())
         for (std::size_t k = 1; k <= ncols; ++k) t.names.push_back(name(k));
       else

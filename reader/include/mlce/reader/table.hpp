@@ -17,6 +17,7 @@ class ReadError : public std::runtime_error {
 struct Table {
   std::string source;                     ///< file name, for messages
   std::vector<std::string> names;         ///< one per column ("column 1", ... when the file has none)
+  bool has_header = false;                ///< names come from a header line of the file
   std::vector<std::vector<double>> columns;
   std::vector<std::size_t> line;          ///< 1-based file line of each row
   std::vector<std::string> warnings;
