@@ -146,8 +146,12 @@ TEST_F(Cli, ConstantSeries) {
 TEST_F(Cli, SeriesTooShortForTheParameters) {
   const auto f = series_file(mlce::reference::henon_x(60), 1.0);
   expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --dim 3 --delay 10 --horizon 40 --theiler 5"),
-                        "series too short: 60 samples");
-  expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --delay 20 --dim 3"), "series too short");
+                        "series.txt: series too short: 60 samples");
+  expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --delay 20 --dim 3"), "series.txt: series too short");
+  // A limit cycle over 1.5 of its cycles: no neighbour on another pass (eq. 20).
+  const auto v = series_file(mlce::reference::van_der_pol_x(10000, 0.001), 0.001);
+  expect_one_line_error(run("estimate " + v + " --column 2 --time-column 1"),
+                        "series.txt: series too short: 10000 samples span only 1.5");
 }
 
 TEST_F(Cli, AmbiguousColumnsAndBadOptions) {

@@ -150,18 +150,42 @@ TEST(EstimateSystems, VanDerPolLimitCycleIsZero) {
   }
 }
 
-TEST(EstimateSystems, RunOfOneAndAHalfCyclesIsFlaggedWithItsTrueLength) {
-  // van der Pol at dt = 0.001 over 10 time units: 1.5 of its 6.66-s cycles. The mean period is
-  // clamped to N/4 for the Theiler window; the warning counts the cycles with the spectrum's own
-  // mean period (it said "4 mean periods" from the clamped one).
-  const auto r = run(reference::van_der_pol_x(10000, 0.001), 0.001);
+TEST(EstimateSystems, LimitCycleRunOfLessThanTwoCyclesIsRefused) {
+  // van der Pol at dt = 0.001 over 10 time units: 1.5 of its 6.66-s cycles. No point has a
+  // neighbour on another pass of the cycle; with the Theiler window cut to N/4 the estimate read
+  // +0.43 1/s on a limit cycle (lambda = 0). Refused, naming the cycles counted with the spectrum's
+  // own mean period (not the clamped one, which would say 4).
+  try {
+    run(reference::van_der_pol_x(10000, 0.001), 0.001);
+    FAIL() << "a limit cycle over 1.5 cycles was estimated";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    ASSERT_NE(m.find("span only "), std::string::npos) << m;
+    const double spanned = std::stod(m.substr(m.find("span only ") + 10));
+    EXPECT_GT(spanned, 1.0) << m;
+    EXPECT_LT(spanned, 2.0) << m;
+    EXPECT_NE(m.find("another pass"), std::string::npos) << m;
+  }
+  // An explicit window is the user's decision: estimated, with the warning.
+  MlceOptions o;
+  o.theiler = 1000;
+  const auto r = estimate_mlce(make_series_with_step({reference::van_der_pol_x(10000, 0.001)}, 0.001), o);
+  EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(),
+                          [](const std::string& s) { return s.find("spans only") != std::string::npos; }));
+}
+
+TEST(EstimateSystems, LimitCycleRunOfTwoAndAHalfCyclesIsZeroAndFlaggedWithItsTrueLength) {
+  // dt = 0.0017: 2.6 cycles. The mean period is clamped to N/4 for the Theiler window; the warning
+  // counts the cycles with the spectrum's own mean period (it said "4 mean periods" from the clamped one).
+  const auto r = run(reference::van_der_pol_x(10000, 0.0017), 0.0017);
   EXPECT_TRUE(r.mean_period.clamped);
   const auto w = std::find_if(r.warnings.begin(), r.warnings.end(),
                               [](const std::string& s) { return s.find("spans only") != std::string::npos; });
   ASSERT_NE(w, r.warnings.end());
   const double spanned = std::stod(w->substr(w->find("spans only") + 11));
-  EXPECT_GT(spanned, 1.0) << *w;
-  EXPECT_LT(spanned, 2.0) << *w;
+  EXPECT_GT(spanned, 2.0) << *w;
+  EXPECT_LT(spanned, 3.0) << *w;
+  EXPECT_LT(std::abs(r.lambda), 0.01) << r.fit.rule;
 }
 
 TEST(EstimateSystems, RoesslerWithinTenPercent) {

@@ -160,7 +160,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
   o.progress = progress_printer(quiet);
 
   cli::LoadedSeries loaded = cli::load_series(in);
-  MlceResult r = estimate_mlce(loaded.series, o);
+  MlceResult r = cli::on_file(in, [&] { return estimate_mlce(loaded.series, o); });
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
   if (!curve_path.empty()) cli::write_file_atomically(curve_path, cli::curve_csv(r));
   if (!plot_path.empty()) cli::plot_curve_png(r, plot_path);
@@ -194,7 +194,7 @@ int cmd_ami(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
-  const AmiResult r = estimate_delay_ami(loaded.series, o);
+  const AmiResult r = cli::on_file(in, [&] { return estimate_delay_ami(loaded.series, o); });
   if (json) std::cout << cli::to_json(r).dump() << "\n";
   else std::cout << cli::to_text(r);
   print_warnings(loaded.warnings);
@@ -221,7 +221,7 @@ int cmd_fnn(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
-  const auto period = estimate_mean_period(loaded.series, {}).mean_period;
+  const auto period = cli::on_file(in, [&] { return estimate_mean_period(loaded.series, {}).mean_period; });
   o.theiler = auto_or_count(theiler, "theiler").value_or(period);
   std::size_t J = 0;
   if (auto given = auto_or_count(delay, "delay")) {
@@ -229,9 +229,9 @@ int cmd_fnn(const std::vector<std::string>& args) {
   } else {
     AmiOptions ao;
     ao.stop_at_minimum = true;
-    J = estimate_delay_ami(loaded.series, ao).delay;
+    J = cli::on_file(in, [&] { return estimate_delay_ami(loaded.series, ao).delay; });
   }
-  const FnnResult r = estimate_dimension_fnn(loaded.series, J, o);
+  const FnnResult r = cli::on_file(in, [&] { return estimate_dimension_fnn(loaded.series, J, o); });
   if (json) {
     auto j = cli::to_json(r);
     j["delay"] = J;

@@ -1,6 +1,7 @@
 #pragma once
 // Turns the command line's file and column options into a uniform mlce::Series.
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,5 +35,16 @@ reader::ChannelSet load_channels(const std::string& file, const std::vector<std:
 
 /// Throws std::runtime_error with a one-line message naming the file (and line) on bad input.
 LoadedSeries load_series(const SeriesInput& in);
+
+/// Runs an estimation stage on a series loaded from `in`: an InputError it raises about the data
+/// (too short for the parameters, too few mean periods, ...) becomes a data error naming the file.
+template <class Stage>
+auto on_file(const SeriesInput& in, Stage&& stage) -> decltype(stage()) {
+  try {
+    return stage();
+  } catch (const InputError& e) {
+    throw std::runtime_error(in.file + ": " + e.what());
+  }
+}
 
 }  // namespace mlce::cli

@@ -70,11 +70,30 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // clamped to N/4 would otherwise be said to span 4.
   const double f = r.mean_period.mean_frequency_per_sample;
   const double own_period = f > 0.0 ? 1.0 / f : static_cast<double>(period);
+  const double spanned = static_cast<double>(series.size()) / own_period;
   if (r.mean_period.clamped || series.size() < 20 * period) {
     char text[160];
     std::snprintf(text, sizeof text, "the series spans only %.3g mean periods (%.0f samples each)",
-                  static_cast<double>(series.size()) / own_period, std::ceil(own_period));
+                  spanned, std::ceil(own_period));
     r.warnings.push_back(std::string(text) + ": too few for a reliable exponent; analyse a longer run");
+  }
+  // Rosenstein's neighbours come from another pass of the orbit, more than a mean period away
+  // (eq. 20). A motion that persists (neither decays nor grows: its last third's RMS within a
+  // factor kPersistentAmplitude of its first third's) over less than two of its mean periods has no
+  // second pass: the automatic window would be cut below the period, and the "neighbours" are then
+  // points of the same pass (van der Pol over 1.5 cycles read +0.43 1/s on its limit cycle, over 1.8
+  // cycles -0.14). Refused rather than estimated. A decay or a growth is a spiral whose later turns
+  // are the neighbours, and is estimated (a strongly damped oscillator reaches its noise floor
+  // within 1.7 of its mean periods); an explicit window is the user's decision.
+  if (const double a = amplitude_ratio(series);
+      !options.theiler && spanned < kMinMeanPeriods && a > 1.0 / kPersistentAmplitude && a < kPersistentAmplitude) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
+                  "that persists; the nearest neighbours must come from another pass, more than a mean period away "
+                  "(eq. 20): at least %.0f samples needed (give --theiler N to override)",
+                  series.size(), spanned, std::ceil(own_period), std::ceil(kMinMeanPeriods * own_period));
+    throw InputError(text);
   }
   r.theiler = options.theiler.value_or(period);  // eq. 20 with T from eq. 19
 

@@ -186,6 +186,13 @@ double envelope_rate(const Series& s, std::size_t period) {
   return fit_line(centre.data(), log_rms.data(), centre.size()).slope;
 }
 
+double amplitude_ratio(const Series& s) {
+  const std::size_t w = s.size() / 3;
+  if (w == 0) return std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> sums = window_square_sums(s, w, 3, 0);
+  return sums[0] > 0.0 ? std::sqrt(sums[2] / sums[0]) : std::numeric_limits<double>::quiet_NaN();
+}
+
 Series skip_transient(const Series& series, TransientResult* result) {
   TransientOptions o;
   o.period = estimate_mean_period(series, {}).mean_period;

@@ -27,6 +27,12 @@ enum class PhaseAlignment { automatic, off, on };
 /// A series whose mean period is shorter than this many samples is treated as a map (or a flow
 /// sampled too coarsely to interpolate between samples): no phase alignment.
 inline constexpr std::size_t kMinFlowPeriod = 8;
+/// With an automatic Theiler window, a motion that persists (amplitude_ratio within
+/// [1/kPersistentAmplitude, kPersistentAmplitude]) must span at least this many of its own mean
+/// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
+/// another pass of the orbit, and estimate_mlce refuses it.
+inline constexpr double kMinMeanPeriods = 2.0;
+inline constexpr double kPersistentAmplitude = 2.0;
 
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum

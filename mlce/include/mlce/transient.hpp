@@ -65,6 +65,12 @@ std::size_t detect_floor(const Series& series, double floor_ratio);
 /// log 0). NaN when fewer than 4 windows with a positive RMS fit in the series.
 double envelope_rate(const Series& series, std::size_t period);
 
+/// RMS of the series' last third over that of its first third, both about the whole series' mean
+/// (channels summed, each divided by its peak |x|): ~1 for a motion that persists, far below 1 for a
+/// decay, above for a growth. Needs no period (envelope_rate needs 8 of them). NaN when the first
+/// third has zero RMS or the series has fewer than 3 samples.
+double amplitude_ratio(const Series& series);
+
 /// `--from auto`: the series from the end of its transient (detect_transient with the default
 /// options and the series' mean period); the rule applied is returned in `result` if given.
 Series skip_transient(const Series& series, TransientResult* result = nullptr);
