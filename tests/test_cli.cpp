@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "cli_harness.hpp"
@@ -43,6 +44,12 @@ TEST_F(Cli, EstimateJsonHasEveryField) {
   EXPECT_NEAR(j["lambda"].get<double>(), 0.419, 0.02);
   EXPECT_EQ(j["fit"].size(), 2u);
   EXPECT_EQ(j["n_points"].get<int>(), 5000);
+}
+
+TEST_F(Cli, VersionIsPrinted) {
+  const CliRun r = run("--version");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(std::regex_match(r.out, std::regex("mlce [0-9]+\\.[0-9]+\\.[0-9]+\n"))) << r.out;
 }
 
 TEST_F(Cli, OneColumnFileIsTheSeriesPerSample) {

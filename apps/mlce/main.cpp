@@ -50,7 +50,7 @@ const char* kUsage =
     "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
     "Channels (--channel, repeatable): node:L:x|y|z|r1..r9|vx..|wx.., joint:L:K, EXT:L:K (ine:11:2),\n"
     "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
-    "Run 'mlce <command> --help' for the options of a command.\n";
+    "Run 'mlce <command> --help' for the options of a command; 'mlce --version' prints the version.\n";
 
 /// "auto" -> nullopt, else a positive integer.
 std::optional<std::size_t> auto_or_count(const std::string& value, const char* option) {
@@ -366,6 +366,10 @@ int main(int argc, char** argv) {
     if (cmd == "eigen") return cli::cmd_eigen(args);
     if (cmd == "compare") return cli::cmd_compare(args);
     if (cmd == "sweep") return cli::cmd_sweep(args);
+    if (cmd == "--version" || cmd == "version") {
+      std::printf("mlce %s\n", MLCE_VERSION);
+      return 0;
+    }
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(kUsage, stdout);
       return 0;
