@@ -18,11 +18,13 @@
 //   build/finite_time_spread lengths
 // and, on more series (the automatic estimate and the own exponent):
 //  5. Lorenz x and Roessler x at N = 10^4 on 128 series: the starts drawn by mt19937 seeds 1..4,
-//     32 each, (x, y) uniform in [-3, 3], z in [0, 1], no offset; the series outside 10 % listed
+//     32 each, (x, y) uniform in [-3, 3], z in [0, 1], no offset; how often the estimate's 95 %
+//     interval holds lambda_1 (and the own exponent); the series outside 10 % listed
 //     with their own exponents, and the series whose fit the concave-growth rule started at the
 //     start-up's end.
 //   build/finite_time_spread starts
-// and section 3 on 256 series (seed 7), the Henon series outside 2 % listed with their own exponents:
+// and section 3 on 256 series (seed 7), with the intervals' coverage, the Henon series outside 2 %
+// listed with their own exponents:
 //   build/finite_time_spread maps
 #include <algorithm>
 #include <array>
@@ -104,6 +106,15 @@ struct Tally {
     own_err2 += (q - own) * (q - own);
     owns.push_back(own);
   }
+  /// With the estimate's 95 % interval [lo, hi] (also / lambda_1): is the interval honest? It should
+  /// hold lambda_1 on about 95 % of the series.
+  int intervals = 0, holds_known = 0, holds_own = 0;
+  double half_width_sum = 0;
+  void add(double q, double own, double ci_lo, double ci_hi) {
+    add(q, own);
+    ++intervals, holds_known += ci_lo <= 1 && 1 <= ci_hi, holds_own += ci_lo <= own && own <= ci_hi;
+    half_width_sum += (ci_hi - ci_lo) / 2;
+  }
   double correlation_with_own() const {
     const double n = static_cast<double>(values.size());
     double mq = 0, mo = 0;
@@ -120,6 +131,9 @@ struct Tally {
                 std::sqrt(err2 / n));
     if (owns.size() == values.size())
       std::printf(", rms from own %.3f, correlation with own %+.2f", std::sqrt(own_err2 / n), correlation_with_own());
+    if (intervals > 0)
+      std::printf("\n  %-30s 95 %% interval holds the known exponent on %d of %d (the own exponent on %d), mean half-width %.*f",
+                  "", holds_known, intervals, holds_own, digits, half_width_sum / intervals);
     std::printf("\n");
   }
 };
@@ -234,7 +248,7 @@ void starts_study(const System& sys) {
       const auto x = mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps);
       const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
       const double q = r.lambda / sys.lambda, o = own_exponent(sys, x0, n, substeps) / sys.lambda;
-      automatic.add(q, o);
+      automatic.add(q, o, r.ci95_low / sys.lambda, r.ci95_high / sys.lambda);
       if (r.fit.rule.find("concave growth") != std::string::npos) {
         char item[128];
         std::snprintf(item, sizeof item, " seed %u #%d: %.3f (fit %zu..%zu);", seed, k + 1, q, r.fit.first, r.fit.last);
@@ -271,11 +285,13 @@ void map_study(int series, unsigned seed) {
   for (int k = 0; k < series; ++k) {
     const double x = u(gen) - 0.5, y = 0.3 * (u(gen) - 0.5), z = u(gen);
     const auto h = mlce::reference::henon_x(n, x, y), l = mlce::reference::logistic(n, z);
-    const double qh = mlce::estimate_mlce(mlce::make_series_with_step({h}, 1.0), {}).lambda / kHenon;
+    const auto rh = mlce::estimate_mlce(mlce::make_series_with_step({h}, 1.0), {});
+    const auto rl = mlce::estimate_mlce(mlce::make_series_with_step({l}, 1.0), {});
+    const double qh = rh.lambda / kHenon;
     const double oh = mlce::reference::henon_own_exponent(n, x, y) / kHenon;
     const double ol = mlce::reference::logistic_own_exponent(l) / kLogistic;
-    henon.add(qh, oh), henon_own.add(oh, oh);
-    logistic.add(mlce::estimate_mlce(mlce::make_series_with_step({l}, 1.0), {}).lambda / kLogistic, ol);
+    henon.add(qh, oh, rh.ci95_low / kHenon, rh.ci95_high / kHenon), henon_own.add(oh, oh);
+    logistic.add(rl.lambda / kLogistic, ol, rl.ci95_low / kLogistic, rl.ci95_high / kLogistic);
     logistic_own.add(ol, ol);
     if (std::abs(qh - 1) > 0.02) {
       char item[64];
