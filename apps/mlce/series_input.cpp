@@ -80,8 +80,8 @@ LoadedSeries load_series(const SeriesInput& in_) {
   return apply_window(in, std::move(out));
 }
 
-/// A --column / --time-column value: a 1-based number, or a name from the file's header line.
-/// A header name that is itself a number is not reachable by name; its number always works.
+/// A --column / --time-column value: a 1-based number, or a name from the file's header line (a
+/// header has no numeric field, so the two never clash).
 std::size_t resolve_column(const reader::Table& table, const std::string& file, const std::string& given, const char* option) {
   using reader::ReadError;
   const std::size_t ncols = table.columns.size();
