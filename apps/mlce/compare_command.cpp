@@ -68,9 +68,11 @@ MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, cons
   p.to = window.to;
   p.window_rule = window.rule;
   in.file = file_a;
-  p.a = estimate_mlce(load_series(in).series, {});
+  const LoadedSeries a = load_series(in);
+  p.a = on_file(in, [&] { return estimate_mlce(a.series, {}); });
   in.file = file_b;
-  p.b = estimate_mlce(load_series(in).series, {});
+  const LoadedSeries b = load_series(in);
+  p.b = on_file(in, [&] { return estimate_mlce(b.series, {}); });
   return p;
 }
 
