@@ -268,4 +268,8 @@ TEST_F(MbdynCli, CompareAdHocWithMbdynBladeLagsAndHub) {
   expect_one_line_error(run("compare " + adhoc + " --channel rel:13:4:z"), "give two runs", 2);
   // A channel one of the runs cannot provide (ad-hoc sets have no .jnt): named, exit 1.
   expect_one_line_error(run("compare " + kIso + " " + adhoc + " --channel joint:33:14"), "adhoc.jnt: cannot open the file", 1);
+  // An MLCE window too short for an estimate (9.85..10 s): refused, naming the channel and the run
+  // (the estimator's message alone did not say which of the two runs it came from).
+  expect_one_line_error(run("compare " + kC3 + " " + kC3 + " --channel rel:13:4:z --mlce --from 9.85"),
+                        "rel:13:4:z: MLCE: " + kC3 + ": series too short", 1);
 }
