@@ -72,6 +72,16 @@ TEST(EstimateSystems, LorenzCanonicalSeries) {
 // stretch (bench/finite_time_spread "starts": the starts drawn by mt19937(2), 7th, and (4), 11th).
 // The piece of largest change was the flattest before the bend and read 0.800 and 0.715 lambda_1;
 // fitted from the start-up's end they read 0.939 and 0.934.
+TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {
+  // Lorenz y (another observable of the same attractor) from this start: the curve's start-up
+  // (0..68 steps, 2.7 lambda_1) is longer than the next piece, and the pieces after it were not all
+  // merged, so the start-up was fitted and read 2.74 lambda_1
+  // (mechanism: Fit.PiecesMergedIntoANeighbourWithinToleranceAreComparedWithTheOneBeforeToo).
+  const auto r = run(reference::lorenz(10000, 0.01, {2.6510216876562538, -0.72118025867994362, 0.52584013447027067}, 50.0, 1), 0.01);
+  EXPECT_NEAR(r.lambda, 0.9056, 0.10 * 0.9056) << r.fit.rule;
+  EXPECT_GT(r.fit.first, 60u) << r.fit.rule;
+}
+
 TEST(EstimateSystems, LorenzWhoseCurveHasNoStraightStretchIsFittedOverItsWholeGrowth) {
   for (const std::array<double, 3> x0 : {std::array<double, 3>{-1.9380922561792264, 2.817794446013373, 0.40596328000293758},
                                          std::array<double, 3>{2.2218388526624659, 2.0115402456432179, 0.47805584197784956}}) {

@@ -116,6 +116,7 @@ std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<
       pieces[k].b = pieces[k + 1].b;
       pieces[k].slope = fit_line(y.data(), pieces[k].a, pieces[k].b).slope;
       pieces.erase(pieces.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+      if (k > 0) --k;  // the merged piece has a new slope: compare it with its left neighbour again
     } else {
       ++k;
     }

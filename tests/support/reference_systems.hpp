@@ -40,12 +40,17 @@ std::vector<double> sample_flow(const F& f, std::array<double, N> x, double dt, 
 
 /// Lorenz sigma = 10, rho = 28, beta = 8/3; lambda_1 = 0.9056. From x0 after `transient` time units
 /// (from (1, 1, 1) the trajectory spirals out of the fixed point C- for its first ~12-15).
-inline std::vector<double> lorenz_x(std::size_t n, double dt = 0.01, std::array<double, 3> x0 = {1.0, 1.0, 1.0},
-                                    double transient = 50.0) {
+/// Component `component` (0 = x, 1 = y, 2 = z) of that flow.
+inline std::vector<double> lorenz(std::size_t n, double dt, std::array<double, 3> x0, double transient,
+                                  std::size_t component) {
   auto f = [](const std::array<double, 3>& s) {
     return std::array<double, 3>{10.0 * (s[1] - s[0]), s[0] * (28.0 - s[2]) - s[1], s[0] * s[1] - 8.0 / 3.0 * s[2]};
   };
-  return sample_flow<3>(f, x0, dt, n, transient, 10);
+  return sample_flow<3>(f, x0, dt, n, transient, 10, component);
+}
+inline std::vector<double> lorenz_x(std::size_t n, double dt = 0.01, std::array<double, 3> x0 = {1.0, 1.0, 1.0},
+                                    double transient = 50.0) {
+  return lorenz(n, dt, x0, transient, 0);
 }
 
 /// Roessler a = b = 0.2, c = 5.7; lambda_1 = 0.0714. Component `component` (0 = x, 2 = z) from x0
