@@ -96,6 +96,7 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
   EXPECT_THROW(time_window(s, 100.0, 200.0), InputError);
 }
 
+#include "mlce/estimate.hpp"  // kPersistentAmplitude
 #include "mlce/transient.hpp"
 
 namespace {
@@ -216,6 +217,39 @@ TEST(Envelope, RateOfADecayingOscillationIsItsExponent) {
     for (double& v : y) v *= scale;
     EXPECT_NEAR(envelope_rate(make_series_with_step({y}, dt), 100), -zeta * omega * dt, 0.01 * zeta * omega * dt);
   }
+}
+
+TEST(Envelope, AmplitudeRatioOfTheLastThirdToTheFirst) {
+  // Brute force: the RMS of the last third over that of the first, both about the whole series'
+  // mean, summed directly in long double (the library scales by the peak and sums in windows).
+  auto brute = [](const std::vector<double>& x) {
+    const std::size_t w = x.size() / 3;
+    long double mean = 0, first = 0, last = 0;
+    for (std::size_t i = 0; i < 3 * w; ++i) mean += x[i];
+    mean /= 3 * w;
+    for (std::size_t i = 0; i < w; ++i) first += (x[i] - mean) * (x[i] - mean);
+    for (std::size_t i = 2 * w; i < 3 * w; ++i) last += (x[i] - mean) * (x[i] - mean);
+    return static_cast<double>(std::sqrt(last / first));
+  };
+  // A decay of e^{-zeta omega 20 s} ~ 1.9e-3 from the first third to the last; its mean (~1e-3 of
+  // the start) weighs on the last third's tiny RMS.
+  const double dt = 0.01, zeta = 0.05, omega = 2 * M_PI;
+  const auto x = reference::damped_oscillator(3000, dt, zeta, omega);
+  for (double scale : {1.0, 1e-200, 1e200}) {
+    auto y = x;
+    for (double& v : y) v *= scale;
+    EXPECT_NEAR(amplitude_ratio(make_series_with_step({y}, dt)), brute(x), 1e-9 * brute(x)) << scale;
+  }
+  EXPECT_LT(amplitude_ratio(make_series_with_step({x}, dt)), 1.0 / kPersistentAmplitude);  // a decay, not refused
+  // Growth: the same decay reversed in time.
+  const std::vector<double> grow(x.rbegin(), x.rend());
+  EXPECT_NEAR(amplitude_ratio(make_series_with_step({grow}, dt)), brute(grow), 1e-9 * brute(grow));
+  EXPECT_GT(amplitude_ratio(make_series_with_step({grow}, dt)), kPersistentAmplitude);
+  // A steady sine about an offset, whole cycles per third: exactly 1.
+  std::vector<double> sine(3000);
+  for (std::size_t i = 0; i < sine.size(); ++i) sine[i] = 2.0 + std::sin(omega * dt * static_cast<double>(i));
+  EXPECT_NEAR(amplitude_ratio(make_series_with_step({sine}, dt)), 1.0, 1e-9);
+  EXPECT_TRUE(std::isnan(amplitude_ratio(make_series_with_step({std::vector<double>(300, 3.0)}, dt))));
 }
 
 TEST(Envelope, SteadyMotionHasRateZeroAndTooShortOrConstantIsNaN) {
