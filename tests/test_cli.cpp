@@ -86,6 +86,10 @@ TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
                         "named.csv: --column 'x': no such column; the header names t, henon, logistic");
   expect_one_line_error(run("estimate " + f + " --time-column time --column 2"),
                         "named.csv: --time-column 'time': no such column");
+  // `mlce channels` lists the names beside the col:K they stand for.
+  r = run("channels " + f);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("col:1    t\n  col:2    henon\n  col:3    logistic\n"), std::string::npos) << r.out;
   // Without a header a name cannot be resolved.
   const auto g = series_file(henon, 1.0);
   expect_one_line_error(run("estimate " + g + " --time-column 1 --column x"),

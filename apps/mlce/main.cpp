@@ -300,6 +300,11 @@ int cmd_channels(const std::vector<std::string>& args) {
   std::cout << fmt::format("{} ({})\n", inv.source, inv.format);
   if (!inv.columns.empty()) {
     std::cout << fmt::format("{} rows, {} columns (col:1 .. col:{})\n", inv.blocks, inv.columns.size(), inv.columns.size());
+    // Named by a header line: list the names, which --column / --time-column accept as well.
+    bool named = false;
+    for (std::size_t k = 0; k < inv.columns.size(); ++k) named = named || inv.columns[k] != fmt::format("column {}", k + 1);
+    for (std::size_t k = 0; named && k < inv.columns.size(); ++k)
+      std::cout << fmt::format("  col:{:<4} {}\n", k + 1, inv.columns[k]);
   } else {
     std::cout << fmt::format("{} output blocks, t = {:.6g} .. {:.6g}\n", inv.blocks, inv.t_first, inv.t_last);
     std::cout << "structural nodes (node:L:x|y|z|r1..|vx..|wx..; rel:A:B:AXIS):\n";
