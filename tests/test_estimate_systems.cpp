@@ -68,10 +68,6 @@ TEST(EstimateSystems, LorenzCanonicalSeries) {
   EXPECT_GT(r.r2, 0.98);
 }
 
-// Two Lorenz x series whose curves flatten from the start-up to the plateau with no straight
-// stretch (bench/finite_time_spread "starts": the starts drawn by mt19937(2), 7th, and (4), 11th).
-// The piece of largest change was the flattest before the bend and read 0.800 and 0.715 lambda_1;
-// fitted from the start-up's end they read 0.939 and 0.934.
 TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {
   // Lorenz y (another observable of the same attractor) from this start: the curve's start-up
   // (0..68 steps, 2.7 lambda_1) is longer than the next piece, and the pieces after it were not all
@@ -82,6 +78,10 @@ TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {
   EXPECT_GT(r.fit.first, 60u) << r.fit.rule;
 }
 
+// Two Lorenz x series whose curves flatten from the start-up to the plateau with no straight
+// stretch (bench/finite_time_spread "starts": the starts drawn by mt19937(2), 7th, and (4), 11th).
+// The piece of largest change was the flattest before the bend and read 0.800 and 0.715 lambda_1;
+// fitted from the start-up's end they read 0.939 and 0.934.
 TEST(EstimateSystems, LorenzWhoseCurveHasNoStraightStretchIsFittedOverItsWholeGrowth) {
   for (const std::array<double, 3> x0 : {std::array<double, 3>{-1.9380922561792264, 2.817794446013373, 0.40596328000293758},
                                          std::array<double, 3>{2.2218388526624659, 2.0115402456432179, 0.47805584197784956}}) {

@@ -221,17 +221,19 @@ int cmd_fnn(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
-  const auto period = cli::on_file(in, [&] { return estimate_mean_period(loaded.series, {}).mean_period; });
-  o.theiler = auto_or_count(theiler, "theiler").value_or(period);
+  const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");
   std::size_t J = 0;
-  if (auto given = auto_or_count(delay, "delay")) {
-    J = *given;
-  } else {
-    AmiOptions ao;
-    ao.stop_at_minimum = true;
-    J = cli::on_file(in, [&] { return estimate_delay_ami(loaded.series, ao).delay; });
-  }
-  const FnnResult r = cli::on_file(in, [&] { return estimate_dimension_fnn(loaded.series, J, o); });
+  const FnnResult r = cli::on_file(in, [&] {
+    o.theiler = given_theiler ? *given_theiler : estimate_mean_period(loaded.series, {}).mean_period;
+    if (given_delay) {
+      J = *given_delay;
+    } else {
+      AmiOptions ao;
+      ao.stop_at_minimum = true;
+      J = estimate_delay_ami(loaded.series, ao).delay;
+    }
+    return estimate_dimension_fnn(loaded.series, J, o);
+  });
   if (json) {
     auto j = cli::to_json(r);
     j["delay"] = J;

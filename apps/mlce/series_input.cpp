@@ -1,5 +1,7 @@
 #include "series_input.hpp"
 
+#include <charconv>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -85,10 +87,10 @@ LoadedSeries load_series(const SeriesInput& in_) {
 std::size_t resolve_column(const reader::Table& table, const std::string& file, const std::string& given, const char* option) {
   using reader::ReadError;
   const std::size_t ncols = table.columns.size();
-  const bool numeric = !given.empty() && given.find_first_not_of("0123456789") == std::string::npos;
-  if (numeric) {
-    const std::size_t number = given.size() > 9 ? ncols + 1 : std::stoul(given);
-    if (number == 0 || number > ncols)
+  std::size_t number = 0;
+  const auto [end, ec] = std::from_chars(given.data(), given.data() + given.size(), number);
+  if (end == given.data() + given.size() && !given.empty()) {  // all digits (an overflow reads as too large)
+    if (ec != std::errc() || number == 0 || number > ncols)
       throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s)", file, option, given, ncols));
     return number;
   }

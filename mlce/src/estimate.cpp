@@ -85,8 +85,11 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // cycles -0.14). Refused rather than estimated. A decay or a growth is a spiral whose later turns
   // are the neighbours, and is estimated (a strongly damped oscillator reaches its noise floor
   // within 1.7 of its mean periods); an explicit window is the user's decision.
-  if (const double a = amplitude_ratio(series);
-      !options.theiler && spanned < kMinMeanPeriods && a > 1.0 / kPersistentAmplitude && a < kPersistentAmplitude) {
+  const auto persists = [&] {
+    const double a = amplitude_ratio(series);
+    return a > 1.0 / kPersistentAmplitude && a < kPersistentAmplitude;
+  };
+  if (!options.theiler && spanned < kMinMeanPeriods && persists()) {
     char text[400];
     std::snprintf(text, sizeof text,
                   "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
