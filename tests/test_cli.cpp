@@ -125,6 +125,36 @@ TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
   EXPECT_EQ(j["fraction"].size(), 4u);
 }
 
+TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {
+  // A sine of period 100 samples: every pair one period apart coincides (the contours fall to 0
+  // there); the embedding is the estimator's (AMI delay, FNN dimension) unless given.
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2 * M_PI * static_cast<double>(i) / 100.0);
+  const auto f = series_file(x, 0.01);
+  const auto csv = dir / "stp.csv", png = dir / "stp.png";
+  CliRun r = run("stsp " + f + " --time-column 1 --column 2 --step 1 --fractions 0.5,0.05 --json --csv " +
+                 csv.string() + " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["mean_period"], 100);
+  EXPECT_EQ(j["separation"].size(), 400u);  // 4 mean periods, step 1
+  EXPECT_EQ(j["fractions"], nlohmann::json::parse("[0.05, 0.5]"));
+  EXPECT_LT(j["contours"]["0.5"][99].get<double>(), 1e-9);
+  EXPECT_NEAR(j["decorrelation_time"].get<double>(), 0.01 * j["decorrelation"].get<double>(), 1e-12);
+  for (const char* k : {"dim", "delay", "plateau", "pairs", "stationary", "warnings"}) EXPECT_TRUE(j.contains(k)) << k;
+  const std::string table = slurp(csv);
+  EXPECT_EQ(table.substr(0, table.find('\n')), "separation,time,contour_0.05,contour_0.5,pairs");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 401);
+  EXPECT_TRUE(fs::exists(png));
+  r = run("stsp " + f + " --time-column 1 --column 2 --dim 2 --delay 25 --max-separation 150");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("m = 2, delay = 25"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("# decorrelation = "), std::string::npos) << r.out;
+  expect_one_line_error(run("stsp " + f + " --time-column 1 --column 2 --fractions 0.5,2"), "--fractions '0.5,2'", 2);
+  expect_one_line_error(run("stsp " + f + " --time-column 1 --column 2 --max-separation 4950 --dim 1"),
+                        "series.txt: series too short: 5000 samples");
+}
+
 TEST_F(Cli, MissingFile) {
   expect_one_line_error(run("estimate " + (dir / "nope.txt").string()), "nope.txt: cannot open the file");
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/space_time.hpp"
 #include "mlce/models/scene.hpp"
 #include "mlce/models/simulate.hpp"
 #include "mlce/reader/format.hpp"
@@ -39,6 +40,7 @@ const char* kUsage =
     "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic\n"
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
+    "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
     "  spectrum SCENE  all Lyapunov exponents by the discrete QR method, with sensitivities\n"
     "  floquet SCENE   Floquet exponents of the model linearised about x = 0 (or an orbit)\n"
@@ -246,6 +248,93 @@ int cmd_fnn(const std::vector<std::string>& args) {
   return 0;
 }
 
+/// "0.01,0.1,0.5" -> fractions (validated by SpaceTimeOptions).
+std::vector<double> fraction_list(const std::string& text) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const auto value = cli::parse_finite(text.substr(start, comma - start));
+    if (!value || !(*value > 0.0 && *value < 1.0))
+      throw po::error("--fractions '" + text + "': expected comma-separated fractions in (0, 1)");
+    v.push_back(*value);
+    start = comma + 1;
+  }
+  return v;
+}
+
+int cmd_stsp(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  SpaceTimeOptions o;
+  std::string delay = "auto", dim = "auto", fractions, csv_path, plot_path;
+  bool json = false;
+  po::options_description d("mlce stsp FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("delay", po::value(&delay), "delay in samples, or auto (first AMI minimum, as estimate)")
+      ("dim", po::value(&dim), "embedding dimension, or auto (false nearest neighbours, as estimate)")
+      ("max-separation", po::value(&o.max_separation), "largest separation in samples (0 = 4 mean periods)")
+      ("step", po::value(&o.step), "spacing of the separations in samples (0 = about 200 rows)")
+      ("fractions", po::value(&fractions), "contour levels, comma-separated (default 0.01,0.1,0.5)")
+      ("pairs", po::value(&o.max_pairs), "pairs per separation, evenly strided (0 = all)")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("csv", po::value(&csv_path), "write the contours as CSV")
+      ("plot", po::value(&plot_path), "write the contours as PNG (gnuplot)");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  finish_series_options(vm, in);
+  if (!fractions.empty()) o.fractions = fraction_list(fractions);
+  const auto given_delay = auto_or_count(delay, "delay"), given_dim = auto_or_count(dim, "dim");
+  if (given_delay == 0u || given_dim == 0u) throw po::error("--delay and --dim: expected 'auto' or at least 1");
+  const auto loaded = cli::load_series(in);
+  const SpaceTimeResult r = cli::on_file(in, [&] {
+    // The estimator's embedding (estimate_mlce): AMI delay, then FNN with the mean-period Theiler window.
+    if (given_delay) {
+      o.delay = *given_delay;
+    } else {
+      AmiOptions ao;
+      ao.stop_at_minimum = true;
+      o.delay = estimate_delay_ami(loaded.series, ao).delay;
+    }
+    if (given_dim) {
+      o.dim = *given_dim;
+    } else {
+      FnnOptions fo;
+      fo.theiler = estimate_mean_period(loaded.series, {}).mean_period;
+      fo.stop_at_choice = true;
+      o.dim = estimate_dimension_fnn(loaded.series, o.delay, fo).dim;
+    }
+    return space_time_separation(loaded.series, o);
+  });
+  const double dt = loaded.series.dt;
+  const std::string& unit = loaded.series.time_unit;
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::space_time_csv(r, dt));
+  if (!plot_path.empty()) {
+    const std::string x_label = unit.empty() ? "separation (samples)" : "separation (" + unit + ")";
+    std::string data = x_label;
+    for (const double f : r.fractions) data += fmt::format(",{:g} of the pairs", f);
+    data += "\n";
+    for (std::size_t k = 0; k < r.separation.size(); ++k) {
+      data += fmt::format("{:.10g}", dt * static_cast<double>(r.separation[k]));
+      for (const auto& c : r.contour) data += fmt::format(",{:.10g}", c[k]);
+      data += "\n";
+    }
+    cli::plot_columns_png(data, "space-time separation: " + in.file, x_label, "distance (standard deviations)", plot_path,
+                          {{dt * static_cast<double>(r.mean_period), "mean period (Theiler window)"},
+                           {dt * static_cast<double>(r.decorrelation), "decorrelation"}});
+  }
+  if (json) {
+    auto j = cli::to_json(r, dt, unit);
+    j["file"] = in.file;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << cli::to_text(r, dt, unit);
+  }
+  print_warnings(loaded.warnings);
+  return 0;
+}
+
 int cmd_simulate(const std::vector<std::string>& args) {
   std::string out_prefix, format = "mbdyn";
   bool quiet = false;
@@ -365,6 +454,7 @@ int main(int argc, char** argv) {
     if (cmd == "estimate") return cmd_estimate(args);
     if (cmd == "ami") return cmd_ami(args);
     if (cmd == "fnn") return cmd_fnn(args);
+    if (cmd == "stsp") return cmd_stsp(args);
     if (cmd == "channels") return cmd_channels(args);
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "extract") return cmd_extract(args);

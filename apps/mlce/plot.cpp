@@ -51,15 +51,21 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
 }
 
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
-                      const std::string& ylabel, const std::string& png_path) {
+                      const std::string& ylabel, const std::string& png_path,
+                      const std::vector<std::pair<double, std::string>>& marks) {
   const std::string header = csv.substr(0, csv.find('\n'));
   const auto columns = static_cast<int>(std::count(header.begin(), header.end(), ',')) + 1;
+  std::string lines;
+  for (const auto& [x, label] : marks)
+    lines += fmt::format("set arrow from first {0:.10g}, graph 0 to first {0:.10g}, graph 1 nohead dashtype 2 lc 'gray40'\n"
+                         "set label '{1}' at first {0:.10g}, graph 0.97 offset 0.5,0 tc 'gray40'\n",
+                         x, label);
   render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
-        "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n"
+        "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n{}"
         "plot for [c=2:{}] '{}' using 1:c with lines lw 2\n",
-        png, xlabel, ylabel, title, columns, data);
+        png, xlabel, ylabel, title, lines, columns, data);
   });
 }
 

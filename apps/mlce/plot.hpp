@@ -1,6 +1,8 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "mlce/estimate.hpp"
 
@@ -16,6 +18,8 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path);
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path);
 
+/// `marks`: dashed vertical lines at x, each labelled.
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
-                      const std::string& ylabel, const std::string& png_path);
+                      const std::string& ylabel, const std::string& png_path,
+                      const std::vector<std::pair<double, std::string>>& marks = {});
 }  // namespace mlce::cli

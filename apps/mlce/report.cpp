@@ -130,6 +130,61 @@ std::string curve_csv(const MlceResult& r) {
   return s;
 }
 
+nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit) {
+  nlohmann::json contours = nlohmann::json::object();
+  for (std::size_t k = 0; k < r.fractions.size(); ++k) contours[fmt::format("{:g}", r.fractions[k])] = r.contour[k];
+  return {{"dim", r.dim},
+          {"delay", r.delay},
+          {"separation", r.separation},
+          {"time_unit", time_unit},
+          {"dt", dt},
+          {"fractions", r.fractions},
+          {"contours", contours},
+          {"distance_unit", "embedded Euclidean distance in units of each channel's standard deviation"},
+          {"pairs", r.pairs},
+          {"plateau", r.plateau},
+          {"decorrelation", r.decorrelation},
+          {"decorrelation_time", dt * static_cast<double>(r.decorrelation)},
+          {"decorrelation_level", r.decorrelation_level},
+          {"mean_period", r.mean_period},
+          {"amplitude_ratio", finite_or_null(r.amplitude_ratio)},
+          {"stationary", r.stationary},
+          {"warnings", r.warnings}};
+}
+
+std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit) {
+  const std::string unit = time_unit.empty() ? "samples" : time_unit;
+  std::string s = fmt::format(
+      "# space-time separation plot, m = {}, delay = {}: distance (standard deviations) below which a fraction of the "
+      "pairs of points D samples apart lie\n# D time",
+      r.dim, r.delay);
+  for (const double f : r.fractions) s += fmt::format(" {:g}", f);
+  s += " pairs\n";
+  for (std::size_t k = 0; k < r.separation.size(); ++k) {
+    s += fmt::format("{} {:.6g}", r.separation[k], dt * static_cast<double>(r.separation[k]));
+    for (const auto& c : r.contour) s += fmt::format(" {:.6g}", c[k]);
+    s += fmt::format(" {}\n", r.pairs[k]);
+  }
+  s += fmt::format("# decorrelation = {} samples ({:.6g} {}): the {:g} contour reaches {:g} x its plateau ({:.6g})\n",
+                   r.decorrelation, dt * static_cast<double>(r.decorrelation), unit, r.fractions.front(),
+                   r.decorrelation_level, r.plateau);
+  s += fmt::format("# mean period = {} samples (the automatic Theiler window)\n", r.mean_period);
+  for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
+  return s;
+}
+
+std::string space_time_csv(const SpaceTimeResult& r, double dt) {
+  std::string s = "separation,time";
+  for (const double f : r.fractions) s += fmt::format(",contour_{:g}", f);
+  s += ",pairs\n";
+  for (std::size_t k = 0; k < r.separation.size(); ++k) {
+    s += fmt::format("{},{:.10g}", r.separation[k], dt * static_cast<double>(r.separation[k]));
+    for (const auto& c : r.contour) s += fmt::format(",{:.10g}", c[k]);
+    s += fmt::format(",{}\n", r.pairs[k]);
+  }
+  return s;
+}
+
 void write_file_atomically(const std::string& path, const std::string& content) {
   namespace fs = std::filesystem;
   const fs::path target(path);

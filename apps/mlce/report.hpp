@@ -4,6 +4,7 @@
 #include <string>
 
 #include "mlce/estimate.hpp"
+#include "mlce/space_time.hpp"
 
 namespace mlce::cli {
 
@@ -15,6 +16,11 @@ std::string to_text(const AmiResult& r);
 std::string to_text(const FnnResult& r);
 /// step,time,mean_log_distance,terms,in_fit,fit_line
 std::string curve_csv(const MlceResult& r);
+/// Space-time separation plot; `dt` and `time_unit` convert separations to time.
+nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
+std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);
+/// separation,time,contour_<fraction>...,pairs
+std::string space_time_csv(const SpaceTimeResult& r, double dt);
 
 /// Writes `content` to `path` through a temporary file and a rename: no partial file is left
 /// behind on failure. Throws std::runtime_error naming the path.
