@@ -170,6 +170,12 @@ TEST(SpaceTime, FewerPairsAreEvenlyStridedAndAgreeWithAll) {
     EXPECT_EQ(r.pairs[k], 2000u);
     EXPECT_NEAR(r.contour[2][k], std::numbers::sqrt2 * normal_quantile(0.75), 0.06 * 0.954);
   }
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();  // 20 pairs below the 0.01 contour
+  o.max_pairs = 500;                                       // 5 below it: a quantile of nothing
+  const auto few = space_time_separation(s, o);
+  ASSERT_EQ(few.warnings.size(), 1u);
+  EXPECT_NE(few.warnings[0].find("the lowest contour (0.01) rests on 5 pair(s) of 500"), std::string::npos)
+      << few.warnings[0];
 }
 
 TEST(SpaceTime, DecayIsFlaggedAsNotStationaryInsteadOfAdvisingATheilerWindow) {
@@ -191,6 +197,11 @@ TEST(SpaceTime, BadOptionsAndShortSeriesAreRefusedWithTheirReason) {
   o = {};
   o.dim = 0;
   EXPECT_THROW(space_time_separation(s, o), mlce::OptionError);
+  o = {};
+  o.max_separation = 1;  // a plateau needs separations to compare
+  EXPECT_THROW(space_time_separation(s, o), mlce::OptionError);
+  std::vector<double> flat(500, 2.0);
+  EXPECT_THROW(space_time_separation(mlce::make_series_with_step({flat}, 1.0), {}), mlce::InputError);
   o = {};
   o.max_separation = 450;  // leaves 50 pairs at the largest separation: fewer than 100
   try {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <span>
 
 #include "mlce/embedding.hpp"
@@ -12,21 +13,17 @@
 
 namespace mlce {
 
-void SpaceTimeOptions::validate() const {
-  if (dim < 1) throw OptionError("space_time.dim = 0: expected >= 1");
-  if (delay < 1) throw OptionError("space_time.delay = 0: expected >= 1");
-  if (fractions.empty()) throw OptionError("space_time.fractions: expected at least one contour level");
-  for (const double f : fractions)
-    if (!(f > 0.0 && f < 1.0))
-      throw OptionError("space_time.fractions: " + std::to_string(f) + " is not a fraction in (0, 1)");
-  if (!(decorrelation_level > 0.0 && decorrelation_level < 1.0))
-    throw OptionError("space_time.decorrelation_level: expected a value in (0, 1)");
-}
-
 namespace {
 
 constexpr std::size_t kMinPairs = 100;    // fewest pairs at the largest separation: a 1 % contour needs 1 below it
 constexpr std::size_t kTargetRows = 200;  // separations plotted with the automatic step
+constexpr double kMinBelowLowest = 10;    // pairs below the lowest contour for a usable quantile
+
+std::string shortest(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
 
 /// Median of a copy (the plateau of the lowest contour).
 double median(std::vector<double> v) {
@@ -37,9 +34,22 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
+void SpaceTimeOptions::validate() const {
+  if (dim < 1) throw OptionError("space_time.dim = 0: expected >= 1");
+  if (delay < 1) throw OptionError("space_time.delay = 0: expected >= 1");
+  if (max_separation == 1) throw OptionError("space_time.max_separation = 1: expected 0 (automatic) or >= 2");
+  if (fractions.empty()) throw OptionError("space_time.fractions: expected at least one contour level");
+  for (const double f : fractions)
+    if (!(f > 0.0 && f < 1.0))
+      throw OptionError("space_time.fractions: " + shortest(f) + " is not a fraction in (0, 1)");
+  if (!(decorrelation_level > 0.0 && decorrelation_level < 1.0))
+    throw OptionError("space_time.decorrelation_level: expected a value in (0, 1)");
+}
+
 SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptions& options) {
   options.validate();
-  const Series s = standardized(series);  // validates: finite, non-constant channels
+  validate_series(series);  // finite, non-constant channels
+  const Series s = standardized(series);
   SpaceTimeResult r;
   r.dim = options.dim, r.delay = options.delay;
   r.fractions = options.fractions;
@@ -92,6 +102,13 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
     }
   }
 
+  const std::size_t fewest = *std::min_element(r.pairs.begin(), r.pairs.end());
+  const double below = r.fractions.front() * static_cast<double>(fewest);
+  if (below < kMinBelowLowest)
+    r.warnings.push_back("the lowest contour (" + shortest(r.fractions.front()) + ") rests on " +
+                         std::to_string(static_cast<std::size_t>(below)) + " pair(s) of " + std::to_string(fewest) +
+                         ": too few for a quantile; use more pairs per separation");
+
   // Decorrelation of the lowest contour (Provenzale et al.: the time after which the contours stop
   // rising, aside from oscillations).
   const auto& low = r.contour.front();
@@ -104,7 +121,7 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   r.amplitude_ratio = amplitude_ratio(series);
   r.stationary = r.amplitude_ratio >= 1.0 / kPersistentAmplitude && r.amplitude_ratio <= kPersistentAmplitude;
   if (!r.stationary)
-    r.warnings.push_back("the motion's RMS changes by a factor " + std::to_string(r.amplitude_ratio) +
+    r.warnings.push_back("the motion's RMS changes by a factor " + shortest(r.amplitude_ratio) +
                          " from the first third of the series to the last: the plot assumes a stationary motion, and "
                          "its contours here follow the amplitude, not the correlation in time");
   else if (r.decorrelation > r.mean_period)
