@@ -134,7 +134,7 @@ TEST(SpaceTime, ContoursAreTheOrderStatisticsOfEveryPairByBruteForce) {
   const auto x = mlce::reference::lorenz_x(3000, 0.01);
   SpaceTimeOptions o;
   o.dim = 3, o.delay = 10, o.max_separation = 300, o.step = 7, o.max_pairs = 0;
-  o.fractions = {0.5, 0.02, 0.2};  // unsorted on purpose: the result lists them ascending
+  o.fractions = {0.5, 0.02, 0.2, 0.5};  // unsorted and repeated on purpose: the result lists them ascending, once
   const auto r = space_time_separation(mlce::make_series_with_step({x}, 0.01), o);
   ASSERT_EQ(r.fractions, (std::vector<double>{0.02, 0.2, 0.5}));
   long double mean = 0, var = 0;

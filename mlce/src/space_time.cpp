@@ -55,6 +55,7 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   r.fractions = options.fractions;
   r.decorrelation_level = options.decorrelation_level;
   std::sort(r.fractions.begin(), r.fractions.end());
+  r.fractions.erase(std::unique(r.fractions.begin(), r.fractions.end()), r.fractions.end());
   r.mean_period = estimate_mean_period(series, {}).mean_period;
 
   const std::size_t n = series.size();

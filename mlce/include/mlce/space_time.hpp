@@ -41,7 +41,7 @@ struct SpaceTimeOptions {
 
 struct SpaceTimeResult {
   std::vector<std::size_t> separation;  ///< D, samples
-  std::vector<double> fractions;        ///< contour levels, ascending
+  std::vector<double> fractions;        ///< contour levels, ascending, each once
   /// contour[k][s]: distance (Euclidean, embedded, in units of each channel's standard deviation,
   /// as the divergence curve) below which fractions[k] of the pairs separation[s] apart lie. The
   /// order statistic at rank floor(fraction x (pairs - 1)) (no interpolation).
