@@ -185,6 +185,14 @@ TEST(SpaceTime, DecayIsFlaggedAsNotStationaryInsteadOfAdvisingATheilerWindow) {
   EXPECT_LT(r.amplitude_ratio, 0.5);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find("stationary"), std::string::npos) << r.warnings[0];
+  // At rest for its first third, then moving (a growth): flagged the same way.
+  std::vector<double> late(3000, 0.0);
+  for (std::size_t i = 1000; i < late.size(); ++i) late[i] = std::sin(0.1 * static_cast<double>(i));
+  const auto starts = space_time_separation(mlce::make_series_with_step({late}, 0.01), {});
+  EXPECT_FALSE(starts.stationary);
+  EXPECT_GT(starts.amplitude_ratio, 2.0);
+  ASSERT_FALSE(starts.warnings.empty());
+  EXPECT_NE(starts.warnings.back().find("assumes a stationary motion"), std::string::npos) << starts.warnings.back();
 }
 
 TEST(SpaceTime, BadOptionsAndShortSeriesAreRefusedWithTheirReason) {

@@ -122,9 +122,12 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   r.amplitude_ratio = amplitude_ratio(series);
   r.stationary = r.amplitude_ratio >= 1.0 / kPersistentAmplitude && r.amplitude_ratio <= kPersistentAmplitude;
   if (!r.stationary)
-    r.warnings.push_back("the motion's RMS changes by a factor " + shortest(r.amplitude_ratio) +
-                         " from the first third of the series to the last: the plot assumes a stationary motion, and "
-                         "its contours here follow the amplitude, not the correlation in time");
+    r.warnings.push_back((std::isnan(r.amplitude_ratio)
+                              ? std::string("the series rests in its first third and moves later")
+                              : "the motion's RMS changes by a factor " + shortest(r.amplitude_ratio) +
+                                    " from the first third of the series to the last") +
+                         ": the plot assumes a stationary motion, and its contours here follow the amplitude, not the "
+                         "correlation in time");
   else if (r.decorrelation > r.mean_period)
     r.warnings.push_back("pairs of points stay closer than unrelated ones up to a separation of " +
                          std::to_string(r.decorrelation) + " samples, beyond the mean period (" +
