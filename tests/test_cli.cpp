@@ -155,6 +155,31 @@ TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {
                         "series.txt: series too short: 5000 samples");
 }
 
+TEST_F(Cli, ConvergenceTableInEveryForm) {
+  // A damped oscillator (lambda = -zeta w = -0.314159 1/s exactly): settled from the first quarter.
+  const auto f = series_file(mlce::reference::damped_oscillator(4000, 0.01, 0.05, 2 * M_PI), 0.01);
+  const auto csv = dir / "conv.csv", png = dir / "conv.png";
+  CliRun r = run("convergence " + f + " --time-column 1 --column 2 --parts 4 --json --quiet --csv " + csv.string() +
+                 " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["points"].size(), 4u);
+  EXPECT_EQ(j["points"][0]["samples"], 1000);
+  for (const auto& p : j["points"]) EXPECT_NEAR(p["lambda"].get<double>(), -0.1 * M_PI, 0.003) << p;
+  EXPECT_TRUE(j["converged"].get<bool>());
+  EXPECT_EQ(j["lambda_unit"], "1/s");
+  const std::string table = slurp(csv);
+  EXPECT_EQ(table.substr(0, table.find('\n')), "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings");
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
+  EXPECT_TRUE(fs::exists(png));
+  r = run("convergence " + f + " --time-column 1 --column 2 --parts 2 --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("settled: every part"), std::string::npos) << r.out;
+  expect_one_line_error(run("convergence " + f + " --time-column 1 --column 2 --parts 1"), "convergence.parts = 1", 2);
+  const auto tiny = series_file(mlce::reference::henon_x(12), 1.0);
+  expect_one_line_error(run("convergence " + tiny + " --time-column 1 --column 2"), "series.txt: AMI needs at least 16 samples");
+}
+
 TEST_F(Cli, MissingFile) {
   expect_one_line_error(run("estimate " + (dir / "nope.txt").string()), "nope.txt: cannot open the file");
 }

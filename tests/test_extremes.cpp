@@ -23,16 +23,7 @@ using namespace mlce;
 namespace {
 
 MlceResult estimate(const std::vector<double>& x, double dt) { return estimate_mlce(make_series_with_step({x}, dt), {}); }
-
-/// x'' + 2 zeta w x' + w^2 x = 0 from x = 1, plus white noise of standard deviation `noise`: the
-/// decay reaches the floor after ln(1/noise) / (zeta w) time units.
-std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, double w, double noise) {
-  auto x = reference::damped_oscillator(n, dt, zeta, w);
-  std::mt19937_64 rng(7);
-  std::normal_distribution<double> g(0.0, noise);
-  for (double& v : x) v += g(rng);
-  return x;
-}
+using reference::noisy_decay;
 
 }  // namespace
 

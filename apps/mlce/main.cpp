@@ -13,6 +13,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/space_time.hpp"
+#include "mlce/convergence.hpp"
 #include "mlce/models/scene.hpp"
 #include "mlce/models/simulate.hpp"
 #include "mlce/reader/format.hpp"
@@ -41,6 +42,7 @@ const char* kUsage =
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
     "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
+    "  convergence FILE  MLCE of the run's leading parts: has the estimate settled, is the run long enough?\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
     "  spectrum SCENE  all Lyapunov exponents by the discrete QR method, with sensitivities\n"
     "  floquet SCENE   Floquet exponents of the model linearised about x = 0 (or an orbit)\n"
@@ -335,6 +337,54 @@ int cmd_stsp(const std::vector<std::string>& args) {
   return 0;
 }
 
+int cmd_convergence(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  ConvergenceOptions o;
+  std::string delay = "auto", dim = "auto", theiler = "auto", csv_path, plot_path;
+  bool json = false, quiet = false;
+  po::options_description d("mlce convergence FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("parts", po::value(&o.parts), "estimate the first k/parts of the run, k = 1..parts (default 8)")
+      ("delay", po::value(&delay), "delay in samples for every part, or auto (re-estimated per part)")
+      ("dim", po::value(&dim), "embedding dimension for every part, or auto")
+      ("theiler", po::value(&theiler), "Theiler window for every part, or auto (each part's mean period)")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("csv", po::value(&csv_path), "write the table as CSV")
+      ("plot", po::value(&plot_path), "write lambda and its interval against the run length as PNG (gnuplot)")
+      ("quiet", po::bool_switch(&quiet), "no progress messages");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  finish_series_options(vm, in);
+  o.estimate.delay = auto_or_count(delay, "delay");
+  o.estimate.dim = auto_or_count(dim, "dim");
+  o.estimate.theiler = auto_or_count(theiler, "theiler");
+  o.estimate.progress = progress_printer(quiet);
+  const auto loaded = cli::load_series(in);
+  ConvergenceResult r = cli::on_file(in, [&] { return estimate_convergence(loaded.series, o); });
+  r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  const std::string unit = loaded.series.time_unit.empty() ? "1/sample" : "1/" + loaded.series.time_unit;
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::convergence_csv(r));
+  if (!plot_path.empty()) {
+    const std::string x_label =
+        loaded.series.time_unit.empty() ? "end of the part (sample)" : "end of the part (" + loaded.series.time_unit + ")";
+    std::string data = x_label + ",lambda,95 % interval low,95 % interval high\n";
+    for (const auto& p : r.points)
+      if (p.estimated) data += fmt::format("{:.10g},{:.10g},{:.10g},{:.10g}\n", p.t_end, p.lambda, p.ci95_low, p.ci95_high);
+    cli::plot_columns_png(data, "MLCE of the leading parts: " + in.file, x_label, "lambda (" + unit + ")", plot_path,
+                          {{loaded.series.time(loaded.series.size() / 2), "half the run"}});
+  }
+  if (json) {
+    auto j = cli::to_json(r, unit);
+    j["file"] = in.file;
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << "file " << in.file << "\n" << cli::to_text(r, unit);
+  }
+  return 0;
+}
+
 int cmd_simulate(const std::vector<std::string>& args) {
   std::string out_prefix, format = "mbdyn";
   bool quiet = false;
@@ -455,6 +505,7 @@ int main(int argc, char** argv) {
     if (cmd == "ami") return cmd_ami(args);
     if (cmd == "fnn") return cmd_fnn(args);
     if (cmd == "stsp") return cmd_stsp(args);
+    if (cmd == "convergence") return cmd_convergence(args);
     if (cmd == "channels") return cmd_channels(args);
     if (cmd == "simulate") return cmd_simulate(args);
     if (cmd == "extract") return cmd_extract(args);

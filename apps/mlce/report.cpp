@@ -185,6 +185,58 @@ std::string space_time_csv(const SpaceTimeResult& r, double dt) {
   return s;
 }
 
+nlohmann::json to_json(const ConvergenceResult& r, const std::string& unit) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const auto& p : r.points) {
+    nlohmann::json j{{"samples", p.samples}, {"t_end", p.t_end}, {"estimated", p.estimated}};
+    if (p.estimated) {
+      j["lambda"] = finite_or_null(p.lambda);
+      j["ci95"] = {finite_or_null(p.ci95_low), finite_or_null(p.ci95_high)};
+      j["delay"] = p.delay, j["dim"] = p.dim, j["theiler"] = p.theiler, j["warnings"] = p.warnings;
+    } else {
+      j["error"] = p.error;
+    }
+    points.push_back(j);
+  }
+  return {{"points", points},
+          {"lambda_unit", unit},
+          {"converged", r.converged},
+          {"tolerance_floor", r.tolerance_floor},
+          {"warnings", r.warnings}};
+}
+
+std::string to_text(const ConvergenceResult& r, const std::string& unit) {
+  std::string s = fmt::format("# MLCE of the run's leading parts (lambda in {}, natural log)\n"
+                              "# samples t_end lambda ci95_low ci95_high delay dim theiler warnings\n",
+                              unit);
+  for (const auto& p : r.points) {
+    if (p.estimated)
+      s += fmt::format("{} {:.6g} {:.6g} {:.6g} {:.6g} {} {} {} {}\n", p.samples, p.t_end, p.lambda, p.ci95_low,
+                       p.ci95_high, p.delay, p.dim, p.theiler, p.warnings);
+    else
+      s += fmt::format("# {} samples (to {:.6g}): not estimated: {}\n", p.samples, p.t_end, p.error);
+  }
+  if (r.converged)
+    s += fmt::format("settled: every part of at least half the run is within the larger 95 % half-width, or {:.3g} {}, "
+                     "of the whole run's lambda\n",
+                     r.tolerance_floor, unit);
+  else
+    s += "NOT settled (see the last warning)\n";
+  for (const auto& w : r.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+std::string convergence_csv(const ConvergenceResult& r) {
+  std::string s = "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings\n";
+  for (const auto& p : r.points) {
+    s += fmt::format("{},{:.10g}", p.samples, p.t_end);
+    s += p.estimated ? fmt::format(",{:.10g},{:.10g},{:.10g},{},{},{},{}\n", p.lambda, p.ci95_low, p.ci95_high, p.delay,
+                                   p.dim, p.theiler, p.warnings)
+                     : std::string(",,,,,,,\n");
+  }
+  return s;
+}
+
 void write_file_atomically(const std::string& path, const std::string& content) {
   namespace fs = std::filesystem;
   const fs::path target(path);

@@ -5,6 +5,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/space_time.hpp"
+#include "mlce/convergence.hpp"
 
 namespace mlce::cli {
 
@@ -19,6 +20,12 @@ std::string curve_csv(const MlceResult& r);
 /// Space-time separation plot; `dt` and `time_unit` convert separations to time.
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
 std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);
+/// MLCE of the run's leading parts; `unit` is the rate unit ("1/s" or "1/sample").
+nlohmann::json to_json(const ConvergenceResult& r, const std::string& unit);
+std::string to_text(const ConvergenceResult& r, const std::string& unit);
+/// samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings (empty estimate fields for a part
+/// that could not be estimated)
+std::string convergence_csv(const ConvergenceResult& r);
 /// separation,time,contour_<fraction>...,pairs
 std::string space_time_csv(const SpaceTimeResult& r, double dt);
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <random>
 #include <vector>
 
 namespace mlce::reference {
@@ -82,6 +83,16 @@ inline std::vector<double> damped_oscillator(std::size_t n, double dt, double ze
     out[i] = std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
   }
   return out;
+}
+
+/// The damped oscillator plus white noise of standard deviation `noise` (mt19937_64 seed 7): the
+/// decay reaches the noise floor after ln(1/noise) / (zeta omega) time units (paper 001 Fig. 6).
+inline std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, double omega, double noise) {
+  auto x = damped_oscillator(n, dt, zeta, omega);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, noise);
+  for (double& v : x) v += g(rng);
+  return x;
 }
 
 /// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration. From (x0, y0) after 1000 iterations.
