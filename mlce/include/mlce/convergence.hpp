@@ -22,8 +22,8 @@ struct ConvergenceOptions {
   /// (A part shares its samples with the run: their difference scatters less than either; the
   /// sum of the half-widths would pass the drift of paper 001 Fig. 6, whose intervals are wide.)
   /// The batch-means intervals hold the curve's noise, not the fit region's choice, so a part may
-  /// differ by a few % where the intervals are narrow (Lorenz x at N = 10^5: 0.916 over the first
-  /// half, 0.897 over all): 5 % is settled. The last term is the resolution of lambda ~ 0: an
+  /// differ by a few % where the intervals are narrow (Lorenz x at N = 10^5 from (1, 1, 1): 0.925
+  /// +- 0.020 over the first half, 0.894 +- 0.013 over all): 5 % is settled. The last term is the resolution of lambda ~ 0: an
   /// amplitude change of 1 % per cycle.
   double relative_tolerance = 0.05;
   double frequency_tolerance = 0.01;
