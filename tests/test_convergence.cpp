@@ -73,6 +73,8 @@ TEST(Convergence, BadOptionsAndAWholeRunTooShortAreErrors) {
   ConvergenceOptions o;
   o.parts = 1;
   EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);
+  o.parts = 2001;  // more parts than samples
+  EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);
   o = {};
   o.relative_tolerance = -1;
   EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);

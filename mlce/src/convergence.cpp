@@ -35,6 +35,9 @@ ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end
 ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOptions& options) {
   options.validate();
   const std::size_t n = series.size();
+  if (options.parts > n)
+    throw OptionError("convergence.parts = " + std::to_string(options.parts) + ": more parts than the series has samples (" +
+                      std::to_string(n) + ")");
   ConvergenceResult result;
   MlceOptions quiet = options.estimate;
   quiet.progress = nullptr;  // one progress line per part, not per stage
