@@ -75,11 +75,12 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
     const double tolerance = std::max({0.5 * (p.ci95_high - p.ci95_low), half_width, result.tolerance_floor});
     if (std::abs(p.lambda - whole.lambda) > tolerance) {
       result.converged = false;
-      char text[400];
+      char text[512];
       std::snprintf(text, sizeof text,
                     "lambda still moves with the run length: %.6g over the first %zu samples (to t = %.6g) against %.6g "
-                    "over all %zu, beyond the larger of their 95 %% half-widths and %.3g: not a settled estimate (paper 001 Fig. 6: a "
-                    "curve that runs into a noise floor drifts with the run; a motion still developing needs a longer run)",
+                    "over all %zu, beyond the larger of their 95 %% half-widths and %.3g: the estimate still depends on how much of the "
+                    "run is analysed (paper 001 Fig. 6). A motion still developing needs a longer run, a decay into a "
+                    "noise floor the floor cut (the default); a limit cycle's 0 is resolved only to the spread of the parts",
                     p.lambda, p.samples, p.t_end, whole.lambda, n, result.tolerance_floor);
       result.warnings.push_back(text);
       break;
