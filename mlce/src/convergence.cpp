@@ -41,17 +41,16 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
   ConvergenceResult result;
   MlceOptions quiet = options.estimate;
   quiet.progress = nullptr;  // one progress line per part, not per stage
-  const auto report = [&](std::size_t k) {
+  const auto report = [&](const std::string& stage, std::size_t done) {
     if (options.estimate.progress)
-      options.estimate.progress("part " + std::to_string(k) + " of " + std::to_string(options.parts),
-                                static_cast<double>(k - 1) / static_cast<double>(options.parts));
+      options.estimate.progress(stage, static_cast<double>(done) / static_cast<double>(options.parts));
   };
   // The whole run first: its errors are the caller's, and it is the reference of the verdict.
-  report(options.parts);
+  report("the whole run", 0);
   const MlceResult whole = estimate_mlce(series, quiet);
   result.warnings = whole.warnings;
   for (std::size_t k = 1; k < options.parts; ++k) {
-    report(k);
+    report("part " + std::to_string(k) + " of " + std::to_string(options.parts), k);
     const std::size_t samples = n * k / options.parts;
     const double t_end = series.time(samples > 0 ? samples - 1 : 0);
     try {
