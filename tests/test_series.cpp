@@ -96,7 +96,6 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
   EXPECT_THROW(time_window(s, 100.0, 200.0), InputError);
 }
 
-#include "mlce/estimate.hpp"  // kPersistentAmplitude
 #include "mlce/transient.hpp"
 
 namespace {

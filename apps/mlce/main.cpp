@@ -229,13 +229,9 @@ int cmd_fnn(const std::vector<std::string>& args) {
   std::size_t J = 0;
   const FnnResult r = cli::on_file(in, [&] {
     o.theiler = given_theiler ? *given_theiler : estimate_mean_period(loaded.series, {}).mean_period;
-    if (given_delay) {
-      J = *given_delay;
-    } else {
-      AmiOptions ao;
-      ao.stop_at_minimum = true;
-      J = estimate_delay_ami(loaded.series, ao).delay;
-    }
+    MlceOptions delay_only;  // the estimator's delay rule; the dimension is what this command shows
+    delay_only.delay = given_delay, delay_only.dim = 1;
+    J = choose_embedding(loaded.series, delay_only, o.theiler).delay;
     return estimate_dimension_fnn(loaded.series, J, o);
   });
   if (json) {
@@ -291,22 +287,12 @@ int cmd_stsp(const std::vector<std::string>& args) {
   if (given_delay == 0u || given_dim == 0u) throw po::error("--delay and --dim: expected 'auto' or at least 1");
   const auto loaded = cli::load_series(in);
   const SpaceTimeResult r = cli::on_file(in, [&] {
-    // The estimator's embedding (estimate_mlce): AMI delay, then FNN with the mean-period Theiler window.
-    if (given_delay) {
-      o.delay = *given_delay;
-    } else {
-      AmiOptions ao;
-      ao.stop_at_minimum = true;
-      o.delay = estimate_delay_ami(loaded.series, ao).delay;
-    }
-    if (given_dim) {
-      o.dim = *given_dim;
-    } else {
-      FnnOptions fo;
-      fo.theiler = estimate_mean_period(loaded.series, {}).mean_period;
-      fo.stop_at_choice = true;
-      o.dim = estimate_dimension_fnn(loaded.series, o.delay, fo).dim;
-    }
+    // The estimator's embedding: AMI delay, then FNN with the mean-period Theiler window.
+    MlceOptions eo;
+    eo.delay = given_delay, eo.dim = given_dim;
+    o.mean_period = estimate_mean_period(loaded.series, {}).mean_period;
+    const Embedding e = choose_embedding(loaded.series, eo, o.mean_period);
+    o.delay = e.delay, o.dim = e.dim;
     return space_time_separation(loaded.series, o);
   });
   const double dt = loaded.series.dt;

@@ -16,8 +16,9 @@ namespace {
 
 /// The first `samples` samples of every channel.
 Series leading_part(const Series& series, std::size_t samples) {
-  Series part = series;
-  for (auto& c : part.channels) c.resize(samples);
+  Series part;
+  part.dt = series.dt, part.t0 = series.t0, part.time_unit = series.time_unit, part.names = series.names;
+  for (const auto& c : series.channels) part.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(samples));
   return part;
 }
 

@@ -22,6 +22,31 @@ void append(std::vector<std::string>& to, const std::vector<std::string>& from) 
 
 }  // namespace
 
+Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period) {
+  Embedding e;
+  e.theiler = options.theiler.value_or(mean_period);  // eq. 20 with T from eq. 19
+  if (options.delay) {
+    e.delay = *options.delay;
+  } else {
+    report(options, "AMI delay", 0.0);
+    AmiOptions ao = options.ami;
+    ao.stop_at_minimum = true;
+    e.ami = estimate_delay_ami(series, ao);
+    e.delay = e.ami->delay;
+  }
+  if (options.dim) {
+    e.dim = *options.dim;
+  } else {
+    report(options, "FNN dimension", 0.0);
+    FnnOptions fo = options.fnn;
+    fo.stop_at_choice = true;
+    if (fo.theiler == 0) fo.theiler = e.theiler;
+    e.fnn = estimate_dimension_fnn(series, e.delay, fo);
+    e.dim = e.fnn->dim;
+  }
+  return e;
+}
+
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   validate_series(raw);
   if (!(options.dither >= 0.0) || !std::isfinite(options.dither)) throw OptionError("dither: expected a finite width >= 0");
@@ -85,11 +110,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // cycles -0.14). Refused rather than estimated. A decay or a growth is a spiral whose later turns
   // are the neighbours, and is estimated (a strongly damped oscillator reaches its noise floor
   // within 1.7 of its mean periods); an explicit window is the user's decision.
-  const auto persists = [&] {
-    const double a = amplitude_ratio(series);
-    return a > 1.0 / kPersistentAmplitude && a < kPersistentAmplitude;
-  };
-  if (!options.theiler && spanned < kMinMeanPeriods && persists()) {
+  if (!options.theiler && spanned < kMinMeanPeriods && persists(amplitude_ratio(series))) {
     char text[400];
     std::snprintf(text, sizeof text,
                   "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
@@ -98,29 +119,11 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                   series.size(), spanned, std::ceil(own_period), std::ceil(kMinMeanPeriods * own_period));
     throw InputError(text);
   }
-  r.theiler = options.theiler.value_or(period);  // eq. 20 with T from eq. 19
-
-  if (options.delay) {
-    r.delay = *options.delay;
-  } else {
-    report(options, "AMI delay", 0.0);
-    AmiOptions ao = options.ami;
-    ao.stop_at_minimum = true;
-    r.ami = estimate_delay_ami(series, ao);
-    r.delay = r.ami->delay;
-    append(r.warnings, r.ami->warnings);
-  }
-  if (options.dim) {
-    r.dim = *options.dim;
-  } else {
-    report(options, "FNN dimension", 0.0);
-    FnnOptions fo = options.fnn;
-    fo.stop_at_choice = true;
-    if (fo.theiler == 0) fo.theiler = r.theiler;
-    r.fnn = estimate_dimension_fnn(series, r.delay, fo);
-    r.dim = r.fnn->dim;
-    append(r.warnings, r.fnn->warnings);
-  }
+  Embedding e = choose_embedding(series, options, period);
+  r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
+  r.ami = std::move(e.ami), r.fnn = std::move(e.fnn);
+  if (r.ami) append(r.warnings, r.ami->warnings);
+  if (r.fnn) append(r.warnings, r.fnn->warnings);
 
   RosensteinOptions ro;
   ro.dim = r.dim;

@@ -6,7 +6,6 @@
 #include <span>
 
 #include "mlce/embedding.hpp"
-#include "mlce/estimate.hpp"  // kPersistentAmplitude
 #include "mlce/mean_period.hpp"
 #include "mlce/neighbours.hpp"
 #include "mlce/transient.hpp"
@@ -56,7 +55,7 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   r.decorrelation_level = options.decorrelation_level;
   std::sort(r.fractions.begin(), r.fractions.end());
   r.fractions.erase(std::unique(r.fractions.begin(), r.fractions.end()), r.fractions.end());
-  r.mean_period = estimate_mean_period(series, {}).mean_period;
+  r.mean_period = options.mean_period > 0 ? options.mean_period : estimate_mean_period(series, {}).mean_period;
 
   const std::size_t n = series.size();
   const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
@@ -120,7 +119,7 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   // The plot describes a stationary motion (an attractor); a decay or growth makes points far
   // apart in time differ by their amplitudes, and its contours follow the envelope.
   r.amplitude_ratio = amplitude_ratio(series);
-  r.stationary = r.amplitude_ratio >= 1.0 / kPersistentAmplitude && r.amplitude_ratio <= kPersistentAmplitude;
+  r.stationary = persists(r.amplitude_ratio);
   if (!r.stationary)
     r.warnings.push_back((std::isnan(r.amplitude_ratio)
                               ? std::string("the series rests in its first third and moves later")

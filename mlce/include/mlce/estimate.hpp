@@ -27,12 +27,10 @@ enum class PhaseAlignment { automatic, off, on };
 /// A series whose mean period is shorter than this many samples is treated as a map (or a flow
 /// sampled too coarsely to interpolate between samples): no phase alignment.
 inline constexpr std::size_t kMinFlowPeriod = 8;
-/// With an automatic Theiler window, a motion that persists (amplitude_ratio within
-/// [1/kPersistentAmplitude, kPersistentAmplitude]) must span at least this many of its own mean
+/// With an automatic Theiler window, a motion that persists (transient.hpp: persists) must span at least this many of its own mean
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
 inline constexpr double kMinMeanPeriods = 2.0;
-inline constexpr double kPersistentAmplitude = 2.0;
 
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
@@ -90,5 +88,16 @@ struct MlceResult {
 };
 
 MlceResult estimate_mlce(const Series& series, const MlceOptions& options);
+
+/// The estimator's embedding, for the commands that need it without an estimate (stsp, fnn):
+/// Theiler window = options.theiler or `mean_period` (eq. 20 with eq. 19); delay = options.delay or
+/// the first AMI minimum (eqs. 15-17); dimension = options.dim or FNN with that window. The AMI/FNN
+/// results (and their warnings) are kept when computed.
+struct Embedding {
+  std::size_t delay = 1, dim = 1, theiler = 1;
+  std::optional<AmiResult> ami;
+  std::optional<FnnResult> fnn;
+};
+Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period);
 
 }  // namespace mlce

@@ -28,6 +28,8 @@ struct SpaceTimeOptions {
   /// (0, 1)). The lowest is the one the decorrelation rule reads: nearest neighbours are the closest
   /// pairs, so it is the low contours that a too-short Theiler window corrupts.
   std::vector<double> fractions = {0.01, 0.1, 0.5};
+  /// The series' mean period (eq. 19), samples, when the caller has it; 0 = computed here.
+  std::size_t mean_period = 0;
   /// Pairs per separation, evenly strided over the embedded points; 0 = all.
   std::size_t max_pairs = 20000;
   /// Decorrelation rule: the lowest contour's plateau P is its median over the second half of the
@@ -52,7 +54,8 @@ struct SpaceTimeResult {
   std::size_t decorrelation = 0;
   double decorrelation_level = 0.5;  ///< the option it was found with
   /// amplitude_ratio (transient.hpp): RMS of the last third over the first. The plot assumes a
-  /// stationary motion; outside [1/2, 2] (kPersistentAmplitude) it is flagged, not interpreted.
+  /// stationary motion; one that does not persist (transient.hpp: persists, within (1/2, 2)) is
+  /// flagged, not interpreted.
   double amplitude_ratio = 1.0;
   bool stationary = true;
   std::size_t mean_period = 0;  ///< eq. 19, samples: the estimator's automatic Theiler window

@@ -71,6 +71,14 @@ double envelope_rate(const Series& series, std::size_t period);
 /// third has zero RMS or the series has fewer than 3 samples.
 double amplitude_ratio(const Series& series);
 
+/// A motion persists when its amplitude_ratio lies strictly within (1/kPersistentAmplitude,
+/// kPersistentAmplitude); NaN (no first-third RMS) does not. The one test the estimator's short-run
+/// refusal and the space-time plot's stationarity check share.
+inline constexpr double kPersistentAmplitude = 2.0;
+inline bool persists(double amplitude_ratio) {
+  return amplitude_ratio > 1.0 / kPersistentAmplitude && amplitude_ratio < kPersistentAmplitude;
+}
+
 /// `--from auto`: the series from the end of its transient (detect_transient with the default
 /// options and the series' mean period); the rule applied is returned in `result` if given.
 Series skip_transient(const Series& series, TransientResult* result = nullptr);
