@@ -118,6 +118,16 @@ struct Tally {
     ++intervals, holds_known += ci_lo <= 1 && 1 <= ci_hi, holds_own += ci_lo <= own && own <= ci_hi;
     half_width_sum += (ci_hi - ci_lo) / 2;
   }
+  /// Series a clean signal should never have flagged: "measurement noise" (first-step jump) or
+  /// "divergence not resolved" (plateau within one embedding window). Printed when any was.
+  int flagged_noisy = 0;
+  void check_flags(const mlce::MlceResult& r) {
+    for (const auto& w : r.warnings)
+      if (w.find("measurement noise") != std::string::npos || w.find("divergence not resolved") != std::string::npos) {
+        ++flagged_noisy;
+        break;
+      }
+  }
   double correlation_with_own() const {
     const double n = static_cast<double>(values.size());
     double mq = 0, mo = 0;
@@ -134,6 +144,7 @@ struct Tally {
                 std::sqrt(err2 / n));
     if (owns.size() == values.size())
       std::printf(", rms from own %.3f, correlation with own %+.2f", std::sqrt(own_err2 / n), correlation_with_own());
+    if (flagged_noisy > 0) std::printf("\n  %-30s %d flagged as noise-dominated or unresolved", "", flagged_noisy);
     if (intervals > 0)
       std::printf("\n  %-30s 95 %% interval holds the known exponent on %d of %d (the own exponent on %d), mean half-width %.*f",
                   "", holds_known, intervals, holds_own, digits, half_width_sum / intervals);
@@ -194,6 +205,7 @@ void study(const System& sys) {
     const double st =
         mlce::fit_line(ss.curve.mean_log_distance.data(), sys.fit_first, sys.fit_last).slope / sys.dt / sys.lambda;
     automatic.add(r.lambda / sys.lambda, o), off.add(p.lambda / sys.lambda, o), state.add(st, o), own.add(o, o);
+    automatic.check_flags(r);
     std::printf("  series %2d: %.3f | %.3f | %.3f | %.3f\n", k + 1, r.lambda / sys.lambda, p.lambda / sys.lambda, st, o);
   }
   automatic.print("automatic");
@@ -226,7 +238,9 @@ void length_study(const System& sys, const std::vector<std::size_t>& lengths) {
       for (int c = 0; c < 3; ++c) x0[c] += sys.start_offset[c];
       const auto x = mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps);
       const double o = own_exponent(sys, x0, n, substeps) / sys.lambda;
-      automatic.add(mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {}).lambda / sys.lambda, o);
+      const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
+      automatic.add(r.lambda / sys.lambda, o);
+      automatic.check_flags(r);
       own.add(o, o);
     }
     char label[64];
@@ -252,6 +266,7 @@ void starts_study(const System& sys) {
       const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
       const double q = r.lambda / sys.lambda, o = own_exponent(sys, x0, n, substeps) / sys.lambda;
       automatic.add(q, o, r.ci95_low / sys.lambda, r.ci95_high / sys.lambda);
+      automatic.check_flags(r);
       if (r.fit.rule.find("concave growth") != std::string::npos) {
         char item[128];
         std::snprintf(item, sizeof item, " seed %u #%d: %.3f (fit %zu..%zu);", seed, k + 1, q, r.fit.first, r.fit.last);
@@ -287,6 +302,7 @@ void observable_study(const System& sys, std::size_t component, const char* labe
     const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
     automatic.add(r.lambda / sys.lambda, own_exponent(sys, x0, n, substeps) / sys.lambda, r.ci95_low / sys.lambda,
                   r.ci95_high / sys.lambda);
+    automatic.check_flags(r);
   }
   std::printf("%s: 32 series (N = 10^4, dt = %g), automatic / %.4f:\n", label, sys.dt, sys.lambda);
   automatic.print("automatic");
@@ -316,6 +332,7 @@ void map_study(int series, unsigned seed) {
     henon.add(qh, oh, rh.ci95_low / kHenon, rh.ci95_high / kHenon), henon_own.add(oh, oh);
     logistic.add(rl.lambda / kLogistic, ol, rl.ci95_low / kLogistic, rl.ci95_high / kLogistic);
     logistic_own.add(ol, ol);
+    henon.check_flags(rh), logistic.check_flags(rl);
     if (std::abs(qh - 1) > 0.02) {
       char item[64];
       std::snprintf(item, sizeof item, " #%d: %.4f, own %.4f;", k + 1, qh, oh);

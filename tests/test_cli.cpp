@@ -263,6 +263,14 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
   // reference and the estimate is unreliable, which the warnings say; --dither 1 (one quantum)
   // makes the distances continuous, says so, and gives the same lambda for the same seed.
   auto x = mlce::reference::lorenz_x(10000, 0.01);
+  // The noise the dithered series carries: rounding error plus the dither's 1/sqrt(12), over the
+  // dithered series' standard deviation (its variance: the rounded series' plus 1/12).
+  double mean_x = 0, mean_e = 0, var_x = 0, var_e = 0;
+  for (double v : x) mean_x += std::round(v) / 1e4, mean_e += (std::round(v) - v) / 1e4;
+  for (double v : x)
+    var_x += (std::round(v) - mean_x) * (std::round(v) - mean_x) / 1e4,
+        var_e += (std::round(v) - v - mean_e) * (std::round(v) - v - mean_e) / 1e4;
+  const double noise_truth = std::sqrt((var_e + 1.0 / 12) / (var_x + 1.0 / 12));
   for (double& v : x) v = std::round(v);
   const auto f = series_file(x, 0.01);
   const std::string base = "estimate " + f + " --column 2 --time-column 1 --json --quiet";
@@ -282,7 +290,12 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
   EXPECT_NE(d1["lambda"].get<double>(), d7["lambda"].get<double>());
   // Closer to lambda_1 = 0.9056 than the rounded series' reading (1.6-1.8), within 20 %.
   for (const auto& j : {d1, d7}) {
-    std::printf("rounded: %.4f, dithered: %.4f\n", plain["lambda"].get<double>(), j["lambda"].get<double>());
+    std::printf("rounded: %.4f, dithered: %.4f, noise_level %.4f (quantum and dither: %.4f)\n",
+                plain["lambda"].get<double>(), j["lambda"].get<double>(), j["noise_level"].get<double>(), noise_truth);
+    // The dither is noise, and the curve's first step says how much (an upper estimate).
+    EXPECT_TRUE(has(j, "measurement noise")) << j["warnings"];
+    EXPECT_GE(j["noise_level"].get<double>(), 0.95 * noise_truth);
+    EXPECT_LE(j["noise_level"].get<double>(), 1.6 * noise_truth);
     EXPECT_NEAR(j["lambda"].get<double>(), 0.9056, 0.2 * 0.9056);
     EXPECT_LT(std::abs(j["lambda"].get<double>() - 0.9056), std::abs(plain["lambda"].get<double>() - 0.9056));
   }

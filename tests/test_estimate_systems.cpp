@@ -17,6 +17,17 @@ using namespace mlce;
 
 namespace {
 MlceResult run(const std::vector<double>& x, double dt) { return estimate_mlce(make_series_with_step({x}, dt), {}); }
+
+bool has_warning(const MlceResult& r, const std::string& text) {
+  return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+}
+
+/// A deterministic series' curve is neither flagged as noise-dominated nor as unresolved.
+void expect_clean(const MlceResult& r) {
+  EXPECT_TRUE(std::isnan(r.noise_level)) << r.noise_level;
+  EXPECT_FALSE(has_warning(r, "measurement noise")) << r.fit.rule;
+  EXPECT_FALSE(has_warning(r, "divergence not resolved")) << r.fit.rule;
+}
 }  // namespace
 
 /// lambda / known on `count` series of one system from pseudo-random initial states (seed fixed,
@@ -66,6 +77,7 @@ TEST(EstimateSystems, LorenzCanonicalSeries) {
   EXPECT_NEAR(r.lambda, 0.9056, 0.12 * 0.9056) << r.fit.rule;
   EXPECT_EQ(r.dim, 3u);
   EXPECT_GT(r.r2, 0.98);
+  expect_clean(r);
 }
 
 TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {
@@ -96,6 +108,7 @@ TEST(EstimateSystems, HenonWithinTwoPercent) {
   EXPECT_NEAR(r.lambda, 0.41922, 0.02 * 0.41922) << r.fit.rule;
   EXPECT_EQ(r.delay, 1u);
   EXPECT_EQ(r.dim, 2u);
+  expect_clean(r);  // its first step rises at 0.7 x the slope: a map's jump is its exponent
 }
 
 TEST(EstimateSystems, HenonWithinTwoPercentOnMostSeries) {
@@ -130,6 +143,7 @@ TEST(EstimateSystems, HenonFollowsTheExponentOfTheTrajectoryItSamples) {
 TEST(EstimateSystems, LogisticWithinTwoPercentOfLn2) {
   const auto r = run(reference::logistic(10000), 1.0);
   EXPECT_NEAR(r.lambda, std::log(2.0), 0.02 * std::log(2.0)) << r.fit.rule;
+  expect_clean(r);
 }
 
 // In floating point this logistic orbit lands on 1/2, then 1, and stays at the fixed point 0 from
@@ -151,12 +165,14 @@ TEST(EstimateSystems, DampedOscillatorWithinThreePercent) {
   const auto r = run(reference::damped_oscillator(2000, 0.01, zeta, w), 0.01);
   EXPECT_NEAR(r.lambda, -zeta * w, 0.03 * zeta * w) << r.fit.rule;
   EXPECT_LT(r.ci95_low, r.ci95_high);
+  expect_clean(r);
 }
 
 TEST(EstimateSystems, VanDerPolLimitCycleIsZero) {
   for (double dt : {0.01, 0.05}) {
     const auto r = run(reference::van_der_pol_x(10000, dt), dt);
     EXPECT_LT(std::abs(r.lambda), 0.01) << "dt " << dt << ": " << r.fit.rule;
+    expect_clean(r);
   }
 }
 
@@ -202,6 +218,51 @@ TEST(EstimateSystems, RoesslerWithinTenPercent) {
   const auto r = run(reference::roessler_x(10000, 0.1), 0.1);
   EXPECT_NEAR(r.lambda, 0.0714, 0.1 * 0.0714) << r.fit.rule;
   EXPECT_TRUE(r.curve.phase_aligned);
+  expect_clean(r);
+}
+
+// White noise has no divergence to resolve: delay vectors (m - 1) x delay + 1 samples after the
+// match share no sample with the matched ones, and the curve is at its plateau from there.
+TEST(EstimateSystems, WhiteNoiseIsFlaggedAsUnresolved) {
+  std::mt19937_64 gen(11);
+  std::normal_distribution<double> g;
+  std::vector<double> x(10000);
+  for (double& v : x) v = g(gen);
+  const auto r = run(x, 1.0);
+  std::printf("white noise: \"lambda\" %.3f per sample, m %zu, plateau from step %zu\n", r.lambda, r.dim, r.fit.end_index);
+  EXPECT_TRUE(has_warning(r, "divergence not resolved")) << r.fit.rule;
+  EXPECT_EQ(r.delay, 1u);
+  EXPECT_LE(r.fit.end_index, r.dim + 2) << r.fit.rule;  // the plateau piece starts right after the window
+}
+
+// Measurement noise added to Lorenz x: the curve's first step jumps by the noise's share, which
+// gives its level. Truth: the sample standard deviation of the noise added, over the noisy
+// series' own (the estimator standardises what it is given). The estimate is an upper one (the
+// deterministic separation is in it too): within [0.95, 1.6] x the truth. A quick start-up (Lorenz
+// at dt = 0.05: the first step rises at ~6 x the slope) is not noise.
+TEST(EstimateSystems, MeasurementNoiseIsFlaggedWithItsLevel) {
+  const auto clean = reference::lorenz_x(10000, 0.01);
+  const auto sd = [](const std::vector<double>& v) {
+    double m = 0, s = 0;
+    for (double a : v) m += a / static_cast<double>(v.size());
+    for (double a : v) s += (a - m) * (a - m);
+    return std::sqrt(s / static_cast<double>(v.size()));
+  };
+  for (double level : {0.01, 0.1, 0.3}) {
+    std::mt19937_64 gen(3);
+    std::normal_distribution<double> g(0.0, level * sd(clean));
+    std::vector<double> noise(clean.size()), x(clean.size());
+    for (std::size_t i = 0; i < x.size(); ++i) noise[i] = g(gen), x[i] = clean[i] + noise[i];
+    const double truth = sd(noise) / sd(x);
+    const auto r = run(x, 0.01);
+    std::printf("Lorenz x + noise %.3f of its standard deviation: lambda %.3f, noise_level %.4f\n", truth, r.lambda,
+                r.noise_level);
+    ASSERT_TRUE(std::isfinite(r.noise_level)) << "noise " << level << ": " << r.fit.rule;
+    EXPECT_GE(r.noise_level, 0.95 * truth) << "noise " << level;
+    EXPECT_LE(r.noise_level, 1.6 * truth) << "noise " << level;
+    EXPECT_TRUE(has_warning(r, "measurement noise")) << "noise " << level;
+  }
+  expect_clean(run(reference::lorenz_x(10000, 0.05), 0.05));
 }
 
 TEST(EstimateSystems, RoesslerWithinTenPercentOnMostSeries) {

@@ -31,6 +31,12 @@ inline constexpr std::size_t kMinFlowPeriod = 8;
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
 inline constexpr double kMinMeanPeriods = 2.0;
+/// A divergence curve whose first step rises by at least kNoiseJump (natural log) and by at least
+/// kNoiseJumpRatio x its fitted slope per step is flagged as dominated by measurement noise, with
+/// an estimate of the noise level (estimate.cpp). Deterministic curves rise at about their slope
+/// in their first step (up to 6x where the start-up is quick); noise of 1 % makes it 60x.
+inline constexpr double kNoiseJump = 0.25;
+inline constexpr double kNoiseJumpRatio = 10.0;
 
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
@@ -84,6 +90,10 @@ struct MlceResult {
   /// The analysed signal's own amplitude change, per sample (envelope_rate; NaN when too short):
   /// what tells a decay to rest from neighbours converging onto a motion that persists.
   double envelope_rate = std::numeric_limits<double>::quiet_NaN();
+  /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
+  /// standard deviation, white noise assumed, in units of the signal's standard deviation; NaN
+  /// when not flagged.
+  double noise_level = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 
