@@ -119,9 +119,12 @@ struct Tally {
     half_width_sum += (ci_hi - ci_lo) / 2;
   }
   /// Series a clean signal should never have flagged: "measurement noise" (first-step jump) or
-  /// "divergence not resolved" (plateau within one embedding window). Printed when any was.
-  int flagged_noisy = 0;
+  /// "divergence not resolved" (plateau within one embedding window); and series whose start the
+  /// estimator left out as not recurring (none should be: the transient is discarded). Printed
+  /// when any was.
+  int flagged_noisy = 0, skipped_start = 0;
   void check_flags(const mlce::MlceResult& r) {
+    skipped_start += r.skipped_start > 0;
     for (const auto& w : r.warnings)
       if (w.find("measurement noise") != std::string::npos || w.find("divergence not resolved") != std::string::npos) {
         ++flagged_noisy;
@@ -145,6 +148,7 @@ struct Tally {
     if (owns.size() == values.size())
       std::printf(", rms from own %.3f, correlation with own %+.2f", std::sqrt(own_err2 / n), correlation_with_own());
     if (flagged_noisy > 0) std::printf("\n  %-30s %d flagged as noise-dominated or unresolved", "", flagged_noisy);
+    if (skipped_start > 0) std::printf("\n  %-30s %d with a start that does not recur, left out", "", skipped_start);
     if (intervals > 0)
       std::printf("\n  %-30s 95 %% interval holds the known exponent on %d of %d (the own exponent on %d), mean half-width %.*f",
                   "", holds_known, intervals, holds_own, digits, half_width_sum / intervals);
@@ -256,7 +260,7 @@ void starts_study(const System& sys) {
   constexpr std::size_t n = 10000;
   const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
   Tally automatic;
-  std::string outside, joined;
+  std::string outside, joined, skipped;
   for (unsigned seed = 1; seed <= 4; ++seed) {
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> u(-3.0, 3.0);
@@ -272,6 +276,15 @@ void starts_study(const System& sys) {
         std::snprintf(item, sizeof item, " seed %u #%d: %.3f (fit %zu..%zu);", seed, k + 1, q, r.fit.first, r.fit.last);
         joined += item;
       }
+      if (r.skipped_start > 0) {  // on the attractor (the transient is discarded): should not happen
+        mlce::MlceOptions keep;
+        keep.skip_nonrecurrent_start = false;
+        const double kept = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), keep).lambda / sys.lambda;
+        char item[160];
+        std::snprintf(item, sizeof item, " seed %u #%d: first %zu samples (windows score %.2f), %.3f (kept: %.3f);", seed,
+                      k + 1, r.skipped_start, r.recurrence.ratio.front(), q, kept);
+        skipped += item;
+      }
       if (std::abs(q - 1) > 0.10) {
         char item[128];
         std::snprintf(item, sizeof item, " seed %u #%d: %.3f, own %.3f (fit %zu..%zu);", seed, k + 1, q, o, r.fit.first,
@@ -284,6 +297,7 @@ void starts_study(const System& sys) {
               sys.lambda);
   automatic.print("automatic");
   std::printf("  outside 10 %%:%s\n", outside.empty() ? " none" : outside.c_str());
+  std::printf("  start left out as not recurring:%s\n", skipped.empty() ? " none" : skipped.c_str());
   std::printf("  fitted from the start-up's end (concave growth):%s\n", joined.empty() ? " none" : joined.c_str());
 }
 

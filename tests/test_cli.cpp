@@ -301,6 +301,30 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
   }
 }
 
+TEST_F(Cli, StartThatDoesNotRecurIsLeftOutUnlessKept) {
+  // Lorenz x from (1, 1, 1) with nothing discarded: its spiral out of C- does not recur. By default
+  // it is left out, said in a warning and in the text summary, and "from" is where the estimate
+  // starts; --keep-start and a --from time keep it.
+  const auto f = series_file(mlce::reference::lorenz_x(10000, 0.01, {1.0, 1.0, 1.0}, 0.0), 0.01);
+  const std::string base = "estimate " + f + " --column 2 --time-column 1 --quiet";
+  const auto left_out = nlohmann::json::parse(run(base + " --json").out);
+  const auto skipped = left_out["skipped_start"].get<std::size_t>();
+  EXPECT_GT(skipped, 0u);
+  EXPECT_NEAR(left_out["from"].get<double>(), 0.01 * static_cast<double>(skipped), 1e-9);
+  EXPECT_EQ(left_out["n_points"].get<std::size_t>(), 10000u - skipped);
+  EXPECT_NE(left_out["warnings"].dump().find("do not recur"), std::string::npos) << left_out["warnings"];
+  EXPECT_NE(run(base).out.find("samples do not recur: left out"), std::string::npos);
+  for (const std::string keep : {" --keep-start", " --from 0"}) {
+    const auto kept = nlohmann::json::parse(run(base + " --json" + keep).out);
+    EXPECT_EQ(kept["skipped_start"].get<std::size_t>(), 0u) << keep;
+    EXPECT_EQ(kept["n_points"].get<std::size_t>(), 10000u) << keep;
+    EXPECT_EQ(kept["from"].get<double>(), 0.0) << keep;
+  }
+  // --from auto is a transient rule too: the RMS rule cuts nothing of the spiral, recurrence does.
+  const auto automatic = nlohmann::json::parse(run(base + " --json --from auto").out);
+  EXPECT_EQ(automatic["skipped_start"].get<std::size_t>(), skipped);
+}
+
 TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const auto csv = dir / "curve.csv";
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());

@@ -22,8 +22,10 @@ bool has_warning(const MlceResult& r, const std::string& text) {
   return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
 }
 
-/// A deterministic series' curve is neither flagged as noise-dominated nor as unresolved.
+/// A deterministic series on its attractor: its curve is neither flagged as noise-dominated nor
+/// as unresolved, and its start recurs.
 void expect_clean(const MlceResult& r) {
+  EXPECT_EQ(r.skipped_start, 0u);
   EXPECT_TRUE(std::isnan(r.noise_level)) << r.noise_level;
   EXPECT_FALSE(has_warning(r, "measurement noise")) << r.fit.rule;
   EXPECT_FALSE(has_warning(r, "divergence not resolved")) << r.fit.rule;

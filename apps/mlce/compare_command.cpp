@@ -67,12 +67,15 @@ MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, cons
   p.from = window.from;
   p.to = window.to;
   p.window_rule = window.rule;
+  // Both runs on the very same stretch of motion: neither leaves its start out on its own.
+  MlceOptions o;
+  o.skip_nonrecurrent_start = false;
   in.file = file_a;
   const LoadedSeries a = load_series(in);
-  p.a = on_file(in, [&] { return estimate_mlce(a.series, {}); });
+  p.a = on_file(in, [&] { return estimate_mlce(a.series, o); });
   in.file = file_b;
   const LoadedSeries b = load_series(in);
-  p.b = on_file(in, [&] { return estimate_mlce(b.series, {}); });
+  p.b = on_file(in, [&] { return estimate_mlce(b.series, o); });
   return p;
 }
 

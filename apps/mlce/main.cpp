@@ -105,7 +105,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
   std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
               align = "auto";
   std::string curve_path, plot_path;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, keep_start = false;
   po::options_description d("mlce estimate FILE [options]");
   d.add(series_options(in));
   po::options_description e("estimator");
@@ -120,6 +120,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
       ("seed", po::value<std::string>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
+      ("keep-start", po::bool_switch(&keep_start), "analyse the series from its first sample (or --from) even when its start does not recur (by default such a start-up transient is left out, with a warning; a --from time keeps its start too)")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
       ("curve", po::value(&curve_path), "write the divergence curve as CSV")
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
@@ -162,22 +163,28 @@ int cmd_estimate(const std::vector<std::string>& args) {
     o.fit.range = std::make_pair(*a, *b);
   }
   o.progress = progress_printer(quiet);
+  // A start the user chose is kept; --from auto is a transient rule too, and both apply.
+  o.skip_nonrecurrent_start = !keep_start && (in.from.empty() || in.from == "auto");
 
   cli::LoadedSeries loaded = cli::load_series(in);
   MlceResult r = cli::on_file(in, [&] { return estimate_mlce(loaded.series, o); });
+  const double analysed_from = loaded.series.time(r.skipped_start);
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
   if (!curve_path.empty()) cli::write_file_atomically(curve_path, cli::curve_csv(r));
   if (!plot_path.empty()) cli::plot_curve_png(r, plot_path);
   if (json) {
     auto j = cli::to_json(r);
     j["file"] = in.file;
-    j["from"] = loaded.series.t0;
+    j["from"] = analysed_from;
     if (!loaded.transient_rule.empty()) j["transient_rule"] = loaded.transient_rule;
     std::cout << j.dump() << "\n";
   } else {
     std::cout << "file            " << in.file << "\n";
     if (!loaded.transient_rule.empty())
       std::cout << fmt::format("window          from {:.6g} ({})\n", loaded.series.t0, loaded.transient_rule);
+    if (r.skipped_start > 0)
+      std::cout << fmt::format("window          from {:.6g} (the first {} samples do not recur: left out)\n",
+                               analysed_from, r.skipped_start);
     std::cout << cli::to_text(r);
   }
   return 0;
@@ -347,6 +354,7 @@ int cmd_convergence(const std::vector<std::string>& args) {
   o.estimate.dim = auto_or_count(dim, "dim");
   o.estimate.theiler = auto_or_count(theiler, "theiler");
   o.estimate.progress = progress_printer(quiet);
+  o.estimate.skip_nonrecurrent_start = in.from.empty() || in.from == "auto";  // as mlce estimate
   const auto loaded = cli::load_series(in);
   ConvergenceResult r = cli::on_file(in, [&] { return estimate_convergence(loaded.series, o); });
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());

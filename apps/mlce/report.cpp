@@ -53,6 +53,7 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.curve.phase_aligned) j["mean_phase_shift"] = r.curve.mean_phase_shift;
   j["unaligned_lambda"] = finite_or_null(r.unaligned_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
+  j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
   j["noise_level"] = finite_or_null(r.noise_level);  // of the signal's standard deviation
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;

@@ -213,6 +213,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
       if (from < 0) s = skip_transient(s);
       MlceOptions o;
       o.max_references = preset.max_references;
+      o.skip_nonrecurrent_start = from < 0;  // as mlce estimate: a given window is kept
       const MlceResult r = estimate_mlce(s, o);
       // Amplitude: half the peak-to-peak range over the last quarter of the run (the settled
       // motion of a long run: limit-cycle amplitude, or what is left of a decay).

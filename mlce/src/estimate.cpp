@@ -9,6 +9,7 @@
 
 #include "mlce/embedding.hpp"
 #include "mlce/numerics.hpp"
+#include "mlce/recurrence.hpp"
 #include "mlce/transient.hpp"
 
 namespace mlce {
@@ -108,6 +109,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     r.warnings.push_back(text);
   }
   if (!floor_warning.empty()) r.warnings.push_back(floor_warning);
+  const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;
 
@@ -146,6 +148,45 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   Embedding e = choose_embedding(series, options, period);
   r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
   r.ami = std::move(e.ami), r.fnn = std::move(e.fnn);
+
+  // A start that does not recur is a transient, not the attractor (recurrence.hpp): left out, and
+  // the whole estimate (mean period, embedding, curve) redone on the rest, as with --from. Only
+  // for a motion that persists: a decay's or a growth's turns are each visited once, and are what
+  // it measures.
+  if (options.skip_nonrecurrent_start && persists(amplitude_ratio(series))) {
+    RosensteinOptions probe;
+    probe.dim = r.dim, probe.delay = r.delay, probe.theiler = r.theiler, probe.horizon = 1;
+    probe.max_references = options.max_references, probe.eps = options.eps;
+    if (series.size() >= minimum_length(probe)) {
+      report(options, "recurrence of the start", 0.0);
+      const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - probe.horizon;
+      RecurrenceResult rec = recurrent_start(find_pairs(series, probe), admissible, options.recurrence);
+      if (rec.start > 0) {
+        Series rest;
+        rest.dt = series.dt, rest.time_unit = series.time_unit, rest.names = series.names;
+        rest.t0 = series.time(rec.start);
+        for (const auto& c : series.channels) rest.channels.emplace_back(c.begin() + static_cast<std::ptrdiff_t>(rec.start), c.end());
+        MlceOptions again = options;
+        again.skip_nonrecurrent_start = false;
+        again.dither = 0.0;  // already dithered
+        MlceResult out = estimate_mlce(rest, again);
+        char text[400];
+        std::snprintf(text, sizeof text,
+                      "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
+                      "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
+                      "%.2f, 1 on the attractor; --keep-start keeps them)",
+                      rec.start, rest.t0, rec.ratio.front());
+        std::vector<std::string> warnings(r.warnings.begin(), r.warnings.begin() + static_cast<std::ptrdiff_t>(input_warnings));
+        warnings.push_back(text);
+        append(warnings, out.warnings);
+        out.warnings = std::move(warnings);
+        out.skipped_start = rec.start;
+        out.recurrence = std::move(rec);
+        return out;
+      }
+      r.recurrence = std::move(rec);
+    }
+  }
   if (r.ami) append(r.warnings, r.ami->warnings);
   if (r.fnn) append(r.warnings, r.fnn->warnings);
 
@@ -237,7 +278,11 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // after it the distance of two independent noise vectors of n = m x channels coordinates, each
   // N(0, s^2), is sqrt(2) s chi_n, and E[ln chi_n] = (psi(n/2) + ln 2) / 2, so
   // ln s = y(1) - ln 2 - psi(n/2) / 2 (an upper bound: y(1) holds the deterministic separation too).
-  if (const auto& y = r.curve.mean_log_distance; y.size() > 2) {
+  // Only where the curve measures a growth or a decay: a limit cycle's curve is flat, and its
+  // first steps rise by the selection of the best-matching pass alone (Hammond at 224 rpm, blade
+  // 3 inoperative: 0.31 and 0.25, then level).
+  const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
+  if (const auto& y = r.curve.mean_log_distance; measures_rate && y.size() > 2) {
     const double jump = y[1] - y[0];
     if (jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(r.fit.slope)) {
       const std::size_t n = r.dim * series.channels.size();

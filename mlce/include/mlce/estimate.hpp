@@ -13,6 +13,7 @@
 #include "mlce/fit.hpp"
 #include "mlce/fnn.hpp"
 #include "mlce/mean_period.hpp"
+#include "mlce/recurrence.hpp"
 #include "mlce/rosenstein.hpp"
 
 namespace mlce {
@@ -31,10 +32,12 @@ inline constexpr std::size_t kMinFlowPeriod = 8;
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
 inline constexpr double kMinMeanPeriods = 2.0;
-/// A divergence curve whose first step rises by at least kNoiseJump (natural log) and by at least
-/// kNoiseJumpRatio x its fitted slope per step is flagged as dominated by measurement noise, with
-/// an estimate of the noise level (estimate.cpp). Deterministic curves rise at about their slope
-/// in their first step (up to 6x where the start-up is quick); noise of 1 % makes it 60x.
+/// A divergence curve that grows into a plateau or decays into a floor, and whose first step rises
+/// by at least kNoiseJump (natural log) and by at least kNoiseJumpRatio x its fitted slope per step,
+/// is flagged as dominated by measurement noise, with an estimate of the noise level
+/// (estimate.cpp). Deterministic curves rise at about their slope in their first step (up to 6x
+/// where the start-up is quick); noise of 1 % makes it 60x. Limit cycles (flat or bounded curves)
+/// are not judged: their slope is ~0.
 inline constexpr double kNoiseJump = 0.25;
 inline constexpr double kNoiseJumpRatio = 10.0;
 
@@ -54,6 +57,13 @@ struct MlceOptions {
   std::size_t max_references = 20000;
   double eps = 0.0;
   PhaseAlignment phase_alignment = PhaseAlignment::automatic;
+  /// A motion that persists (transient.hpp: persists) and whose start does not recur
+  /// (recurrence.hpp: its first windows find their nearest neighbours only among themselves) is
+  /// analysed from where it does: the start is a transient, not the attractor, and everything
+  /// (mean period, embedding, curve) is estimated again on the rest, with a warning. false = keep
+  /// it (the CLI's --keep-start, and whenever the user gives --from).
+  bool skip_nonrecurrent_start = true;
+  RecurrenceOptions recurrence;
   /// Width A of uniform noise in [-A/2, A/2) added to every sample of every channel before
   /// anything else, in the channels' units; 0 = none. A quantised signal (coarse printed digits,
   /// ADC counts) repeats its points and its distances jump in steps of the quantum; dithering by one
@@ -94,6 +104,10 @@ struct MlceResult {
   /// standard deviation, white noise assumed, in units of the signal's standard deviation; NaN
   /// when not flagged.
   double noise_level = std::numeric_limits<double>::quiet_NaN();
+  /// Samples left out at the start because they do not recur (skip_nonrecurrent_start); the
+  /// result describes the rest (n_points counts it, the curve starts there).
+  std::size_t skipped_start = 0;
+  RecurrenceResult recurrence;  ///< the test's windows (empty when it was not run)
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 

@@ -1,0 +1,53 @@
+#pragma once
+// Does the start of a series recur? Rosenstein's neighbours (eq. 18 with eq. 20) assume every point
+// lies on the attractor, which the rest of the series visits again. A start-up transient (Lorenz
+// from (1, 1, 1) spirals out of the fixed point C- for its first ~10 time units) is visited once:
+// its points find their nearest neighbours only among themselves, on the spiral's neighbouring
+// turns, which separate slowly, and the curve reads low (0.855 instead of 0.906).
+#include <cstddef>
+#include <vector>
+
+#include "mlce/rosenstein.hpp"
+
+namespace mlce {
+
+struct RecurrenceOptions {
+  /// Window length in samples; 0 = max(2 x Theiler window, admissible points / 50).
+  std::size_t window = 0;
+  /// A window's score: the share of its reference points whose nearest neighbour lies after the
+  /// window (beyond the Theiler window), over the share of candidate points there: 1 on an
+  /// attractor, on average; a transient's windows score ~0, and the windows in which it joins the
+  /// attractor somewhere between. A window scoring at least `recurrent` has joined it; one scoring
+  /// below `transient` has not.
+  double transient = 0.3, recurrent = 0.8;
+  /// A series whose first window scores at least this starts on the attractor (an excursion a few
+  /// windows in is not a start-up: Roessler x after 500 time units, first window 0.73, then one
+  /// below 0.3).
+  double first_below = 0.5;
+  /// Windows with fewer reference points (after striding) are not judged.
+  std::size_t min_references = 20;
+  void validate() const;
+};
+
+struct RecurrenceResult {
+  /// First sample of the part analysed: the end of the last window scoring below `transient`
+  /// before the first window scoring at least `recurrent` (0 = the series recurs from its start, or
+  /// no window recurs clearly and nothing can be told).
+  std::size_t start = 0;
+  std::size_t window = 0;      ///< window length used, samples
+  std::vector<double> ratio;   ///< per window, from the start, over the series' first half
+};
+
+/// The rule: consecutive windows from sample 0, while a window ends (with the Theiler window
+/// after it) in the first half of the admissible points, so that at least half of the candidates
+/// lie after it; for window w, ratio = (share of its references whose neighbour index is >= the
+/// window's end + Theiler window) / (share of admissible points there). A series whose first window
+/// scores below `first_below` does not start on the attractor, and the start that does not recur
+/// ends with the last window scoring below `transient` before the first one scoring at least
+/// `recurrent`: a window in between is where the motion joins the attractor, and is kept; a low
+/// window after the first recurrent one is an excursion the series visits once, not a start.
+/// `admissible` = number of candidate points of the neighbour search (DelayEmbedding::max_points -
+/// horizon).
+RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options);
+
+}  // namespace mlce

@@ -1,0 +1,133 @@
+// Does the start of a series recur? The window rule against neighbour indices built by hand, where
+// the answer is known exactly, and the estimator on Lorenz's start-up spiral.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include "mlce/estimate.hpp"
+#include "mlce/recurrence.hpp"
+#include "reference_systems.hpp"
+
+using namespace mlce;
+
+namespace {
+
+/// Every admissible point a reference; points before `transient` have their neighbour among
+/// themselves (100 samples on, cyclically within their block of 200), later points a uniformly random one outside the Theiler
+/// window: on average a share (A - after) / A of them lies after any index `after`.
+NeighbourPairs hand_made_pairs(std::size_t A, std::size_t theiler, std::size_t transient, std::uint64_t seed) {
+  NeighbourPairs p;
+  p.theiler = theiler, p.dim = 1, p.delay = 1, p.horizon = 1;
+  std::mt19937_64 gen(seed);
+  std::uniform_int_distribution<std::uint32_t> any(0, static_cast<std::uint32_t>(A - 1));
+  for (std::uint32_t j = 0; j < A; ++j) {
+    p.references.push_back(j);
+    std::uint32_t n;
+    if (j < transient) {
+      const std::uint32_t block = j / 200 * 200;
+      n = block + (j - block + 100) % 200;
+    } else {
+      do n = any(gen);
+      while ((n > j ? n - j : j - n) <= theiler);
+    }
+    p.nearest.neighbour.push_back(n);
+    p.nearest.distance.push_back(1.0);
+  }
+  return p;
+}
+
+}  // namespace
+
+TEST(Recurrence, StartIsTheInitialRunOfWindowsWhoseNeighboursStayAmongThemselves) {
+  RecurrenceOptions o;
+  o.window = 200;
+  const auto r = recurrent_start(hand_made_pairs(10000, 50, 600, 1), 10000, o);
+  EXPECT_EQ(r.start, 600u);
+  ASSERT_GE(r.ratio.size(), 20u);  // windows ending (with the Theiler window) in the first half: (5000 - 50) / 200
+  EXPECT_EQ(r.ratio.size(), 24u);
+  for (std::size_t w = 0; w < 3; ++w) EXPECT_EQ(r.ratio[w], 0.0) << w;
+  // Later windows: 200 uniform neighbours each, the share after the window over its expectation.
+  // Binomial: standard deviation sqrt((1 - p) / (200 p)) <= 0.07 for p >= 1/2; 5 of them allowed.
+  for (std::size_t w = 3; w < r.ratio.size(); ++w) EXPECT_NEAR(r.ratio[w], 1.0, 0.35) << w;
+}
+
+TEST(Recurrence, ALaterWindowThatDoesNotRecurIsNotAStart) {
+  // The same, but with the first windows recurrent and window 5 made of self-neighbours (an
+  // excursion the series visits once): it is not a transient at the start, nothing is left out.
+  auto p = hand_made_pairs(10000, 50, 0, 2);
+  for (std::uint32_t j = 1000; j < 1200; ++j) p.nearest.neighbour[j] = 1000 + (j - 1000 + 100) % 200;
+  RecurrenceOptions o;
+  o.window = 200;
+  const auto r = recurrent_start(p, 10000, o);
+  EXPECT_EQ(r.start, 0u);
+  EXPECT_EQ(r.ratio[5], 0.0);
+}
+
+TEST(Recurrence, WindowsWhereTheMotionJoinsTheAttractorAreKept) {
+  // Windows 0..4 of 200 points score 0.1, 0.6, 0.2, 0.5, 0.9 by construction (that share of the
+  // expected later neighbours sent to the series' end, the rest kept in the window), the rest
+  // uniform. The start ends with window 2, the last below 0.3 before the first at 0.8 or more;
+  // windows 1 and 3 are partial and do not decide. Starts that never score below 0.3 are no clear
+  // transient, and a first window at 0.5 or more is on the attractor: nothing is cut.
+  const std::size_t A = 10000, theiler = 50, L = 200;
+  auto scored = [&](std::vector<double> targets) {
+    auto p = hand_made_pairs(A, theiler, L * targets.size(), 4);
+    for (std::size_t w = 0; w < targets.size(); ++w) {
+      const double expected = static_cast<double>(A - (w + 1) * L - theiler) / static_cast<double>(A);
+      const auto later = static_cast<std::size_t>(std::lround(targets[w] * expected * L));
+      for (std::size_t i = 0; i < later; ++i) p.nearest.neighbour[w * L + i] = static_cast<std::uint32_t>(A - 1 - i);
+    }
+    RecurrenceOptions o;
+    o.window = L;
+    return recurrent_start(p, A, o);
+  };
+  const auto joins = scored({0.1, 0.6, 0.2, 0.5, 0.9});
+  for (std::size_t w = 0; w < 5; ++w) EXPECT_NEAR(joins.ratio[w], std::vector<double>({0.1, 0.6, 0.2, 0.5, 0.9})[w], 0.01) << w;
+  EXPECT_EQ(joins.start, 3 * L);
+  EXPECT_EQ(scored({0.45, 0.1}).start, 2 * L);  // then uniform windows, scoring ~1
+  EXPECT_EQ(scored({0.45, 0.6}).start, 0u);     // never clearly a transient
+  EXPECT_EQ(scored({0.6, 0.1}).start, 0u);      // starts on the attractor: window 1 is an excursion
+}
+
+TEST(Recurrence, DefaultWindowAndTooFewReferences) {
+  // Default window: max(2 x Theiler, A / 50). Strided references: 10 per window of 200 are too
+  // few to judge, and nothing is judged or cut.
+  const auto all = hand_made_pairs(10000, 150, 600, 3);
+  EXPECT_EQ(recurrent_start(all, 10000, {}).window, 300u);
+  NeighbourPairs sparse;
+  sparse.theiler = 50;
+  for (std::size_t k = 0; k < all.references.size(); k += 20)
+    sparse.references.push_back(all.references[k]), sparse.nearest.neighbour.push_back(all.nearest.neighbour[k]);
+  RecurrenceOptions o;
+  o.window = 200;
+  const auto r = recurrent_start(sparse, 10000, o);
+  EXPECT_TRUE(r.ratio.empty());
+  EXPECT_EQ(r.start, 0u);
+  o.transient = 0.9;  // above `recurrent`
+  EXPECT_THROW(recurrent_start(sparse, 10000, o), OptionError);
+}
+
+// Lorenz from (1, 1, 1) with nothing discarded spirals out of the fixed point C- first, and its
+// neighbour pairs there separate slowly: the whole series reads low. The estimator leaves the
+// spiral out and reads lambda_1 within 5 %; kept, the start pulls it down.
+TEST(Recurrence, LorenzStartUpSpiralIsLeftOut) {
+  const auto x = reference::lorenz_x(10000, 0.01, {1.0, 1.0, 1.0}, 0.0);
+  const auto series = make_series_with_step({x}, 0.01);
+  const MlceResult r = estimate_mlce(series, {});
+  MlceOptions keep;
+  keep.skip_nonrecurrent_start = false;
+  const MlceResult kept = estimate_mlce(series, keep);
+  std::printf("Lorenz x from (1, 1, 1), nothing discarded: %zu samples left out, lambda %.4f (kept: %.4f)\n",
+              r.skipped_start, r.lambda, kept.lambda);
+  EXPECT_GT(r.skipped_start, 0u);
+  EXPECT_LE(r.skipped_start, 2000u);
+  EXPECT_EQ(r.n_points, 10000u - r.skipped_start);
+  EXPECT_NEAR(r.lambda, 0.9056, 0.05 * 0.9056) << r.fit.rule;
+  EXPECT_LT(std::abs(r.lambda - 0.9056), std::abs(kept.lambda - 0.9056));
+  EXPECT_EQ(kept.skipped_start, 0u);
+  EXPECT_FALSE(r.recurrence.ratio.empty());
+  EXPECT_LT(r.recurrence.ratio.front(), RecurrenceOptions{}.transient);
+  EXPECT_NE(r.warnings.front().find("do not recur"), std::string::npos) << r.warnings.front();
+}
