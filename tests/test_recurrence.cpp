@@ -70,7 +70,8 @@ TEST(Recurrence, WindowsWhereTheMotionJoinsTheAttractorAreKept) {
   // expected later neighbours sent to the series' end, the rest kept in the window), the rest
   // uniform. The start ends with window 2, the last below 0.3 before the first at 0.8 or more;
   // windows 1 and 3 are partial and do not decide. Starts that never score below 0.3 are no clear
-  // transient, and a first window at 0.5 or more is on the attractor: nothing is cut.
+  // transient, a first window at 0.5 or more is on the attractor, and a single window below 0.3 is
+  // a dip: nothing is cut.
   const std::size_t A = 10000, theiler = 50, L = 200;
   auto scored = [&](std::vector<double> targets) {
     auto p = hand_made_pairs(A, theiler, L * targets.size(), 4);
@@ -86,9 +87,10 @@ TEST(Recurrence, WindowsWhereTheMotionJoinsTheAttractorAreKept) {
   const auto joins = scored({0.1, 0.6, 0.2, 0.5, 0.9});
   for (std::size_t w = 0; w < 5; ++w) EXPECT_NEAR(joins.ratio[w], std::vector<double>({0.1, 0.6, 0.2, 0.5, 0.9})[w], 0.01) << w;
   EXPECT_EQ(joins.start, 3 * L);
-  EXPECT_EQ(scored({0.45, 0.1}).start, 2 * L);  // then uniform windows, scoring ~1
-  EXPECT_EQ(scored({0.45, 0.6}).start, 0u);     // never clearly a transient
-  EXPECT_EQ(scored({0.6, 0.1}).start, 0u);      // starts on the attractor: window 1 is an excursion
+  EXPECT_EQ(scored({0.45, 0.1, 0.2}).start, 3 * L);  // then uniform windows, scoring ~1
+  EXPECT_EQ(scored({0.45, 0.6}).start, 0u);          // never clearly a transient
+  EXPECT_EQ(scored({0.6, 0.1, 0.1}).start, 0u);      // starts on the attractor: an excursion follows
+  EXPECT_EQ(scored({0.1, 0.9}).start, 0u);           // one low window: a dip, not told from a start-up
 }
 
 TEST(Recurrence, DefaultWindowAndTooFewReferences) {

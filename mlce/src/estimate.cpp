@@ -152,41 +152,37 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // A start that does not recur is a transient, not the attractor (recurrence.hpp): left out, and
   // the whole estimate (mean period, embedding, curve) redone on the rest, as with --from. Only
   // for a motion that persists: a decay's or a growth's turns are each visited once, and are what
-  // it measures.
-  if (options.skip_nonrecurrent_start && persists(amplitude_ratio(series))) {
-    RosensteinOptions probe;
-    probe.dim = r.dim, probe.delay = r.delay, probe.theiler = r.theiler, probe.horizon = 1;
-    probe.max_references = options.max_references, probe.eps = options.eps;
-    if (series.size() >= minimum_length(probe)) {
-      report(options, "recurrence of the start", 0.0);
-      const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - probe.horizon;
-      RecurrenceResult rec = recurrent_start(find_pairs(series, probe), admissible, options.recurrence);
-      if (rec.start > 0) {
-        Series rest;
-        rest.dt = series.dt, rest.time_unit = series.time_unit, rest.names = series.names;
-        rest.t0 = series.time(rec.start);
-        for (const auto& c : series.channels) rest.channels.emplace_back(c.begin() + static_cast<std::ptrdiff_t>(rec.start), c.end());
-        MlceOptions again = options;
-        again.skip_nonrecurrent_start = false;
-        again.dither = 0.0;  // already dithered
-        MlceResult out = estimate_mlce(rest, again);
-        char text[400];
-        std::snprintf(text, sizeof text,
-                      "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
-                      "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
-                      "%.2f, 1 on the attractor; --keep-start keeps them)",
-                      rec.start, rest.t0, rec.ratio.front());
-        std::vector<std::string> warnings(r.warnings.begin(), r.warnings.begin() + static_cast<std::ptrdiff_t>(input_warnings));
-        warnings.push_back(text);
-        append(warnings, out.warnings);
-        out.warnings = std::move(warnings);
-        out.skipped_start = rec.start;
-        out.recurrence = std::move(rec);
-        return out;
-      }
+  // it measures. Judged on the first curve's neighbour pairs (no search of its own).
+  const bool judge_start = options.skip_nonrecurrent_start && persists(amplitude_ratio(series));
+  auto estimate_without_start = [&](const NeighbourPairs& first_pairs) -> std::optional<MlceResult> {
+    const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - first_pairs.horizon;
+    RecurrenceResult rec = recurrent_start(first_pairs, admissible, options.recurrence);
+    if (rec.start == 0) {
       r.recurrence = std::move(rec);
+      return std::nullopt;
     }
-  }
+    Series rest;
+    rest.dt = series.dt, rest.time_unit = series.time_unit, rest.names = series.names;
+    rest.t0 = series.time(rec.start);
+    for (const auto& c : series.channels) rest.channels.emplace_back(c.begin() + static_cast<std::ptrdiff_t>(rec.start), c.end());
+    MlceOptions again = options;
+    again.skip_nonrecurrent_start = false;
+    again.dither = 0.0;  // already dithered
+    MlceResult out = estimate_mlce(rest, again);
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
+                  "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
+                  "%.2f, 1 on the attractor; --keep-start keeps them)",
+                  rec.start, rest.t0, rec.ratio.front());
+    std::vector<std::string> warnings(r.warnings.begin(), r.warnings.begin() + static_cast<std::ptrdiff_t>(input_warnings));
+    warnings.push_back(text);
+    append(warnings, out.warnings);
+    out.warnings = std::move(warnings);
+    out.skipped_start = rec.start;
+    out.recurrence = std::move(rec);
+    return out;
+  };
   if (r.ami) append(r.warnings, r.ami->warnings);
   if (r.fnn) append(r.warnings, r.fnn->warnings);
 
@@ -209,6 +205,8 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     ro.horizon = *options.horizon;
     report(options, "divergence curve", 0.0);
     pairs = find_pairs(series, ro);
+    if (judge_start)
+      if (auto rest = estimate_without_start(pairs)) return std::move(*rest);
     r.curve = follow_pairs(series, ro, pairs);
     r.fit = fit_divergence(r.curve, fo);
   } else {
@@ -228,6 +226,8 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
       ro.horizon = h;
       report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
       pairs = find_pairs(series, ro);
+      if (pass == 0 && judge_start)
+        if (auto rest = estimate_without_start(pairs)) return std::move(*rest);
       r.curve = follow_pairs(series, ro, pairs);
       r.fit = fit_divergence(r.curve, fo);
       // A bounded curve is read at the longest horizon: its slope tends to 0 as the horizon grows.

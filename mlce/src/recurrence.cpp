@@ -19,7 +19,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
   r.window = options.window ? options.window : std::max<std::size_t>(2 * theiler, A / 50);
   const auto& refs = pairs.references;
   const auto& nn = pairs.nearest.neighbour;
-  std::size_t last_transient_end = 0;
+  std::size_t last_transient_end = 0, transient_windows = 0;
   bool joined = false;  // a window has scored `recurrent`
   std::size_t k = 0;  // references are in increasing sample order
   for (std::size_t a = 0; a + r.window + theiler <= A / 2; a += r.window) {
@@ -35,8 +35,9 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
     const double ratio = static_cast<double>(later) / static_cast<double>(count) / expected;
     r.ratio.push_back(ratio);
     if (r.ratio.size() == 1 && ratio >= options.first_below) joined = true;  // starts on the attractor
-    if (!joined && ratio >= options.recurrent) joined = true, r.start = last_transient_end;
-    if (!joined && ratio < options.transient) last_transient_end = end;
+    if (!joined && ratio >= options.recurrent)
+      joined = true, r.start = transient_windows >= options.min_windows ? last_transient_end : 0;
+    if (!joined && ratio < options.transient) last_transient_end = end, ++transient_windows;
   }
   return r;
 }

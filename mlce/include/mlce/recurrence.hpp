@@ -24,6 +24,11 @@ struct RecurrenceOptions {
   /// windows in is not a start-up: Roessler x after 500 time units, first window 0.73, then one
   /// below 0.3).
   double first_below = 0.5;
+  /// Windows below `transient` needed before the first recurrent one: on an attractor a single
+  /// window may dip (it spans only a few mean periods: Roessler x after 500 time units scored 0.21
+  /// in its first window and 0.18 in its 18th, ~1 elsewhere); a start-up that lasts shorter than
+  /// two windows is not told from such a dip, and is kept.
+  std::size_t min_windows = 2;
   /// Windows with fewer reference points (after striding) are not judged.
   std::size_t min_references = 20;
   void validate() const;
@@ -44,7 +49,7 @@ struct RecurrenceResult {
 /// window's end + Theiler window) / (share of admissible points there). A series whose first window
 /// scores below `first_below` does not start on the attractor, and the start that does not recur
 /// ends with the last window scoring below `transient` before the first one scoring at least
-/// `recurrent`: a window in between is where the motion joins the attractor, and is kept; a low
+/// `recurrent`, when at least `min_windows` windows score below `transient` before it: a window in between is where the motion joins the attractor, and is kept; a low
 /// window after the first recurrent one is an excursion the series visits once, not a start.
 /// `admissible` = number of candidate points of the neighbour search (DelayEmbedding::max_points -
 /// horizon).
