@@ -45,6 +45,49 @@ double digamma_half(std::size_t n) {
   return psi;
 }
 
+/// Warnings about what the curve can measure (sets r.noise_level): a plateau reached within one
+/// embedding window (uncorrelated noise), and a first step that jumps (measurement noise).
+void flag_noise(MlceResult& r, std::size_t channels) {
+  // Delay vectors (m - 1) x delay + 1 steps after the match share no sample with the matched ones.
+  // Uncorrelated noise separates to the attractor scale exactly then, as those shared samples slide
+  // out of the window: the curve's rise measures the window, not a divergence (white noise, m = 5,
+  // delay 1: plateau at step 5, "lambda" = 0.16 per sample). A chaotic signal keeps rising after it
+  // (Henon: window 2 steps, plateau from ~15; Lorenz x: 37 and ~600).
+  const std::size_t window = (r.dim - 1) * r.delay + 1;
+  if (const auto reached = plateau_reached(r.curve, r.fit); r.fit.automatic && reached && *reached <= window)
+    r.warnings.push_back("divergence not resolved: the curve reaches its plateau at step " + std::to_string(*reached) +
+                         ", within one embedding window ((m-1)*delay + 1 = " + std::to_string(window) +
+                         " samples), as uncorrelated noise does; lambda measures the window, not an exponential "
+                         "divergence (a noise-dominated signal, or a sampling too coarse for the motion)");
+  // White measurement noise is matched at step 0 (the search picks the smallest distance, noise
+  // included) and fresh one step later: the curve jumps by the noise's share at once, while a
+  // deterministic curve rises at about its slope per step (Lorenz x: 0.013 at a slope of 0.010 per
+  // step; Henon 0.30 at 0.42; Lorenz x at dt = 0.05, whose start-up is quick: 6 x the slope). Lorenz x
+  // with noise of 1 %, 10 %, 30 % of its standard deviation jumps by 0.56, 1.30, 1.40 (63 to 180 x its
+  // slope) and reads 0.882, 0.713, 1.468 instead of 0.906. The jump then also gives the noise level:
+  // after it the distance of two independent noise vectors of n = m x channels coordinates, each
+  // N(0, s^2), is sqrt(2) s chi_n, and E[ln chi_n] = (psi(n/2) + ln 2) / 2, so
+  // ln s = y(1) - ln 2 - psi(n/2) / 2 (an upper bound: y(1) holds the deterministic separation too).
+  // Only where the curve measures a growth or a decay: a limit cycle's curve is flat, and its
+  // first steps rise by the selection of the best-matching pass alone (Hammond at 224 rpm, blade
+  // 3 inoperative: 0.31 and 0.25, then level).
+  const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
+  if (const auto& y = r.curve.mean_log_distance; measures_rate && y.size() > 2) {
+    const double jump = y[1] - y[0];
+    if (jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(r.fit.slope)) {
+      const std::size_t n = r.dim * channels;
+      r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * digamma_half(n));
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "the curve jumps by %.3g in its first step (%.3g x its fitted slope per step): the neighbour "
+                    "distances are dominated by measurement noise of up to about %.2g %% of the signal's standard "
+                    "deviation (white-noise estimate); a noise floor bends the curve, and lambda is biased",
+                    jump, jump / std::max(std::abs(r.fit.slope), std::numeric_limits<double>::min()), 100.0 * r.noise_level);
+      r.warnings.push_back(text);
+    }
+  }
+}
+
 }  // namespace
 
 Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period) {
@@ -258,44 +301,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     r.fit = fit_divergence(r.curve, fo);
   }
   r.horizon = ro.horizon;
-  // Delay vectors (m - 1) x delay + 1 steps after the match share no sample with the matched ones.
-  // Uncorrelated noise separates to the attractor scale exactly then, as those shared samples slide
-  // out of the window: the curve's rise measures the window, not a divergence (white noise, m = 5,
-  // delay 1: plateau at step 5, "lambda" = 0.16 per sample). A chaotic signal keeps rising after it
-  // (Henon: window 2 steps, plateau from ~15; Lorenz x: 37 and ~600).
-  const std::size_t window = (r.dim - 1) * r.delay + 1;
-  if (const auto reached = plateau_reached(r.curve, r.fit); r.fit.automatic && reached && *reached <= window)
-    r.warnings.push_back("divergence not resolved: the curve reaches its plateau at step " + std::to_string(*reached) +
-                         ", within one embedding window ((m-1)*delay + 1 = " + std::to_string(window) +
-                         " samples), as uncorrelated noise does; lambda measures the window, not an exponential "
-                         "divergence (a noise-dominated signal, or a sampling too coarse for the motion)");
-  // White measurement noise is matched at step 0 (the search picks the smallest distance, noise
-  // included) and fresh one step later: the curve jumps by the noise's share at once, while a
-  // deterministic curve rises at about its slope per step (Lorenz x: 0.013 at a slope of 0.010 per
-  // step; Henon 0.30 at 0.42; Lorenz x at dt = 0.05, whose start-up is quick: 6 x the slope). Lorenz x
-  // with noise of 1 %, 10 %, 30 % of its standard deviation jumps by 0.56, 1.30, 1.40 (63 to 180 x its
-  // slope) and reads 0.882, 0.713, 1.468 instead of 0.906. The jump then also gives the noise level:
-  // after it the distance of two independent noise vectors of n = m x channels coordinates, each
-  // N(0, s^2), is sqrt(2) s chi_n, and E[ln chi_n] = (psi(n/2) + ln 2) / 2, so
-  // ln s = y(1) - ln 2 - psi(n/2) / 2 (an upper bound: y(1) holds the deterministic separation too).
-  // Only where the curve measures a growth or a decay: a limit cycle's curve is flat, and its
-  // first steps rise by the selection of the best-matching pass alone (Hammond at 224 rpm, blade
-  // 3 inoperative: 0.31 and 0.25, then level).
-  const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
-  if (const auto& y = r.curve.mean_log_distance; measures_rate && y.size() > 2) {
-    const double jump = y[1] - y[0];
-    if (jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(r.fit.slope)) {
-      const std::size_t n = r.dim * series.channels.size();
-      r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * digamma_half(n));
-      char text[400];
-      std::snprintf(text, sizeof text,
-                    "the curve jumps by %.3g in its first step (%.3g x its fitted slope per step): the neighbour "
-                    "distances are dominated by measurement noise of up to about %.2g %% of the signal's standard "
-                    "deviation (white-noise estimate); a noise floor bends the curve, and lambda is biased",
-                    jump, jump / std::max(std::abs(r.fit.slope), std::numeric_limits<double>::min()), 100.0 * r.noise_level);
-      r.warnings.push_back(text);
-    }
-  }
+  flag_noise(r, series.channels.size());
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
 
