@@ -314,6 +314,10 @@ TEST_F(Cli, StartThatDoesNotRecurIsLeftOutUnlessKept) {
   EXPECT_EQ(left_out["n_points"].get<std::size_t>(), 10000u - skipped);
   EXPECT_NE(left_out["warnings"].dump().find("do not recur"), std::string::npos) << left_out["warnings"];
   EXPECT_NE(run(base).out.find("samples do not recur: left out"), std::string::npos);
+  const auto& scores = left_out["start_recurrence"]["scores"];
+  ASSERT_GE(scores.size(), 2u);
+  EXPECT_LT(scores[0].get<double>(), 0.5);  // the first window does not recur
+  EXPECT_EQ(skipped % left_out["start_recurrence"]["window"].get<std::size_t>(), 0u);  // whole windows
   for (const std::string keep : {" --keep-start", " --from 0"}) {
     const auto kept = nlohmann::json::parse(run(base + " --json" + keep).out);
     EXPECT_EQ(kept["skipped_start"].get<std::size_t>(), 0u) << keep;
