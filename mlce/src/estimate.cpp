@@ -211,7 +211,16 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     MlceOptions again = options;
     again.skip_nonrecurrent_start = false;
     again.dither = 0.0;  // already dithered
-    MlceResult out = estimate_mlce(rest, again);
+    MlceResult out;
+    try {
+      out = estimate_mlce(rest, again);
+    } catch (const InputError& too_short) {  // the rest (at least half) re-embedded may still be refused
+      r.warnings.push_back("the first " + std::to_string(rec.start) +
+                           " samples do not recur, but the rest alone cannot be estimated (" + too_short.what() +
+                           "): the whole series is analysed, start-up included");
+      r.recurrence = std::move(rec);
+      return std::nullopt;
+    }
     char text[400];
     std::snprintf(text, sizeof text,
                   "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
