@@ -107,6 +107,10 @@ TEST(Recurrence, DefaultWindowAndTooFewReferences) {
   const auto r = recurrent_start(sparse, 10000, o);
   EXPECT_TRUE(r.ratio.empty());
   EXPECT_EQ(r.start, 0u);
+  o.min_references = 0;  // a window with no reference is still not judged (no 0/0)
+  EXPECT_TRUE(recurrent_start(NeighbourPairs{}, 40, o).ratio.empty());
+  o.window = 0;  // automatic: max(1, 2 x Theiler, A / 50), never 0
+  EXPECT_EQ(recurrent_start(NeighbourPairs{}, 40, o).window, 1u);
   o.transient = 0.9;  // above `recurrent`
   EXPECT_THROW(recurrent_start(sparse, 10000, o), OptionError);
 }

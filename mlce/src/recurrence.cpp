@@ -1,7 +1,6 @@
 #include "mlce/recurrence.hpp"
 
 #include <algorithm>
-#include <string>
 
 #include "mlce/numerics.hpp"
 
@@ -16,7 +15,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
   options.validate();
   RecurrenceResult r;
   const std::size_t A = admissible, theiler = pairs.theiler;
-  r.window = options.window ? options.window : std::max<std::size_t>(2 * theiler, A / 50);
+  r.window = options.window ? options.window : std::max<std::size_t>({1, 2 * theiler, A / 50});  // never 0
   const auto& refs = pairs.references;
   const auto& nn = pairs.nearest.neighbour;
   std::size_t last_transient_end = 0, transient_windows = 0;
@@ -30,7 +29,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
       ++count;
       later += nn[k] >= after;
     }
-    if (count < options.min_references) break;
+    if (count == 0 || count < options.min_references) break;
     const double expected = static_cast<double>(A - after) / static_cast<double>(A);
     const double ratio = static_cast<double>(later) / static_cast<double>(count) / expected;
     r.ratio.push_back(ratio);
