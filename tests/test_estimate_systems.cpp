@@ -264,7 +264,16 @@ TEST(EstimateSystems, MeasurementNoiseIsFlaggedWithItsLevel) {
     EXPECT_LE(r.noise_level, 1.6 * truth) << "noise " << level;
     EXPECT_TRUE(has_warning(r, "measurement noise")) << "noise " << level;
   }
-  expect_clean(run(reference::lorenz_x(10000, 0.05), 0.05));
+  // Clean curves: the first step against the fitted slope per step (README quotes these).
+  for (const auto& [name, clean_run] :
+       {std::pair<const char*, MlceResult>{"Lorenz x, dt = 0.01", run(clean, 0.01)},
+        {"Lorenz x, dt = 0.05", run(reference::lorenz_x(10000, 0.05), 0.05)},
+        {"Henon x", run(reference::henon_x(10000), 1.0)}}) {
+    const auto& y = clean_run.curve.mean_log_distance;
+    std::printf("%s, no noise: first step %.3f, fitted slope %.4f per step (%.1f x)\n", name, y[1] - y[0],
+                clean_run.fit.slope, (y[1] - y[0]) / clean_run.fit.slope);
+    expect_clean(clean_run);
+  }
 }
 
 TEST(EstimateSystems, RoesslerWithinTenPercentOnMostSeries) {

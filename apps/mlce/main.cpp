@@ -164,7 +164,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
   }
   o.progress = progress_printer(quiet);
   // A start the user chose is kept; --from auto is a transient rule too, and both apply.
-  o.skip_nonrecurrent_start = !keep_start && (in.from.empty() || in.from == "auto");
+  o.skip_nonrecurrent_start = !keep_start && in.start_is_automatic();
 
   cli::LoadedSeries loaded = cli::load_series(in);
   MlceResult r = cli::on_file(in, [&] { return estimate_mlce(loaded.series, o); });
@@ -354,7 +354,7 @@ int cmd_convergence(const std::vector<std::string>& args) {
   o.estimate.dim = auto_or_count(dim, "dim");
   o.estimate.theiler = auto_or_count(theiler, "theiler");
   o.estimate.progress = progress_printer(quiet);
-  o.estimate.skip_nonrecurrent_start = in.from.empty() || in.from == "auto";  // as mlce estimate
+  o.estimate.skip_nonrecurrent_start = in.start_is_automatic();  // as mlce estimate
   const auto loaded = cli::load_series(in);
   ConvergenceResult r = cli::on_file(in, [&] { return estimate_convergence(loaded.series, o); });
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());

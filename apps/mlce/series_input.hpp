@@ -22,6 +22,9 @@ struct SeriesInput {
   bool resample = false;
   std::string from;  ///< "", a time, or "auto"
   std::optional<double> to;
+  /// The user gave no start time (none, or `--from auto`, itself a transient rule): the estimator
+  /// may still leave out a start that does not recur (MlceOptions::skip_nonrecurrent_start).
+  bool start_is_automatic() const { return from.empty() || from == "auto"; }
 };
 
 struct LoadedSeries {

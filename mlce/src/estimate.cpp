@@ -7,6 +7,8 @@
 #include <numbers>
 #include <optional>
 
+#include <boost/math/special_functions/digamma.hpp>
+
 #include "mlce/embedding.hpp"
 #include "mlce/numerics.hpp"
 #include "mlce/recurrence.hpp"
@@ -35,14 +37,6 @@ std::optional<std::size_t> plateau_reached(const DivergenceCurve& curve, const F
   std::size_t i = 0;
   while (i < fit.end_index && y[i] < near) ++i;
   return i;
-}
-
-/// Digamma at n/2 (n >= 1), from psi(1) = -gamma, psi(1/2) = -gamma - 2 ln 2 and psi(x + 1) = psi(x) + 1/x.
-double digamma_half(std::size_t n) {
-  constexpr double gamma = 0.57721566490153286;
-  double x = n % 2 ? 0.5 : 1.0, psi = n % 2 ? -gamma - 2.0 * std::numbers::ln2 : -gamma;
-  for (; 2.0 * x < static_cast<double>(n); x += 1.0) psi += 1.0 / x;
-  return psi;
 }
 
 /// Warnings about what the curve can measure (sets r.noise_level): a plateau reached within one
@@ -76,7 +70,7 @@ void flag_noise(MlceResult& r, std::size_t channels) {
     const double jump = y[1] - y[0];
     if (jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(r.fit.slope)) {
       const std::size_t n = r.dim * channels;
-      r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * digamma_half(n));
+      r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * boost::math::digamma(0.5 * static_cast<double>(n)));
       char text[400];
       std::snprintf(text, sizeof text,
                     "the curve jumps by %.3g in its first step (%.3g x its fitted slope per step): the neighbour "
@@ -179,7 +173,10 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // cycles -0.14). Refused rather than estimated. A decay or a growth is a spiral whose later turns
   // are the neighbours, and is estimated (a strongly damped oscillator reaches its noise floor
   // within 1.7 of its mean periods); an explicit window is the user's decision.
-  if (!options.theiler && spanned < kMinMeanPeriods && persists(amplitude_ratio(series))) {
+  // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
+  // first third's (transient.hpp). Read by the short-run refusal and by the recurrence test.
+  const bool persisting = persists(amplitude_ratio(series));
+  if (!options.theiler && spanned < kMinMeanPeriods && persisting) {
     char text[400];
     std::snprintf(text, sizeof text,
                   "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
@@ -196,7 +193,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // the whole estimate (mean period, embedding, curve) redone on the rest, as with --from. Only
   // for a motion that persists: a decay's or a growth's turns are each visited once, and are what
   // it measures. Judged on the first curve's neighbour pairs (no search of its own).
-  const bool judge_start = options.skip_nonrecurrent_start && persists(amplitude_ratio(series));
+  const bool judge_start = options.skip_nonrecurrent_start && persisting;
   auto estimate_without_start = [&](const NeighbourPairs& first_pairs) -> std::optional<MlceResult> {
     const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - first_pairs.horizon;
     RecurrenceResult rec = recurrent_start(first_pairs, admissible, options.recurrence);
