@@ -100,6 +100,56 @@ TEST(QrSpectrum, LorenzPublishedSpectrumAndTrace) {
   EXPECT_NEAR(r.exponents(2), -14.5723, 0.03);
   EXPECT_NEAR(r.exponents.sum(), -(sg + 1 + beta), 1e-3);
   EXPECT_LT(r.orthogonality_error, 1e-13);
+  // The divergence integrated with the trajectory is the constant -(sigma + 1 + beta), and the
+  // log-sums of the QR factors reproduce it to the integration tolerance (Liouville).
+  EXPECT_NEAR(r.mean_divergence, -(sg + 1 + beta), 1e-9);
+  EXPECT_NEAR(r.exponent_sum, -(sg + 1 + beta), 1e-7);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+namespace {
+/// x' = A(t) x, A = [[-1 + cos t, 1], [0, -2 sin^2 t]], period 2 pi: tr A averages to -1 - 1 = -2
+/// over a period, so the two Floquet (and Lyapunov) exponents sum to -2 exactly, while neither is
+/// known in closed form.
+ode::DynamicalSystem periodic_linear() {
+  ode::DynamicalSystem s;
+  s.dimension = 2;
+  s.period = 2 * std::numbers::pi;
+  auto A = [](double t) {
+    MatrixXd a(2, 2);
+    a << -1 + std::cos(t), 1, 0, -2 * std::sin(t) * std::sin(t);
+    return a;
+  };
+  s.rhs = [A](const VectorXd& x, VectorXd& dx, double t) { dx = A(t) * x; };
+  s.jacobian = [A](const VectorXd&, double t) { return A(t); };
+  return s;
+}
+}  // namespace
+
+TEST(Liouville, FloquetAndQrExponentsSumToTheMeanDivergenceOfAPeriodicSystem) {
+  const auto fl = spectrum::floquet(periodic_linear(), {});
+  EXPECT_NEAR(fl.mean_divergence, -2.0, 1e-9);
+  EXPECT_NEAR(fl.exponents.sum(), -2.0, 1e-9);
+  EXPECT_TRUE(fl.warnings.empty());
+  auto o = qr_options(200 * std::numbers::pi, 0.05);
+  const auto qr = spectrum::qr_spectrum(periodic_linear(), VectorXd::Ones(2), o);
+  EXPECT_NEAR(qr.mean_divergence, -2.0, 1e-9);  // whole periods averaged
+  EXPECT_NEAR(qr.exponent_sum, -2.0, 1e-8);
+  for (int i = 0; i < 2; ++i) EXPECT_NEAR(qr.raw_exponents(i), fl.exponents(i), 1e-3) << i;
+  EXPECT_TRUE(qr.warnings.empty());
+}
+
+TEST(Liouville, LooseTangentIntegrationIsFlagged) {
+  // Tolerances of 1e-2 and a QR step of 0.1 s on the blade-3-inoperative scene: the tangent
+  // integration loses volume, and says so (the default settings do not: ThreeJacobianRoutesAgree).
+  const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5"});
+  auto loose = qr_options(30.0, 0.1);
+  loose.integrator.rtol = loose.integrator.atol = 1e-2;
+  const auto r = spectrum::qr_spectrum(models::dynamical_system(sc), sc.x0, loose);
+  std::printf("rtol = atol = 1e-2, QR step 0.1 s: exponents sum to %.6f, mean divergence %.6f\n", r.exponent_sum,
+              r.mean_divergence);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("Liouville"), std::string::npos);
 }
 
 TEST(QrSpectrum, ThreeJacobianRoutesAgree) {
@@ -108,13 +158,22 @@ TEST(QrSpectrum, ThreeJacobianRoutesAgree) {
   const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5"});
   const auto sys = models::dynamical_system(sc);
   std::vector<VectorXd> results;
+  std::vector<double> divergence;
   for (auto m : {spectrum::JacobianMethod::analytic, spectrum::JacobianMethod::complex_step, spectrum::JacobianMethod::jacobian_free}) {
     auto o = qr_options(10.0, 0.01);
     o.jacobian = m;
-    results.push_back(spectrum::qr_spectrum(sys, sc.x0, o).raw_exponents);
+    const auto r = spectrum::qr_spectrum(sys, sc.x0, o);
+    results.push_back(r.raw_exponents);
+    // Liouville along a trajectory whose divergence varies (the mass matrix depends on the lag
+    // angles); the Jacobian-free route gets tr A as tr(Z^-1 A Z) from its own products.
+    EXPECT_NEAR(r.exponent_sum, r.mean_divergence, 1e-7 * std::abs(r.mean_divergence)) << spectrum::jacobian_method_name(m);
+    EXPECT_TRUE(r.warnings.empty()) << spectrum::jacobian_method_name(m);
+    divergence.push_back(r.mean_divergence);
   }
   EXPECT_LT((results[0] - results[1]).cwiseAbs().maxCoeff(), 1e-7);
   EXPECT_LT((results[0] - results[2]).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_NEAR(divergence[1], divergence[0], 1e-9 * std::abs(divergence[0]));
+  EXPECT_NEAR(divergence[2], divergence[0], 1e-7 * std::abs(divergence[0]));
 }
 
 TEST(Floquet, IsotropicRotorAgreesWithMultibladeEigenvaluesAndQrAtEveryRpm) {

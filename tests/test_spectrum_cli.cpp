@@ -45,6 +45,13 @@ TEST_F(SpectrumCli, EigenFloquetAndQrAgreeOnTheIsotropicScene) {
     pair += std::abs(e["exponents"][i].get<double>() + 1.875) < 1e-3;
   }
   EXPECT_EQ(pair, 4);  // collective and reactionless: -c / (2 I_b), twice each
+  // Liouville: each method's exponents sum to its mean divergence of the vector field, and the
+  // divergence (tr A, invariant under the multiblade transformation) is the same for all three.
+  for (const json* r : {&e, &f, &q}) {
+    const double sum = (*r)["exponent_sum"].get<double>(), div = (*r)["mean_divergence"].get<double>();
+    EXPECT_NEAR(sum, div, 1e-8 * std::abs(div));
+    EXPECT_NEAR(div, e["mean_divergence"].get<double>(), 1e-6 * std::abs(div));
+  }
   EXPECT_EQ(e["coordinates"].size(), 12u);
   EXPECT_TRUE(f.contains("period"));
 }

@@ -22,6 +22,14 @@ namespace po = boost::program_options;
 namespace mlce::cli {
 namespace {
 
+/// The exponents' sum beside the mean divergence of the vector field: Liouville's formula makes
+/// them equal, so their difference is the computation's own error (liouville.hpp).
+std::string liouville_line(double sum, double mean_divergence, const std::string& unit) {
+  return fmt::format("# sum of the exponents {:.10g} 1/{}; mean divergence of the vector field (tr A) {:.10g}; "
+                     "difference {:.2g} (Liouville's formula makes them equal)\n",
+                     sum, unit, mean_divergence, sum - mean_divergence);
+}
+
 /// Options every Jacobian-based command shares.
 struct Common {
   std::string sensitivity, jacobian = "analytic";
@@ -176,6 +184,8 @@ int cmd_spectrum(const std::vector<std::string>& args) {
     j["jacobian"] = spectrum::jacobian_method_name(o.jacobian);
     j["merge"] = merge;
     j["orthogonality_error"] = r.orthogonality_error;
+    j["exponent_sum"] = r.exponent_sum;
+    j["mean_divergence"] = r.mean_divergence;
     j["steps"] = r.stats.steps;
     j["evaluations"] = r.stats.evaluations;
     j["warnings"] = r.warnings;
@@ -193,6 +203,7 @@ int cmd_spectrum(const std::vector<std::string>& args) {
       std::cout << fmt::format("# averaged (multiplicity {}): exponents {}\n", g.size(), idx);
     }
     std::cout << table(r.exponents, nullptr, r.parameters, r.sensitivities, unit);
+    std::cout << liouville_line(r.exponent_sum, r.mean_divergence, unit);
   }
   print_warnings(r.warnings);
   return 0;
@@ -219,6 +230,8 @@ int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, 
     if (!s.parameters.empty()) j["sensitivities"] = sensitivities_json(s.parameters, s.sensitivities);
     j["time_unit"] = unit;
     j["eigenvector_condition"] = s.eigenvector_condition;
+    j["exponent_sum"] = s.exponents.sum();
+    j["mean_divergence"] = s.mean_divergence;
     j["warnings"] = s.warnings;
     std::cout << j.dump() << "\n";
   } else {
@@ -227,6 +240,7 @@ int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, 
                                                         2 * M_PI / s.period, unit)
                                           : std::string());
     std::cout << table(s.exponents, &s.frequencies, s.parameters, s.sensitivities, unit);
+    std::cout << liouville_line(s.exponents.sum(), s.mean_divergence, unit);
   }
   print_warnings(s.warnings);
   return 0;

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "mlce/spectrum/liouville.hpp"
 #include "variational.hpp"
 
 namespace mlce::spectrum {
@@ -77,7 +78,9 @@ LinearSpectrum linear_eigen(const Eigen::MatrixXd& A, const std::vector<Eigen::M
   for (std::size_t k = 0; k < dA.size(); ++k)
     for (Eigen::Index i = 0; i < n; ++i) sens(static_cast<Eigen::Index>(k), i) = d.derivative(i, dA[k]).real();
   s = sorted(s, sens);
+  s.mean_divergence = A.trace();
   condition_warning(s);
+  if (auto w = liouville_mismatch(s.exponents, s.mean_divergence, "the eigenvalue solver lost accuracy")) s.warnings.push_back(*w);
   return s;
 }
 
@@ -155,7 +158,12 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
       s.warnings.push_back("the orbit does not close over one period (relative gap " + std::to_string(gap) + ")");
   }
   s = sorted(s, sens);
+  s.mean_divergence = X(vs.divergence_index()) / T;
   condition_warning(s);
+  if (auto w = liouville_mismatch(s.exponents, s.mean_divergence,
+                                  "the monodromy matrix was not integrated accurately (tighten rtol/atol) or its "
+                                  "multipliers span too many orders of magnitude for the eigenvalue solver"))
+    s.warnings.push_back(*w);
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mlce/spectrum/liouville.hpp"
 #include "variational.hpp"
 
 namespace mlce::spectrum {
@@ -127,8 +128,10 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   double h = 0.0;
   const std::size_t progress_every = std::max<std::size_t>(1, J / 100);
 
+  double divergence_at_start = 0.0;  // D (integral of tr A) at t_start
   for (std::size_t j = 0; j < J; ++j) {
     const double ta = grid(j), tb = grid(j + 1);
+    if (j == j_first) divergence_at_start = X(vs.divergence_index());
     ode::integrate_to(vs, X, ta, tb, o.integrator, h, res.stats);
     Z = Eigen::Map<const Eigen::MatrixXd>(X.data() + n, n, n);
     positive_qr(Z, Q, R);
@@ -181,6 +184,7 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   res.final_state = X.head(n);
   res.averaging_time = o.t_end - t_start;
   res.averaging_start = t_start;
+  res.mean_divergence = (X(vs.divergence_index()) - divergence_at_start) / res.averaging_time;
 
   // Sort by the final estimate, descending; history and sensitivities follow.
   const Eigen::VectorXd final_row = hist.back();
@@ -204,6 +208,15 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
 
   res.exponents = res.raw_exponents;
   res.sensitivities = raw_sens;
+  // Liouville: sum_i log r_ii over an interval is log det of its tangent flow, which is the
+  // integral of tr A over it; only the integration of the tangent matrix (and rounding in the QR
+  // factors) can make them differ.
+  CompensatedSum total;
+  for (Eigen::Index i = 0; i < n; ++i) total.add(res.raw_exponents(i));
+  res.exponent_sum = total.value();
+  if (auto w = liouville_mismatch(res.raw_exponents, res.mean_divergence,
+                                  "the tangent vectors were not integrated accurately; tighten rtol/atol or shorten the QR step"))
+    res.warnings.push_back(*w);
   if (o.merge != MergeRule::none) {
     const auto groups = merge_groups(res.raw_exponents, order, half_times, half_sums, o);
     for (const auto& g : groups) {

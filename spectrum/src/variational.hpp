@@ -4,13 +4,16 @@
 //   Z'     = A Z,   A = f_/x(x, t)                     (eq. 3; Z starts from Q_{j-1})
 //   x_/p'  = A x_/p + f_/p                             (eq. 28)
 //   Z_/p'  = A Z_/p + (dA/dp) Z,  dA/dp = A_/x x_/p + A_/p   (eqs. 26-27)
-// Layout of the state: [x | Z (column-major) | x_/p1 | Z_/p1 | x_/p2 | ...].
+//   D'     = tr A                                      (Liouville: D(t) = ln det of the tangent
+//                                                        flow, the sum of all exponents x time)
+// Layout of the state: [x | Z (column-major) | x_/p1 | Z_/p1 | x_/p2 | ... | D].
 // Parameters are scaled, p = p0 + scale s, and derivatives are taken with respect to s so that
 // every block is of order one. The local derivatives f_/s and (dA/ds) Z are central differences
 // of the model at s = +-delta along (x_/s, 1): error O(delta^2) relative, delta = 1e-4. The
 // propagation of the sensitivities (eqs. 12, 18-28) is exact; only these local model derivatives
 // are differenced.
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <vector>
 
 #include "mlce/ode/system.hpp"
@@ -37,7 +40,9 @@ class VariationalSystem {
   Eigen::Index n() const { return n_; }
   std::size_t parameters() const { return plus_.size(); }
   Eigen::Index block() const { return n_ + n_ * n_; }
-  Eigen::Index size() const { return block() * static_cast<Eigen::Index>(1 + plus_.size()); }
+  Eigen::Index size() const { return block() * static_cast<Eigen::Index>(1 + plus_.size()) + 1; }
+  /// Index of D, the integral of tr A (the divergence of the vector field) along the trajectory.
+  Eigen::Index divergence_index() const { return size() - 1; }
 
   template <class V> static auto x_of(V& X, Eigen::Index n) { return X.head(n); }
   template <class V> static auto Z_of(V& X, Eigen::Index n) { return Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, n); }
@@ -53,8 +58,15 @@ class VariationalSystem {
     dX.head(n) = f_;
     const Eigen::Map<const Eigen::MatrixXd> Z(X.data() + n, n, n);
     Eigen::Map<Eigen::MatrixXd> dZ(dX.data() + n, n, n);
+    // The explicit routes form A once: the products and its trace come from it. The Jacobian-free
+    // route never forms A: tr A = tr(Z^-1 A Z), from the product it computes anyway (Z starts as
+    // an orthonormal or identity matrix and is integrated over one QR interval or one period).
+    const bool explicit_a = method_ != JacobianMethod::jacobian_free;
+    if (explicit_a) a_ = jacobian(sys_, method_, x_, t);
     if (plus_.empty()) {
-      tangent_product(sys_, method_, x_, t, Z, dZ);
+      if (explicit_a) dZ.noalias() = a_ * Z;
+      else tangent_product(sys_, method_, x_, t, Z, dZ);
+      dX(divergence_index()) = explicit_a ? a_.trace() : trace_of_similar(Z, dZ);
       return;
     }
     // One product A [Z | x_/p1 | Z_/p1 | ...] for all blocks.
@@ -67,8 +79,10 @@ class VariationalSystem {
       all_.middleCols(c + 1, n) = Eigen::Map<const Eigen::MatrixXd>(X.data() + o + n, n, n);
     }
     prod_.resize(n, cols);
-    tangent_product(sys_, method_, x_, t, all_, prod_);
+    if (explicit_a) prod_.noalias() = a_ * all_;
+    else tangent_product(sys_, method_, x_, t, all_, prod_);
     dZ = prod_.leftCols(n);
+    dX(divergence_index()) = explicit_a ? a_.trace() : trace_of_similar(Z, prod_.leftCols(n));
     for (std::size_t k = 0; k < plus_.size(); ++k) {
       const Eigen::Index o = offset(k), c = n + static_cast<Eigen::Index>(k) * (n + 1);
       const auto xs = X.segment(o, n);
@@ -87,13 +101,20 @@ class VariationalSystem {
   }
 
  private:
+  /// tr A = tr(Z^-1 (A Z)) = sum_ij (Z^-1)_ij (AZ)_ji: one inverse (~n^3 flops), no solve.
+  template <class M>
+  double trace_of_similar(const Eigen::Map<const Eigen::MatrixXd>& Z, const M& AZ) const {
+    inverse_ = Z.partialPivLu().inverse();
+    return (inverse_.array() * AZ.transpose().array()).sum();
+  }
+
   const ode::DynamicalSystem& sys_;
   JacobianMethod method_;
   Eigen::Index n_;
   std::vector<ode::DynamicalSystem> plus_, minus_;
   // Work space (the RHS is called from one thread per instance).
   mutable Eigen::VectorXd x_, f_, xa_, xb_, fa_, fb_;
-  mutable Eigen::MatrixXd all_, prod_, ta_, tb_;
+  mutable Eigen::MatrixXd a_, all_, prod_, ta_, tb_, inverse_;
 };
 
 }  // namespace mlce::spectrum::detail

@@ -28,6 +28,9 @@ struct LinearSpectrum {
   Eigen::MatrixXd sensitivities;  ///< parameters x exponents
   double period = 0.0;            ///< Floquet: T; 0 for LTI
   double eigenvector_condition = 0.0;  ///< cond(U): large means (nearly) defective, sensitivities unreliable
+  /// tr A (LTI), or its mean over the period integrated with the monodromy matrix (Floquet): what
+  /// the exponents sum to (Liouville, liouville.hpp); a mismatch is reported as a warning.
+  double mean_divergence = 0.0;
   std::vector<std::string> warnings;
 };
 

@@ -63,6 +63,11 @@ struct QrResult {
   double averaging_time = 0.0;     ///< t_end - averaging_start
   std::size_t intervals = 0;
   double orthogonality_error = 0.0;  ///< max |Q^T Q - I| seen over the run
+  /// Sum of raw_exponents, and the mean of tr A = div f over the same window (integrated with the
+  /// trajectory). Liouville's formula makes them equal; their difference is the error of the
+  /// tangent integration, reported as a warning when it exceeds kLiouvilleTolerance (liouville.hpp).
+  double exponent_sum = 0.0;
+  double mean_divergence = 0.0;
   ode::IntegrationStats stats;
   std::vector<std::string> warnings;
 };
