@@ -1,8 +1,9 @@
 // Overhead of the Jacobian-based references on the 12-state Hammond scene (blade 3 inoperative,
 // 242.4 rpm, 60 s, rk45 rtol 1e-8, QR every 5 ms): a plain integration of the same scene, the
 // discrete QR spectrum (state + 12x12 tangent), and QR with 1, 2 and 3 sensitivity parameters
-// (each adds 12 + 144 states and two perturbed Jacobians per evaluation); Floquet (one period)
-// and multiblade eigen for scale.
+// (each adds 12 + 144 states and two perturbed Jacobians per evaluation); the largest exponent
+// alone (count 1: 2 tangent vectors instead of 12) by each Jacobian route and with one
+// sensitivity; Floquet (one period) and multiblade eigen for scale.
 //   build/bench_spectrum [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -23,7 +24,8 @@ void plain_integration(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(mlce::models::simulate(s).states.back().data());
 }
 
-void qr(benchmark::State& state, std::vector<std::string> params, mlce::spectrum::JacobianMethod method) {
+void qr(benchmark::State& state, std::vector<std::string> params, mlce::spectrum::JacobianMethod method,
+        std::size_t count = 0) {
   const auto s = scene();
   const auto sys = mlce::models::dynamical_system(s);
   std::vector<mlce::ode::ParameterFamily> fam;
@@ -33,6 +35,7 @@ void qr(benchmark::State& state, std::vector<std::string> params, mlce::spectrum
   o.step = s.dt_out;
   o.transient = 6.0;
   o.jacobian = method;
+  o.count = count;
   mlce::spectrum::QrResult r;
   for (auto _ : state) {
     r = mlce::spectrum::qr_spectrum(sys, s.x0, o, fam);
@@ -64,6 +67,10 @@ BENCHMARK_CAPTURE(qr, jacobian_free_0_params, std::vector<std::string>{}, M::jac
 BENCHMARK_CAPTURE(qr, analytic_1_param_c3, std::vector<std::string>{"c3"}, M::analytic)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(qr, analytic_2_params_c3_rpm, std::vector<std::string>{"c3", "rpm"}, M::analytic)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(qr, analytic_3_params_c3_rpm_cy, std::vector<std::string>{"c3", "rpm", "cy"}, M::analytic)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(qr, analytic_largest_only, std::vector<std::string>{}, M::analytic, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(qr, complex_step_largest_only, std::vector<std::string>{}, M::complex_step, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(qr, jacobian_free_largest_only, std::vector<std::string>{}, M::jacobian_free, 1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(qr, analytic_largest_only_1_param_c3, std::vector<std::string>{"c3"}, M::analytic, 1)->Unit(benchmark::kMillisecond);
 BENCHMARK(floquet)->Unit(benchmark::kMillisecond);
 BENCHMARK(eigen_mbc)->Unit(benchmark::kMicrosecond);
 

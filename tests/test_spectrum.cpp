@@ -176,6 +176,58 @@ TEST(QrSpectrum, ThreeJacobianRoutesAgree) {
   EXPECT_NEAR(divergence[2], divergence[0], 1e-7 * std::abs(divergence[0]));
 }
 
+TEST(QrSpectrum, LeadingExponentsAloneAreTheFullSpectrumsWithTheirSensitivities) {
+  // Blade 3 inoperative: the k = 1 and 3 largest (k + 1 tangent vectors, thin QR) against all
+  // 12, exponents and sensitivities to c3 and rpm. For k < n the sensitivity needs the part of
+  // Q_/p outside span(Q).
+  const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5"});
+  const auto sys = models::dynamical_system(sc);
+  const std::vector<ode::ParameterFamily> params{models::parameter_family(sc, "c3"), models::parameter_family(sc, "rpm")};
+  auto o = qr_options(20.0, 0.01);
+  const auto full = spectrum::qr_spectrum(sys, sc.x0, o, params);
+  for (std::size_t k : {1u, 3u}) {
+    o.count = k;
+    const auto part = spectrum::qr_spectrum(sys, sc.x0, o, params);
+    ASSERT_EQ(part.exponents.size(), static_cast<Eigen::Index>(k));
+    ASSERT_EQ(part.raw_exponents.size(), static_cast<Eigen::Index>(k + 1));  // one more, to see pairs
+    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(k); ++i) {
+      std::printf("k = %zu, lambda_%ld: %.10f vs %.10f; d/dc3 %.6e vs %.6e; d/drpm %.6e vs %.6e\n", k, i + 1,
+                  part.raw_exponents(i), full.raw_exponents(i), part.sensitivities(0, i), full.sensitivities(0, i),
+                  part.sensitivities(1, i), full.sensitivities(1, i));
+      EXPECT_NEAR(part.raw_exponents(i), full.raw_exponents(i), 1e-6) << k << " " << i;
+      for (int p = 0; p < 2; ++p)
+        EXPECT_NEAR(part.sensitivities(p, i), full.sensitivities(p, i), 1e-5 * std::abs(full.sensitivities(p, i)) + 1e-12)
+            << k << " " << i << " " << p;
+    }
+    EXPECT_TRUE(std::isnan(part.mean_divergence));  // no Liouville check on part of the spectrum
+  }
+  // The complex step direction by direction (fewer directions than states) gives the same.
+  o.count = 1;
+  o.jacobian = spectrum::JacobianMethod::complex_step;
+  const auto cs = spectrum::qr_spectrum(sys, sc.x0, o, params);
+  EXPECT_NEAR(cs.exponents(0), full.raw_exponents(0), 1e-6);
+  for (int p = 0; p < 2; ++p) EXPECT_NEAR(cs.sensitivities(p, 0), full.sensitivities(p, 0), 1e-5 * std::abs(full.sensitivities(p, 0)));
+}
+
+TEST(QrSpectrum, LargestExponentAloneIsAveragedWithItsComplexPartner) {
+  // Blade 3 inoperative at 200 rpm: the motion decays, lambda_1 = lambda_2 is a complex pair. One
+  // tangent vector alone oscillates about it (the unmerged estimate, ln(cond)/t); the extra vector
+  // that count = 1 integrates lets the merge rule average the pair as the full spectrum does.
+  const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5", "--rpm", "200"});
+  const auto sys = models::dynamical_system(sc);
+  auto o = qr_options(150.0, 0.01, spectrum::MergeRule::unresolved);
+  const auto full = spectrum::qr_spectrum(sys, sc.x0, o);
+  o.count = 1;
+  const auto one = spectrum::qr_spectrum(sys, sc.x0, o);
+  std::printf("200 rpm: lambda_1 alone %.8f (raw %.8f, %.8f), all 12 %.8f\n", one.exponents(0), one.raw_exponents(0),
+              one.raw_exponents(1), full.exponents(0));
+  ASSERT_EQ(one.exponents.size(), 1);
+  ASSERT_EQ(one.groups.size(), 1u);
+  EXPECT_EQ(one.groups[0], (std::vector<int>{0, 1}));
+  EXPECT_NEAR(one.exponents(0), full.exponents(0), 1e-6);
+  EXPECT_GT(std::abs(one.raw_exponents(0) - full.exponents(0)), 1e-3);  // half a pair alone is off
+}
+
 TEST(Floquet, IsotropicRotorAgreesWithMultibladeEigenvaluesAndQrAtEveryRpm) {
   for (double rpm : {120.0, 200.0, 260.0, 330.0}) {
     const auto sc = scene({"--rpm", std::to_string(rpm), "--cy", "51078.7"});

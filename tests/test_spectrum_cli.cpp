@@ -96,11 +96,24 @@ TEST_F(SpectrumCli, FlappingSpectrumWithSensitivityHistoryAndPlot) {
   EXPECT_TRUE(std::filesystem::exists(png));
 }
 
+TEST_F(SpectrumCli, CountReportsTheLargestExponentsOnly) {
+  // The exponents reported; raw_exponents holds the one extra tangent vector; no Liouville check.
+  const json one = json_of("spectrum --count 1 --t-end 5");
+  const json all = json_of("spectrum --t-end 5 --merge off");
+  EXPECT_EQ(one["count"], 1);
+  EXPECT_EQ(one["exponents"].size(), 1u);
+  EXPECT_EQ(one["raw_exponents"].size(), 2u);
+  EXPECT_NEAR(one["raw_exponents"][0].get<double>(), all["raw_exponents"][0].get<double>(), 1e-6);
+  EXPECT_TRUE(one["mean_divergence"].is_null());
+  EXPECT_TRUE(all["mean_divergence"].is_number());
+}
+
 TEST_F(SpectrumCli, Errors) {
   expect_one_line_error(run("eigen --c 4067.5,4067.5,0,4067.5"), "not isotropic", 1);
   expect_one_line_error(run("floquet --sensitivity stiffness"), "parameter 'stiffness' is not a hammond parameter", 2);
   expect_one_line_error(run("spectrum --qr-step -1"), "--qr-step", 2);
   expect_one_line_error(run("floquet --orbit 1,2"), "orbit state: expected 12 values", 1);
   expect_one_line_error(run("spectrum --jacobian magic"), "expected analytic, complex-step or jacobian-free", 2);
+  expect_one_line_error(run("spectrum --count 0"), "--count 0: expected 1..12", 2);
   expect_one_line_error(run("floquet " + (dir / "missing.scene").string()), "cannot open the scene file", 1);
 }

@@ -158,6 +158,17 @@ TEST_F(SweepCli, StoppedOrKilledSweepResumesToTheSameBytes) {
   EXPECT_EQ(slurp(out("killed.csv")), slurp(out("slow_whole.csv")));
 }
 
+TEST_F(SweepCli, QrLargestExponentAloneIsTheFullSpectrumsFirst) {
+  // --count 1: two tangent vectors instead of 12 (the second to see a complex pair), one column.
+  const auto one = sweep_json(kC3 + " --param rpm=200:320:60 --method qr --count 1 --out " + out("q1.csv"));
+  const auto all = sweep_json(kC3 + " --param rpm=200:320:60 --method qr --out " + out("q.csv"));
+  ASSERT_EQ(one["rows"].size(), 3u);
+  ASSERT_EQ(all["rows"].size(), 3u);
+  EXPECT_EQ(one["columns"], (nlohmann::json{"rpm", "lambda_1", "note"}));
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_NEAR(one["rows"][k][1].get<double>(), all["rows"][k][1].get<double>(), 1e-6) << one["rows"][k].dump();
+}
+
 TEST_F(SweepCli, Errors) {
   const std::string base = "sweep " + kC3 + " --out " + out("x.csv");
   expect_one_line_error(run(base), "--param", 2);
@@ -169,6 +180,8 @@ TEST_F(SweepCli, Errors) {
   expect_one_line_error(run(base + " --param rpm=200 --method lyap"), "--method 'lyap'", 2);
   expect_one_line_error(run(base + " --param rpm=200 --preset turbo"), "--preset 'turbo'", 2);
   expect_one_line_error(run(base + " --param rpm=200 --method rosenstein --channel beta"), "--channel 'beta'", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --count 1"), "--count: only with --method qr", 2);
+  expect_one_line_error(run(base + " --param rpm=200 --method qr --count 13"), "--count 13: expected 1..12", 2);
   expect_one_line_error(run("sweep " + kC3 + " --param rpm=200"), "--out", 2);
   expect_one_line_error(run(base + " --param rpm=200 --param cx=1 --param cy=1 --plot " + out("p.png")),
                         "one or two swept parameters", 2);

@@ -115,6 +115,7 @@ int cmd_spectrum(const std::vector<std::string>& args) {
       ("qr-step", po::value<double>(), "re-orthonormalisation interval (default: the scene's dt_out)")
       ("transient", po::value<double>(), "time before the sums start (default: 10 % of the run)")
       ("merge", po::value(&merge), "auto (average neighbouring exponents that have not separated over the run: complex pairs), off, or a tolerance in 1/time")
+      ("count", po::value<int>(), "only the K largest exponents (K tangent vectors: the cost scales with K; 1 = the MLCE); default all")
       ("history", po::value(&history_path), "write the running estimates (and sensitivities) as CSV")
       ("plot", po::value(&plot_path), "PNG of the running estimates");
   const auto parsed = parse_scene_command(args, d);
@@ -130,6 +131,13 @@ int cmd_spectrum(const std::vector<std::string>& args) {
   o.transient = positive_option(vm, "transient", 0.1 * o.t_end);
   if (o.transient >= o.t_end) throw po::error("--transient: expected less than the run length");
   o.integrator = scene.integrator;
+  const ode::DynamicalSystem sys = models::dynamical_system(scene);
+  if (vm.count("count")) {
+    const int k = vm["count"].as<int>();
+    if (k < 1 || k > sys.dimension)
+      throw po::error(fmt::format("--count {}: expected 1..{} (the model's states)", k, sys.dimension));
+    o.count = static_cast<std::size_t>(k);
+  }
   if (merge == "auto") o.merge = spectrum::MergeRule::unresolved;
   else if (merge == "off") o.merge = spectrum::MergeRule::none;
   else {
@@ -141,7 +149,6 @@ int cmd_spectrum(const std::vector<std::string>& args) {
   const auto params = families(scene, c.sensitivity);
   ProgressLine progress("QR spectrum", c.quiet);
   o.progress = std::ref(progress);
-  const ode::DynamicalSystem sys = models::dynamical_system(scene);
   const spectrum::QrResult r = spectrum::qr_spectrum(sys, scene.x0, o, params);
   const std::string unit = time_unit(scene);
 
@@ -184,15 +191,19 @@ int cmd_spectrum(const std::vector<std::string>& args) {
     j["jacobian"] = spectrum::jacobian_method_name(o.jacobian);
     j["merge"] = merge;
     j["orthogonality_error"] = r.orthogonality_error;
+    j["count"] = r.exponents.size();
     j["exponent_sum"] = r.exponent_sum;
-    j["mean_divergence"] = r.mean_divergence;
+    if (std::isfinite(r.mean_divergence)) j["mean_divergence"] = r.mean_divergence;
+    else j["mean_divergence"] = nullptr;  // count < n: no Liouville check
     j["steps"] = r.stats.steps;
     j["evaluations"] = r.stats.evaluations;
     j["warnings"] = r.warnings;
     std::cout << j.dump() << "\n";
   } else {
     std::cout << fmt::format("# discrete QR: {} exponents of {} ({}), t = 0..{} {}, QR step {}, averaged over the last {} {}, {} Jacobian\n",
-                             r.exponents.size(), scene.source, scene.model, o.t_end, unit, o.step, r.averaging_time, unit,
+                             r.exponents.size() < sys.dimension ? fmt::format("the {} largest", r.exponents.size())
+                                                                : std::to_string(r.exponents.size()),
+                             scene.source, scene.model, o.t_end, unit, o.step, r.averaging_time, unit,
                              spectrum::jacobian_method_name(o.jacobian));
     for (const auto& g : r.groups) {
       std::string idx;
@@ -203,7 +214,7 @@ int cmd_spectrum(const std::vector<std::string>& args) {
       std::cout << fmt::format("# averaged (multiplicity {}): exponents {}\n", g.size(), idx);
     }
     std::cout << table(r.exponents, nullptr, r.parameters, r.sensitivities, unit);
-    std::cout << liouville_line(r.exponent_sum, r.mean_divergence, unit);
+    if (std::isfinite(r.mean_divergence)) std::cout << liouville_line(r.exponent_sum, r.mean_divergence, unit);
   }
   print_warnings(r.warnings);
   return 0;

@@ -90,6 +90,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
   double from = -1;
   bool json = false, quiet = false;
   std::size_t max_points = 0;
+  int count = 0;
   po::options_description d("mlce sweep SCENE --param NAME=a:b:step [--param ...] --out RESULT.csv [options]");
   d.add_options()
       ("param", po::value(&params)->composing(), "swept scene parameter NAME=first:last:step (repeatable; the grid is their product)")
@@ -99,6 +100,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
       ("out", po::value(&out_path), "result CSV (written at the end; OUT.partial keeps finished points for resuming)")
       ("plot", po::value(&plot_path), "PNG: lines for one parameter, a colour map of lambda_1 for two")
       ("sensitivity", po::value(&sensitivity), "qr, floquet: comma-separated parameters; adds columns dlambda_i/dP (paper 000 eqs. 12-28)")
+      ("count", po::value(&count), "qr: only the K largest exponents (K tangent vectors; 1 = the MLCE); default all")
       ("channel", po::value(&channel), "rosenstein: state to estimate on (default: lag of the weakest-damped blade; flapping: beta)")
       ("from", po::value(&from), "rosenstein: start of the analysed window (default: auto, the end of the transient as 'mlce estimate --from auto' finds it)")
       ("max-points", po::value(&max_points), "compute at most this many new points, then stop (exit 3; rerun to continue)")
@@ -145,13 +147,17 @@ int cmd_sweep(const std::vector<std::string>& args) {
     }
   }
   const ode::DynamicalSystem sys0 = models::dynamical_system(base);
+  if (count != 0 && method != "qr") throw po::error("--count: only with --method qr");
+  if (count < 0 || count > sys0.dimension)
+    throw po::error(fmt::format("--count {}: expected 1..{} (the model's states)", count, sys0.dimension));
+  const int exponents = count > 0 ? count : sys0.dimension;  // result columns per quantity
   std::vector<std::string> sensitivities;
   std::size_t channel_state = 0;
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
     plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "note"};
   } else {
-    for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
+    for (int i = 0; i < exponents; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
     if (!sensitivity.empty() && method == "eigen") throw po::error("--sensitivity: with --method qr or floquet");
     std::stringstream list(sensitivity);
     for (std::string p; std::getline(list, p, ',');) {
@@ -162,13 +168,14 @@ int cmd_sweep(const std::vector<std::string>& args) {
         throw po::error(std::string("--sensitivity: ") + e.what());
       }
       sensitivities.push_back(p);
-      for (int i = 0; i < sys0.dimension; ++i) plan.result_columns.push_back(fmt::format("dlambda_{}/d{}", i + 1, p));
+      for (int i = 0; i < exponents; ++i) plan.result_columns.push_back(fmt::format("dlambda_{}/d{}", i + 1, p));
     }
     plan.result_columns.push_back("note");
   }
   const std::string unit = base.model == "flapping" ? "rad of azimuth" : "s";
   std::string settings = fmt::format("method {}, {}", method, describe(preset));
   if (method == "rosenstein") settings += fmt::format(", channel {}, from {}", channel, from < 0 ? "auto" : cell(from));
+  if (count > 0) settings += fmt::format(", count {} (the largest exponents only)", count);
   plan.header_comment = "# mlce sweep of " + base.source + ": " + settings + "; exponents in 1/" + unit + ", natural log\n";
   std::istringstream scene_text(models::describe_scene(base));
   for (std::string line; std::getline(scene_text, line);) plan.header_comment += "# scene: " + line + "\n";
@@ -241,6 +248,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
         o.step = scene.dt_out;
         o.transient = 0.1 * o.t_end;
         o.integrator = scene.integrator;
+        o.count = static_cast<std::size_t>(count);
         const spectrum::QrResult r = spectrum::qr_spectrum(models::dynamical_system(scene), scene.x0, o, families);
         ex = r.exponents, sens = r.sensitivities, warnings = r.warnings;
       }
@@ -269,7 +277,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
     const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel : method + " exponents";
     if (plan.axes.size() == 1) {
       std::string csv = plan.axes[0].name;
-      const std::size_t shown = method == "rosenstein" ? 3 : static_cast<std::size_t>(sys0.dimension);
+      const std::size_t shown = method == "rosenstein" ? 3 : static_cast<std::size_t>(exponents);
       for (std::size_t c = 0; c < shown; ++c) csv += "," + plan.result_columns[c];
       csv += "\n";
       for (std::size_t k = 0; k < outcome.points; ++k) {

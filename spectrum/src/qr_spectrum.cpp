@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -26,13 +27,14 @@ void QrOptions::validate() const {
 
 namespace {
 
-/// Q R = Z with r_ii >= 0 (paper 001 sec. 3.1: flip row i of R and column i of Q).
+/// Q R = Z with r_ii >= 0 (paper 001 sec. 3.1: flip row i of R and column i of Q). Z is n x m
+/// (m <= n): Q is n x m with orthonormal columns (thin QR), R is m x m.
 void positive_qr(const Eigen::MatrixXd& Z, Eigen::MatrixXd& Q, Eigen::MatrixXd& R) {
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Z);
-  const Eigen::Index n = Z.rows();
-  R = qr.matrixQR().triangularView<Eigen::Upper>();
-  Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, n);
-  for (Eigen::Index i = 0; i < n; ++i)
+  const Eigen::Index n = Z.rows(), m = Z.cols();
+  R = qr.matrixQR().topRows(m).triangularView<Eigen::Upper>();
+  Q = qr.householderQ() * Eigen::MatrixXd::Identity(n, m);
+  for (Eigen::Index i = 0; i < m; ++i)
     if (R(i, i) < 0) R.row(i) *= -1.0, Q.col(i) *= -1.0;
 }
 
@@ -90,17 +92,25 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
     throw std::invalid_argument("initial state has " + std::to_string(x0.size()) + " values, the model " +
                                 std::to_string(sys.dimension));
   if (!x0.allFinite()) throw std::invalid_argument("initial state: expected finite values");
-  const detail::VariationalSystem vs(sys, o.jacobian, parameters);
-  const Eigen::Index n = vs.n();
+  if (o.count > static_cast<std::size_t>(sys.dimension))
+    throw std::invalid_argument("count: " + std::to_string(o.count) + " exponents requested, but the model has " +
+                                std::to_string(sys.dimension) + " states");
+  // count < n: one tangent vector more than reported, so that a complex pair straddling the last
+  // reported exponent is seen and averaged (merge) instead of reported as half a pair, whose
+  // estimate only converges like ln(cond)/t (Hammond at 200 rpm, 150 s: -0.0818 alone, the
+  // pair's -0.0868 with one vector more).
+  const std::size_t computed = o.count == 0 ? 0 : std::min<std::size_t>(o.count + 1, static_cast<std::size_t>(sys.dimension));
+  const detail::VariationalSystem vs(sys, o.jacobian, parameters, static_cast<Eigen::Index>(computed));
+  const Eigen::Index n = vs.n(), m = vs.columns();  // states, exponents computed
   const std::size_t P = vs.parameters();
   Eigen::VectorXd X = Eigen::VectorXd::Zero(vs.size());
   X.head(n) = x0;
-  Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, n).setIdentity();
+  Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, m).setIdentity();
 
   QrResult res;
   for (const auto& p : parameters) res.parameters.push_back(p.name);
-  std::vector<CompensatedSum> logs(static_cast<std::size_t>(n)), sens(P * static_cast<std::size_t>(n));
-  Eigen::MatrixXd Z(n, n), Q(n, n), R(n, n), B(n, n), C(n, n), W(n, n);
+  std::vector<CompensatedSum> logs(static_cast<std::size_t>(m)), sens(P * static_cast<std::size_t>(m));
+  Eigen::MatrixXd Z(n, m), Q(n, m), R(m, m), B(m, m), C(m, m), W(m, m);
   // The averaging window [t_start, t_end]: after the transient and, for a periodic system, a
   // whole number of periods long (a partial period leaves an O(1/t) bias from the periodic part).
   double t_start = o.t0 + o.transient;
@@ -122,7 +132,7 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   // Log-sums over the second half of the averaging window (at most ~20000 samples) for merging.
   std::vector<double> half_times;
   std::vector<Eigen::VectorXd> half_sums;
-  Eigen::VectorXd running(n);
+  Eigen::VectorXd running(m);
   const double t_half = t_start + 0.5 * (o.t_end - t_start);
   const std::size_t half_every = std::max<std::size_t>(1, averaged / 40000);
   double h = 0.0;
@@ -133,18 +143,18 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
     const double ta = grid(j), tb = grid(j + 1);
     if (j == j_first) divergence_at_start = X(vs.divergence_index());
     ode::integrate_to(vs, X, ta, tb, o.integrator, h, res.stats);
-    Z = Eigen::Map<const Eigen::MatrixXd>(X.data() + n, n, n);
+    Z = Eigen::Map<const Eigen::MatrixXd>(X.data() + n, n, m);
     positive_qr(Z, Q, R);
-    for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index i = 0; i < m; ++i)
       if (!(R(i, i) > 0.0) || !std::isfinite(R(i, i)))
         throw std::runtime_error("QR: the tangent space collapsed at t = " + std::to_string(tb) + " (r_" +
                                  std::to_string(i + 1) + std::to_string(i + 1) + " = " + std::to_string(R(i, i)) +
                                  "): shorten the QR step or loosen the contraction");
     const bool average = j >= j_first;
     if (average)
-      for (Eigen::Index i = 0; i < n; ++i) logs[static_cast<std::size_t>(i)].add(std::log(R(i, i)));
+      for (Eigen::Index i = 0; i < m; ++i) logs[static_cast<std::size_t>(i)].add(std::log(R(i, i)));
     for (std::size_t k = 0; k < P; ++k) {
-      Eigen::Map<Eigen::MatrixXd> Zp(X.data() + vs.offset(k) + n, n, n);
+      Eigen::Map<Eigen::MatrixXd> Zp(X.data() + vs.offset(k) + n, n, m);
       B.noalias() = Q.transpose() * Zp;
       // C = B R^-1 by back-substitution (eq. 20), W_L = stril(C), W = W_L - W_L^T (eq. 19/24).
       C = R.transpose().triangularView<Eigen::Lower>().solve(B.transpose()).transpose();
@@ -152,29 +162,38 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
       W -= Eigen::MatrixXd(W.transpose());
       if (average) {
         // R_j/p = B - W R_j (eq. 25): only its diagonal enters eq. 12.
-        for (Eigen::Index i = 0; i < n; ++i)
-          sens[k * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)].add((B(i, i) - W.row(i).dot(R.col(i))) / R(i, i));
+        for (Eigen::Index i = 0; i < m; ++i)
+          sens[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)].add((B(i, i) - W.row(i).dot(R.col(i))) / R(i, i));
       }
-      Zp.noalias() = Q * W;  // Q_j/p = Q_j W (eq. 21): the next interval starts from it
+      // Q_j/p, the next interval's start: Q_j W (eq. 21) for the whole tangent space. With m < n
+      // columns Q_j^T Q_j/p = W still, but Q_j/p also has a part outside span(Q_j), the part of
+      // Z_/p R_j^-1 that Q_j does not hold: Q_j/p = Q_j W + (I - Q_j Q_j^T) Z_/p R_j^-1 = Q_j (W - C) + Z_/p R_j^-1.
+      if (m == n) {
+        Zp.noalias() = Q * W;
+      } else {
+        const Eigen::MatrixXd outside = R.transpose().triangularView<Eigen::Lower>().solve(Zp.transpose()).transpose();
+        Zp.noalias() = Q * (W - C);
+        Zp += outside;
+      }
     }
-    Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, n) = Q;
+    Eigen::Map<Eigen::MatrixXd>(X.data() + n, n, m) = Q;
     ++res.intervals;
     if (average && tb >= t_half && o.merge == MergeRule::unresolved && ((j - j_first) % half_every == 0 || j + 1 == J)) {
-      for (Eigen::Index i = 0; i < n; ++i) running(i) = logs[static_cast<std::size_t>(i)].value();
+      for (Eigen::Index i = 0; i < m; ++i) running(i) = logs[static_cast<std::size_t>(i)].value();
       half_times.push_back(tb);
       half_sums.push_back(running);
     }
     if (j % 1000 == 0 || j + 1 == J)
       res.orthogonality_error = std::max(res.orthogonality_error,
-                                         (Q.transpose() * Q - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff());
+                                         (Q.transpose() * Q - Eigen::MatrixXd::Identity(m, m)).cwiseAbs().maxCoeff());
     if (average && ((j - j_first) % every == 0 || j + 1 == J)) {
       const double span = tb - t_start;
-      Eigen::VectorXd row(n), srow(static_cast<Eigen::Index>(P) * n);
-      for (Eigen::Index i = 0; i < n; ++i) row(i) = logs[static_cast<std::size_t>(i)].value() / span;
+      Eigen::VectorXd row(m), srow(static_cast<Eigen::Index>(P) * m);
+      for (Eigen::Index i = 0; i < m; ++i) row(i) = logs[static_cast<std::size_t>(i)].value() / span;
       for (std::size_t k = 0; k < P; ++k)
-        for (Eigen::Index i = 0; i < n; ++i)
-          srow(static_cast<Eigen::Index>(k) * n + i) =
-              sens[k * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)].value() / span / parameters[k].scale;
+        for (Eigen::Index i = 0; i < m; ++i)
+          srow(static_cast<Eigen::Index>(k) * m + i) =
+              sens[k * static_cast<std::size_t>(m) + static_cast<std::size_t>(i)].value() / span / parameters[k].scale;
       res.history_time.push_back(tb);
       hist.push_back(row);
       hist_s.push_back(srow);
@@ -184,27 +203,28 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   res.final_state = X.head(n);
   res.averaging_time = o.t_end - t_start;
   res.averaging_start = t_start;
-  res.mean_divergence = (X(vs.divergence_index()) - divergence_at_start) / res.averaging_time;
+  res.mean_divergence = m == n ? (X(vs.divergence_index()) - divergence_at_start) / res.averaging_time
+                               : std::numeric_limits<double>::quiet_NaN();
 
   // Sort by the final estimate, descending; history and sensitivities follow.
   const Eigen::VectorXd final_row = hist.back();
-  std::vector<int> order(static_cast<std::size_t>(n));
+  std::vector<int> order(static_cast<std::size_t>(m));
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return final_row(a) > final_row(b); });
   const auto rows = static_cast<Eigen::Index>(hist.size());
-  res.history.resize(rows, n);
-  res.history_sensitivities.resize(rows, static_cast<Eigen::Index>(P) * n);
+  res.history.resize(rows, m);
+  res.history_sensitivities.resize(rows, static_cast<Eigen::Index>(P) * m);
   for (Eigen::Index r = 0; r < rows; ++r)
-    for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index i = 0; i < m; ++i) {
       res.history(r, i) = hist[static_cast<std::size_t>(r)](order[static_cast<std::size_t>(i)]);
       for (std::size_t k = 0; k < P; ++k)
-        res.history_sensitivities(r, static_cast<Eigen::Index>(k) * n + i) =
-            hist_s[static_cast<std::size_t>(r)](static_cast<Eigen::Index>(k) * n + order[static_cast<std::size_t>(i)]);
+        res.history_sensitivities(r, static_cast<Eigen::Index>(k) * m + i) =
+            hist_s[static_cast<std::size_t>(r)](static_cast<Eigen::Index>(k) * m + order[static_cast<std::size_t>(i)]);
     }
   res.raw_exponents = res.history.row(rows - 1).transpose();
-  Eigen::MatrixXd raw_sens(static_cast<Eigen::Index>(P), n);
+  Eigen::MatrixXd raw_sens(static_cast<Eigen::Index>(P), m);
   for (std::size_t k = 0; k < P; ++k)
-    raw_sens.row(static_cast<Eigen::Index>(k)) = res.history_sensitivities.row(rows - 1).segment(static_cast<Eigen::Index>(k) * n, n);
+    raw_sens.row(static_cast<Eigen::Index>(k)) = res.history_sensitivities.row(rows - 1).segment(static_cast<Eigen::Index>(k) * m, m);
 
   res.exponents = res.raw_exponents;
   res.sensitivities = raw_sens;
@@ -212,20 +232,22 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   // integral of tr A over it; only the integration of the tangent matrix (and rounding in the QR
   // factors) can make them differ.
   CompensatedSum total;
-  for (Eigen::Index i = 0; i < n; ++i) total.add(res.raw_exponents(i));
+  for (Eigen::Index i = 0; i < m; ++i) total.add(res.raw_exponents(i));
   res.exponent_sum = total.value();
-  if (auto w = liouville_mismatch(res.raw_exponents, res.mean_divergence,
-                                  "the tangent vectors were not integrated accurately; tighten rtol/atol or shorten the QR step"))
-    res.warnings.push_back(*w);
+  if (m == n) {
+    if (auto w = liouville_mismatch(res.raw_exponents, res.mean_divergence,
+                                    "the tangent vectors were not integrated accurately; tighten rtol/atol or shorten the QR step"))
+      res.warnings.push_back(*w);
+  }
   if (o.merge != MergeRule::none) {
     const auto groups = merge_groups(res.raw_exponents, order, half_times, half_sums, o);
     for (const auto& g : groups) {
       if (g.size() < 2) continue;
       res.groups.push_back(g);
-      double m = 0.0;
-      for (int i : g) m += res.raw_exponents(i);
-      m /= static_cast<double>(g.size());
-      for (int i : g) res.exponents(i) = m;
+      double mean = 0.0;
+      for (int i : g) mean += res.raw_exponents(i);
+      mean /= static_cast<double>(g.size());
+      for (int i : g) res.exponents(i) = mean;
       for (std::size_t k = 0; k < P; ++k) {
         double s = 0.0;
         for (int i : g) s += raw_sens(static_cast<Eigen::Index>(k), i);
@@ -233,6 +255,11 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
         for (int i : g) res.sensitivities(static_cast<Eigen::Index>(k), i) = s;
       }
     }
+  }
+  if (o.count > 0 && static_cast<Eigen::Index>(o.count) < m) {  // the extra vector is not reported
+    const auto k = static_cast<Eigen::Index>(o.count);
+    res.exponents.conservativeResize(k);
+    res.sensitivities = Eigen::MatrixXd(res.sensitivities.leftCols(k));
   }
   if (res.averaging_time < 50.0 * o.step)
     res.warnings.push_back("fewer than 50 QR intervals were averaged: the exponents have not converged");

@@ -45,6 +45,23 @@ double central_step(const Eigen::VectorXd& x, const Eigen::Ref<const Eigen::Vect
 
 void tangent_product(const ode::DynamicalSystem& sys, JacobianMethod m, const Eigen::VectorXd& x, double t,
                      const Eigen::Ref<const Eigen::MatrixXd>& Z, Eigen::Ref<Eigen::MatrixXd> AZ) {
+  if (m == JacobianMethod::complex_step && Z.cols() < x.size()) {
+    // Fewer directions than states (the largest exponents only): one complex evaluation per
+    // direction, A z = Im f(x + i h z) / h, instead of one per state to form A.
+    Eigen::VectorXcd xc(x.size()), fc(x.size());
+    for (Eigen::Index k = 0; k < Z.cols(); ++k) {
+      const double zn = Z.col(k).norm();
+      if (!(zn > 0.0)) {
+        AZ.col(k).setZero();
+        continue;
+      }
+      const double h = kComplexStep / zn;
+      xc = x.cast<std::complex<double>>() + std::complex<double>(0.0, h) * Z.col(k).cast<std::complex<double>>();
+      sys.rhs_complex(xc, fc, t);
+      AZ.col(k) = fc.imag() / h;
+    }
+    return;
+  }
   if (m != JacobianMethod::jacobian_free) {
     AZ.noalias() = jacobian(sys, m, x, t) * Z;
     return;

@@ -6,7 +6,8 @@
 // Per interval [t_{j-1}, t_j]: Z = Y_j Q_{j-1} is integrated from Z = Q_{j-1} together with x
 // (and x_/p, Z_/p = Y_j/p Q_{j-1} + Y_j Q_{(j-1)/p} from Q_{(j-1)/p}); Z = Q_j R_j with
 // r_ii > 0 (Householder, signs fixed); lambda_i = sum log r_ii / (t - t_transient), natural log,
-// in 1/(the model's time unit). Sensitivity: W_L = stril(Q_j^T Z_/p R_j^-1) (eqs. 19-20, 24),
+// in 1/(the model's time unit). With count = k < n: k tangent vectors, thin QR (Q is n x k), the k
+// largest exponents. Sensitivity: W_L = stril(Q_j^T Z_/p R_j^-1) (eqs. 19-20, 24),
 // W = W_L - W_L^T, R_j/p = Q_j^T Z_/p - W R_j (eq. 25), Q_j/p = Q_j W (eq. 21),
 // lambda_i/p = sum (r_ii/p / r_ii) / (t - t_transient) (eq. 12).
 // The sums are compensated (Neumaier), so 1e7 intervals accumulate without drift.
@@ -37,6 +38,12 @@ struct QrOptions {
   double t_end = 0.0;       ///< end time (> t0), required
   double step = 0.0;        ///< re-orthonormalisation interval t_j - t_{j-1} (> 0), required
   double transient = 0.0;   ///< time after t0 before the sums start (tangent vectors align first)
+  /// How many exponents, the largest first: k + 1 tangent vectors instead of n (thin QR), so the
+  /// tangent work scales with k (the MLCE alone: k = 1). 0 = all n. The k leading exponents do
+  /// not depend on the others (the first columns of the QR process evolve on their own), nor do
+  /// their sensitivities (with the part of Q_/p outside span(Q)). The one extra vector lets the
+  /// merge rule see a complex pair straddling the k-th exponent. No Liouville check when k + 1 < n.
+  std::size_t count = 0;
   /// Periodic systems (period > 0): start the sums later so that they span a whole number of
   /// periods, which removes the bias of a partial period from exponents and sensitivities.
   bool whole_periods = true;
@@ -50,8 +57,10 @@ struct QrOptions {
 };
 
 struct QrResult {
-  Eigen::VectorXd exponents;       ///< sorted descending; merged groups carry their average
-  Eigen::VectorXd raw_exponents;   ///< sorted descending, before merging
+  Eigen::VectorXd exponents;       ///< sorted descending; merged groups carry their average (count of them)
+  /// Every computed exponent, sorted descending, before merging: with count = k < n, k + 1 of
+  /// them (history, groups and the sum refer to these).
+  Eigen::VectorXd raw_exponents;
   std::vector<std::vector<int>> groups;  ///< indices (into exponents) averaged together, size > 1 only
   std::vector<std::string> parameters;
   Eigen::MatrixXd sensitivities;   ///< parameters x exponents: d lambda_i / d p (per unit of p)
@@ -64,8 +73,9 @@ struct QrResult {
   std::size_t intervals = 0;
   double orthogonality_error = 0.0;  ///< max |Q^T Q - I| seen over the run
   /// Sum of raw_exponents, and the mean of tr A = div f over the same window (integrated with the
-  /// trajectory). Liouville's formula makes them equal; their difference is the error of the
-  /// tangent integration, reported as a warning when it exceeds kLiouvilleTolerance (liouville.hpp).
+  /// trajectory; NaN when count < n). Liouville's formula makes them equal; their difference is
+  /// the error of the tangent integration, reported as a warning when it exceeds
+  /// kLiouvilleTolerance (liouville.hpp).
   double exponent_sum = 0.0;
   double mean_divergence = 0.0;
   ode::IntegrationStats stats;

@@ -1,7 +1,8 @@
 #pragma once
 // Products with the Jacobian A = df/dx along a trajectory, by one of three routes (all tested
 // against each other): the model's analytic Jacobian; complex-step differentiation (Squire & Trapp,
-// paper 001 ref. 36: A e_k = Im f(x + i h e_k) / h, exact to rounding for any h, here 1e-30);
+// paper 001 ref. 36: A e_k = Im f(x + i h e_k) / h, exact to rounding for any h, here 1e-30; for
+// fewer directions than states, A z = Im f(x + i h z) / h direction by direction);
 // Jacobian-free directional central differences A z = (f(x + e z) - f(x - e z)) / 2e, which never
 // forms A (the perturbed-trajectory approach of Dieci, paper 001 ref. 35, in differential form).
 #include <Eigen/Core>
