@@ -65,3 +65,13 @@ TEST(ColumnFile, AHeaderLineNamesTheColumns) {
   EXPECT_EQ(error_of("a b c\n1 2\n"), "f.txt:2: 2 column(s), but the header on line 1 names 3");
   EXPECT_EQ(error_of("a b\n"), "f.txt: no data (the file is empty or holds only comments)");
 }
+
+TEST(ColumnFile, AByteOrderMarkIsNotPartOfTheFirstLine) {
+  // Spreadsheets' "CSV UTF-8" starts with EF BB BF: the comment or header behind it still reads.
+  const Table c = parse_column_text("\xEF\xBB\xBF# run 7\n0 1\n1 2\n", "mem");
+  EXPECT_EQ(c.rows(), 2u);
+  const Table h = parse_column_text("\xEF\xBB\xBFtime,x\r\n0,1\r\n1,2\r\n", "mem");
+  ASSERT_EQ(h.rows(), 2u);
+  EXPECT_EQ(h.names.at(0), "time");
+  EXPECT_DOUBLE_EQ(h.columns[1][1], 2.0);
+}

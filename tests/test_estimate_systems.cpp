@@ -7,10 +7,12 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <random>
 #include <string>
 
 #include "mlce/estimate.hpp"
+#include "mlce/transient.hpp"
 #include "reference_systems.hpp"
 
 using namespace mlce;
@@ -29,6 +31,7 @@ void expect_clean(const MlceResult& r) {
   EXPECT_TRUE(std::isnan(r.noise_level)) << r.noise_level;
   EXPECT_FALSE(has_warning(r, "measurement noise")) << r.fit.rule;
   EXPECT_FALSE(has_warning(r, "divergence not resolved")) << r.fit.rule;
+  EXPECT_FALSE(has_warning(r, "drifts"));
 }
 }  // namespace
 
@@ -292,6 +295,43 @@ TEST(EstimateSystems, RoesslerZIsStillChaoticAndFlagged) {
   EXPECT_GT(r.lambda, 0.0) << r.fit.rule;
   EXPECT_LT(r.delay, 20u);
   EXPECT_FALSE(r.warnings.empty());
+}
+
+TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
+  // A quantity that keeps growing never comes back near its past states: an oscillation on a ramp
+  // is estimated with a warning; a rotor azimuth (ramp of 10 000 samples, the spectrum's "mean
+  // period" is the ramp's) is refused, and the refusal names the drift.
+  std::vector<double> ramp_sine(10000), azimuth(10000);
+  for (std::size_t i = 0; i < ramp_sine.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    ramp_sine[i] = 0.3 * t + std::sin(2 * std::numbers::pi * t);
+    azimuth[i] = 25.4 * t + 0.05 * std::sin(25.4 * t);
+  }
+  const auto r = estimate_mlce(make_series_with_step({ramp_sine}, 0.01), {});
+  EXPECT_TRUE(has_warning(r, "the series drifts: a straight line through time explains 9"));
+  try {
+    estimate_mlce(make_series_with_step({azimuth}, 0.01), {});
+    ADD_FAILURE() << "a rotor azimuth was estimated";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("but the series drifts"), std::string::npos) << e.what();
+  }
+  // A chaotic signal wanders but comes back: the largest share a line explains of Lorenz x from 32
+  // random starts, over 100 and over 20 time units (one lobe can hold the shorter run for long).
+  std::mt19937 gen(20261122);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (std::size_t n : {10000u, 2000u}) {
+    double largest = 0.0;
+    for (int k = 0; k < 32; ++k) {
+      const auto x = reference::lorenz_x(n, 0.01, {u(gen), u(gen), std::abs(u(gen))}, 50.0);
+      largest = std::max(largest, linear_drift(make_series_with_step({x}, 0.01)).share);
+    }
+    std::printf("Lorenz x over %g time units: a straight line explains at most %.3f of the variance\n", 0.01 * n, largest);
+    EXPECT_LT(largest, kDriftShare) << n;
+  }
+  // Lorenz x from (1, 1, 1) with nothing discarded (its spiral start is left out) does not drift.
+  const auto l = estimate_mlce(make_series_with_step({reference::lorenz_x(10000, 0.01, {1, 1, 1}, 0.0)}, 0.01), {});
+  EXPECT_GT(l.skipped_start, 0u);
+  EXPECT_FALSE(has_warning(l, "drifts"));
 }
 
 TEST(EstimateSystems, ScaleInvariantTo1e200) {

@@ -383,6 +383,24 @@ TEST(MbdynText, InterruptedRunReadsEveryCompleteBlockWithWarnings) {
   fs::remove_all(dir);
 }
 
+TEST(MbdynText, FilesSavedWithAByteOrderMarkAndCrlfReadTheSame) {
+  // The set as a Windows editor saves it: a UTF-8 byte-order mark and CR LF line ends.
+  const fs::path dir = fs::temp_directory_path() / ("mlce_bom_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const char* e : {".log", ".out", ".mov"}) {
+    std::ifstream in(kIso + e);
+    std::ostringstream out;
+    out << "\xEF\xBB\xBF";
+    for (std::string line; std::getline(in, line);) out << line << "\r\n";
+    std::ofstream(dir / (std::string("run") + e), std::ios::binary) << out.str();
+  }
+  const auto a = read_mbdyn_text(kIso, specs({"node:2:x", "rel:13:4:z"}));
+  const auto b = read_mbdyn_text((dir / "run").string(), specs({"node:2:x", "rel:13:4:z"}));
+  EXPECT_EQ(b.time, a.time);
+  EXPECT_EQ(b.values, a.values);
+  fs::remove_all(dir);
+}
+
 TEST(ChannelSpec, ParsesEveryKindAndRejectsMalformedSpecs) {
   EXPECT_EQ(parse_channel_spec("node:12:wz").kind, ChannelSpec::Kind::node);
   const auto j = parse_channel_spec("joint:33:14");

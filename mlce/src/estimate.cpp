@@ -146,6 +146,21 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     r.warnings.push_back(text);
   }
   if (!floor_warning.empty()) r.warnings.push_back(floor_warning);
+  // Delay vectors of a series that keeps drifting never come back near each other: the nearest
+  // neighbours are then whatever lies closest across the drift, and the spectrum's mean period is the
+  // drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
+  std::string drift_warning;
+  if (const Drift d = linear_drift(series); d.share > kDriftShare) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "the series drifts: a straight line through time explains %.0f %% of channel %zu's variance (a "
+                  "quantity that keeps growing, such as a rotation angle or a position?); the exponent assumes a "
+                  "motion that comes back near its past states: analyse a stationary channel (a rate, a relative "
+                  "angle) or remove the drift first",
+                  100.0 * d.share, d.channel + 1);
+    drift_warning = text;
+    r.warnings.push_back(drift_warning);
+  }
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;
@@ -183,7 +198,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                   "that persists; the nearest neighbours must come from another pass, more than a mean period away "
                   "(eq. 20): at least %.0f samples needed (give --theiler N to override)",
                   series.size(), spanned, std::ceil(own_period), std::ceil(kMinMeanPeriods * own_period));
-    throw InputError(text);
+    throw InputError(drift_warning.empty() ? std::string(text) : std::string(text) + "; but " + drift_warning);
   }
   Embedding e = choose_embedding(series, options, period);
   r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
@@ -224,7 +239,10 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                   "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
                   "%.2f, 1 on the attractor; --keep-start keeps them)",
                   rec.start, rest.t0, rec.ratio.front());
-    std::vector<std::string> warnings(r.warnings.begin(), r.warnings.begin() + static_cast<std::ptrdiff_t>(input_warnings));
+    // The input's warnings once; the drift is judged again on the rest, which is what is analysed.
+    std::vector<std::string> warnings;
+    for (std::size_t w = 0; w < input_warnings; ++w)
+      if (r.warnings[w] != drift_warning) warnings.push_back(r.warnings[w]);
     warnings.push_back(text);
     append(warnings, out.warnings);
     out.warnings = std::move(warnings);

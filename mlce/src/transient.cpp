@@ -193,6 +193,23 @@ double amplitude_ratio(const Series& s) {
   return sums[0] > 0.0 ? std::sqrt(sums[2] / sums[0]) : std::numeric_limits<double>::quiet_NaN();
 }
 
+Drift linear_drift(const Series& s) {
+  Drift d;
+  std::vector<double> scaled;
+  for (std::size_t c = 0; c < s.channels.size(); ++c) {
+    const auto& x = s.channels[c];
+    if (x.size() < 3) continue;
+    double peak = 0.0;
+    for (double v : x) peak = std::max(peak, std::abs(v));
+    if (!(peak > 0.0)) continue;
+    scaled.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) scaled[i] = x[i] / peak;
+    const double r2 = fit_line(scaled.data(), std::size_t{0}, scaled.size() - 1).r2;
+    if (std::isfinite(r2) && r2 > d.share) d.share = r2, d.channel = c;
+  }
+  return d;
+}
+
 Series skip_transient(const Series& series, TransientResult* result) {
   TransientOptions o;
   o.period = estimate_mean_period(series, {}).mean_period;

@@ -57,7 +57,9 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
   std::size_t line_no = 0, header_line = 0;
   std::vector<std::string> header;
   std::vector<double> row;
-  std::size_t pos = 0;
+  // A UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is not part of the first line.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  std::size_t pos = text.substr(0, kBom.size()) == kBom ? kBom.size() : 0;
   while (pos < text.size()) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();

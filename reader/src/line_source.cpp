@@ -63,6 +63,8 @@ bool LineSource::next(std::string_view& line) {
       end_ += got;
     }
   }
+  // A UTF-8 byte-order mark (files saved by Windows editors) is not part of the first line.
+  if (line_no_ == 0 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
   ++line_no_;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);  // CRLF from Windows builds
   return true;
