@@ -46,6 +46,22 @@ TEST_F(Cli, EstimateJsonHasEveryField) {
   EXPECT_EQ(j["n_points"].get<int>(), 5000);
 }
 
+TEST_F(Cli, ReferenceCountIsAtLeastOneOrAll) {
+  // --refs 0 once meant "all" silently; a count must be >= 1, and 'all' is said in words.
+  const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
+  expect_one_line_error(run("estimate " + f + " --time-column 1 --column 2 --refs 0"), "--refs '0'", 2);
+  CliRun r = run("estimate " + f + " --time-column 1 --column 2 --refs all --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto all = nlohmann::json::parse(r.out);
+  r = run("estimate " + f + " --time-column 1 --column 2 --refs 100 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto few = nlohmann::json::parse(r.out);
+  EXPECT_GT(all["pairs"].get<int>(), 2900);  // every admissible point: 3000 - (m-1) delay - horizon
+  EXPECT_EQ(few["pairs"].get<int>(), 100);
+  EXPECT_NE(few["warnings"].dump().find("only 100 neighbour pair(s)"), std::string::npos) << few["warnings"];
+  EXPECT_NE(few["warnings"].dump().find("--refs"), std::string::npos) << few["warnings"];
+}
+
 TEST_F(Cli, VersionIsPrinted) {
   const CliRun r = run("--version");
   EXPECT_EQ(r.status, 0) << r.err;

@@ -334,6 +334,21 @@ TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
   EXPECT_FALSE(has_warning(l, "drifts"));
 }
 
+TEST(EstimateSystems, CurveOfFewPairsIsFlagged) {
+  // Henon x: the curve averages one pair per reference point (max_references strides them).
+  MlceOptions few;
+  few.max_references = 40;
+  const auto strided = estimate_mlce(make_series_with_step({reference::henon_x(10000)}, 1.0), few);
+  EXPECT_EQ(strided.curve.pairs, 40u);
+  EXPECT_TRUE(has_warning(strided, "only 40 neighbour pair(s)"));
+  EXPECT_TRUE(has_warning(strided, "more reference points"));
+  // 150 iterations: about 117 admissible points, whatever the reference count.
+  const auto short_run = run(reference::henon_x(150), 1.0);
+  EXPECT_LT(short_run.curve.pairs, kFewPairs);
+  EXPECT_TRUE(has_warning(short_run, "analyse a longer series"));
+  EXPECT_FALSE(has_warning(run(reference::henon_x(10000), 1.0), "neighbour pair(s)"));
+}
+
 TEST(EstimateSystems, ScaleInvariantTo1e200) {
   const auto x = reference::lorenz_x(5000, 0.01);
   const auto ref = run(x, 0.01);

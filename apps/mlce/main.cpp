@@ -56,7 +56,7 @@ const char* kUsage =
     "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
     "Run 'mlce <command> --help' for the options of a command; 'mlce --version' prints the version.\n";
 
-/// "auto" -> nullopt, else a positive integer.
+/// "auto" -> nullopt, else a non-negative integer.
 std::optional<std::size_t> auto_or_count(const std::string& value, const char* option) {
   if (value == "auto") return std::nullopt;
   try {
@@ -115,7 +115,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("theiler", po::value(&theiler), "Theiler window in samples, or auto (mean period, eq. 19)")
       ("horizon", po::value(&horizon), "divergence curve length in samples, or auto (adaptive)")
       ("fit", po::value(&fit), "fit region A:B in curve steps, or auto")
-      ("refs", po::value(&refs), "reference points of the curve (evenly strided), or 'all'")
+      ("refs", po::value(&refs), "reference points of the curve (evenly strided, >= 1), or 'all'; default (and auto) 20000")
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
       ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
@@ -135,8 +135,9 @@ int cmd_estimate(const std::vector<std::string>& args) {
   o.dim = auto_or_count(dim, "dim");
   o.theiler = auto_or_count(theiler, "theiler");
   o.horizon = auto_or_count(horizon, "horizon");
-  if (refs == "all") o.max_references = 0;
+  if (refs == "all") o.max_references = 0;  // the estimator's 0 means every admissible point
   else o.max_references = auto_or_count(refs, "refs").value_or(20000);
+  if (refs != "all" && o.max_references == 0) throw po::error("--refs '0': expected 'all', 'auto' or a count >= 1");
   if (vm.count("eps")) {
     o.eps = vm["eps"].as<double>();
     if (!(o.eps >= 0.0) || !std::isfinite(o.eps)) throw po::error("--eps: expected a non-negative number");

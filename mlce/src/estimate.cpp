@@ -325,6 +325,13 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     r.fit = fit_divergence(r.curve, fo);
   }
   r.horizon = ro.horizon;
+  if (r.curve.pairs < kFewPairs)
+    r.warnings.push_back("the divergence curve averages only " + std::to_string(r.curve.pairs) +
+                         " neighbour pair(s) (fewer than " + std::to_string(kFewPairs) +
+                         "): its mean log distance and the 95 % interval rest on too few pairs; " +
+                         (options.max_references > 0 && options.max_references < kFewPairs
+                              ? "use more reference points (--refs)"
+                              : "analyse a longer series"));
   flag_noise(r, series.channels.size());
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);

@@ -39,6 +39,11 @@ inline constexpr double kMinMeanPeriods = 2.0;
 /// where the start-up is quick); noise of 1 % makes it 60x. Limit cycles (flat or bounded curves)
 /// are not judged: their slope is ~0.
 inline constexpr double kNoiseJump = 0.25;
+/// A curve averaged over fewer neighbour pairs than this is flagged: with the default 16 batches
+/// (RosensteinOptions::batches) each batch mean then holds fewer than 10 pairs, so the batch means
+/// are far from normal and the 95 % interval is not to be trusted (at 1 pair the interval is the
+/// formal least-squares one and says nothing about the curve's own noise).
+inline constexpr std::size_t kFewPairs = 160;
 inline constexpr double kNoiseJumpRatio = 10.0;
 
 struct MlceOptions {
