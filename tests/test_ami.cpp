@@ -128,6 +128,20 @@ TEST(Ami, SeriesThatDecorrelatesIntoTheFloorTakesTheEndOfTheDecline) {
   }
 }
 
+TEST(Ami, LargestDelayBeyondHalfTheSeriesIsClampedAndSaid) {
+  // 200 samples: a delay of 100 leaves 100 pairs, the fewest the curve accepts.
+  std::vector<double> x(200);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.3 * static_cast<double>(i));
+  AmiOptions o;
+  o.max_delay = 1000;
+  const auto r = estimate_delay_ami(make_series_with_step({x}, 1.0), o);
+  EXPECT_EQ(r.ami.size(), 101u);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("largest delay 1000 clamped to 100"), std::string::npos) << r.warnings[0];
+  o.max_delay = 100;
+  EXPECT_TRUE(estimate_delay_ami(make_series_with_step({x}, 1.0), o).warnings.empty());
+}
+
 TEST(Ami, RejectsBadOptions) {
   AmiOptions o;
   o.smoothing = 2;

@@ -155,6 +155,9 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
                         : std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(std::log2(double(n)))) + 1, 4, 64);
   const std::size_t max_delay = options.max_delay ? std::min(options.max_delay, n / 2)
                                                   : std::min<std::size_t>((n - 1) / 4, 1000);
+  if (options.max_delay > max_delay)  // beyond N/2 a delay's pairs would be fewer than half the series
+    r.warnings.push_back("AMI: largest delay " + std::to_string(options.max_delay) + " clamped to " +
+                         std::to_string(max_delay) + " (half the series' " + std::to_string(n) + " samples)");
   const Series s = standardized(series);
   std::size_t best = 0;
   bool any_fallback = false;

@@ -10,7 +10,8 @@ namespace mlce {
 enum class DelayRule { first_minimum, autocorrelation_1e };
 
 struct AmiOptions {
-  /// Largest delay evaluated. 0 = automatic: min((N-1)/4, 1000).
+  /// Largest delay evaluated. 0 = automatic: min((N-1)/4, 1000). A larger value than N/2 is
+  /// clamped to N/2, with a warning.
   std::size_t max_delay = 0;
   /// Number of equal-width bins over the channel's range. 0 = Sturges' rule, ceil(log2 N) + 1,
   /// clamped to [4, 64].
