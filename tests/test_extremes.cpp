@@ -63,6 +63,26 @@ TEST(Extremes, StronglyNegativeExponentDoesNotDriftWithTheRunLength) {
   EXPECT_LT(*hi - *lo, 0.01 * std::abs(truth));  // no drift with the run length
 }
 
+TEST(Extremes, DecayOverSixtyDecadesToZeroKeepsItsExponent) {
+  // lambda = -zeta w = -9.4248 1/s over 20 s, no noise: the series falls from 1 to 1e-82 toward
+  // its equilibrium 0 (a velocity, a relative angle). Every sample keeps its own digits; the curve
+  // is a straight line all the way. The distances were once taken after shifting each channel to
+  // zero mean: every sample below ~1e-19 rounded onto the mean, the tail became one repeated point,
+  // and the estimate read -4.31 with a repeated-points warning.
+  const double zeta = 0.3, w = 10 * std::numbers::pi, truth = -zeta * w;
+  const auto r = estimate(reference::damped_oscillator(2000, 0.01, zeta, w), 0.01);
+  EXPECT_NEAR(r.lambda, truth, 1e-3 * std::abs(truth)) << r.fit.rule;
+  EXPECT_EQ(r.curve.zero_distance_terms, 0u);
+  for (const auto& warning : r.warnings) EXPECT_EQ(warning.find("repeat"), std::string::npos) << warning;
+  // About an equilibrium of 0.3 the input itself holds the decay only down to 0.3's last digit
+  // (~1e-17): that is its floor, found and cut, and the exponent is read above it.
+  auto shifted = reference::damped_oscillator(2000, 0.01, zeta, w);
+  for (double& v : shifted) v += 0.3;
+  const auto s = estimate(shifted, 0.01);
+  EXPECT_NEAR(s.lambda, truth, 0.01 * std::abs(truth)) << s.fit.rule;
+  EXPECT_LT(s.n_points, 500u);
+}
+
 TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {
   // The same decay scaled to 1e-290: it ends among subnormal numbers (below 2.2e-308), where
   // the relative precision is lost; no NaN, no log(0), the estimate still sees the decay.

@@ -34,7 +34,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
   options.validate();
   validate_series(series);
   if (delay == 0) throw OptionError("fnn: delay must be >= 1");
-  const Series s = standardized(series);
+  const Series s = scaled_to_unit_deviation(series);
   const std::size_t n = s.size();
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);

@@ -53,7 +53,7 @@ NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options
                      ", delay = " + std::to_string(options.delay) + ", horizon = " + std::to_string(options.horizon) +
                      " and Theiler window = " + std::to_string(options.theiler) + " need at least " +
                      std::to_string(minimum_length(options)) + " ((m-1)*delay + horizon + theiler + 2)");
-  const Series s = standardized(series);
+  const Series s = scaled_to_unit_deviation(series);
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);
   const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
@@ -76,7 +76,7 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
       pairs.references.size() != pairs.nearest.neighbour.size())
     throw std::logic_error("follow_pairs: the pairs were found for other options (m, delay, horizon)");
   const std::size_t n = series.size();
-  const Series s = standardized(series);
+  const Series s = scaled_to_unit_deviation(series);
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);
   const std::size_t H = options.horizon;

@@ -140,7 +140,8 @@ Series time_window(const Series& series, double from, double to) {
   return w;
 }
 
-Series standardized(const Series& series) {
+namespace {
+Series normalised(const Series& series, bool shift_to_zero_mean) {
   Series s = series;
   for (auto& x : s.channels) {
     double peak = 0.0;
@@ -155,9 +156,17 @@ Series standardized(const Series& series) {
     for (double v : x) var += (v - mean) * (v - mean);
     const double sd = std::sqrt(var / static_cast<double>(x.size()));
     if (sd == 0.0) continue;
-    for (double& v : x) v = (v - mean) / sd;
+    if (shift_to_zero_mean)
+      for (double& v : x) v = (v - mean) / sd;
+    else
+      for (double& v : x) v /= sd;
   }
   return s;
 }
+}  // namespace
+
+Series standardized(const Series& series) { return normalised(series, true); }
+
+Series scaled_to_unit_deviation(const Series& series) { return normalised(series, false); }
 
 }  // namespace mlce

@@ -48,7 +48,7 @@ void SpaceTimeOptions::validate() const {
 SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptions& options) {
   options.validate();
   validate_series(series);  // finite, non-constant channels
-  const Series s = standardized(series);
+  const Series s = scaled_to_unit_deviation(series);
   SpaceTimeResult r;
   r.dim = options.dim, r.delay = options.delay;
   r.fractions = options.fractions;

@@ -73,7 +73,9 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   const Series s = standardized(series);
   const std::size_t n = s.size();
   TransientResult r;
-  if (const std::size_t f = detect_floor(s, options.floor_ratio); f > 0) {
+  // The raw series: detect_floor scales it itself, and a shift by the mean would round a tail far
+  // below the mean's last digit onto it (an early, false floor).
+  if (const std::size_t f = detect_floor(series, options.floor_ratio); f > 0) {
     r.settled = false;
     r.floor_index = f;
     r.end_time = s.time(0);

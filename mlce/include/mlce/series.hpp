@@ -76,4 +76,10 @@ Series time_window(const Series& series, double from, double to);
 /// by its largest magnitude. All estimators are scale-invariant through this step.
 Series standardized(const Series& series);
 
+/// Each channel scaled to unit standard deviation (as standardized) but not shifted: the input for
+/// distances, which do not depend on a shift. Shifting by the mean would round every sample smaller
+/// than the mean's last digit onto it: a decay that ends 60 decades below its start around a
+/// non-zero mean collapsed onto repeated points and read half its exponent.
+Series scaled_to_unit_deviation(const Series& series);
+
 }  // namespace mlce
