@@ -62,6 +62,17 @@ TEST_F(Cli, ReferenceCountIsAtLeastOneOrAll) {
   EXPECT_NE(few["warnings"].dump().find("--refs"), std::string::npos) << few["warnings"];
 }
 
+TEST_F(Cli, MissingGnuplotIsOneErrorAndLeavesNothing) {
+  const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
+  const auto png = dir / "curve.png";
+  const CliRun r = run("estimate " + f + " --time-column 1 --column 2 --json --plot " + png.string(), "PATH=/nonexistent");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;  // the shell's "gnuplot: not found" went to stdout once
+  EXPECT_NE(r.err.find("curve.png: gnuplot failed to draw the plot (is gnuplot installed?)"), std::string::npos) << r.err;
+  for (const auto& e : fs::directory_iterator(dir))  // no plot, no temporary file
+    EXPECT_EQ(e.path().filename().string().find("curve.png"), std::string::npos) << e.path();
+}
+
 TEST_F(Cli, VersionIsPrinted) {
   const CliRun r = run("--version");
   EXPECT_EQ(r.status, 0) << r.err;

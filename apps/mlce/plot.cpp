@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -18,7 +19,15 @@ void render_png(const std::string& png_path, const std::string& csv,
   const fs::path tmp_png = png_path + ".tmp-mlce.png";
   const fs::path data = png_path + ".tmp-mlce.csv";
   write_file_atomically(data.string(), csv);
-  FILE* gp = popen("gnuplot 2>&1", "w");
+  // gnuplot's own output (and the shell's "not found") goes to stderr: stdout carries the result
+  // only (one JSON object with --json).
+  // A gnuplot that is missing or quits early closes the pipe: the write must fail, not raise SIGPIPE
+  // (which would kill mlce with no message).
+  struct IgnoreSigpipe {
+    void (*previous)(int) = std::signal(SIGPIPE, SIG_IGN);
+    ~IgnoreSigpipe() { std::signal(SIGPIPE, previous); }
+  } ignore_sigpipe;
+  FILE* gp = popen("gnuplot 1>&2", "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
   std::fputs(script(tmp_png.string(), data.string()).c_str(), gp);
   const int rc = pclose(gp);

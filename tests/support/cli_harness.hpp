@@ -42,8 +42,10 @@ class CliFixture : public ::testing::Test {
     std::ofstream(p, std::ios::binary) << content;
     return p;
   }
-  CliRun run(const std::string& args) {
-    const std::string cmd = std::string(MLCE_CLI) + " " + args + " >" + (dir / "out").string() + " 2>" +
+  /// `env`: variable assignments put before the command (e.g. "PATH=/nonexistent").
+  CliRun run(const std::string& args, const std::string& env = "") {
+    const std::string cmd = (env.empty() ? "" : "env " + env + " ") + std::string(MLCE_CLI) + " " + args + " >" +
+                            (dir / "out").string() + " 2>" +
                             (dir / "err").string() + " </dev/null";
     const int rc = std::system(cmd.c_str());
     CliRun r;
