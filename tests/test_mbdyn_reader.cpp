@@ -316,6 +316,33 @@ TEST_P(OrientationRoundTrip, NetcdfKnownRelativeRotationReadsBackUnwrapped) {
 
 // A record that the solver never wrote holds the NetCDF fill value (9.97e36, finite): an error
 // naming the variable and the record, never a number passed on to the estimator.
+TEST(MbdynNetcdf, TruncatedFileReadsItsCompleteRecordsWithAWarning) {
+  // A copy cut short keeps the header's record count (201); the classic format reads the missing
+  // records as zeros. The records before the cut must equal the whole file's, and the set ends
+  // before the zeros.
+  const fs::path cut = fs::temp_directory_path() / ("mlce_cut_" + std::to_string(::getpid()) + ".nc");
+  fs::copy_file(kIso + ".nc", cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(cut) * 6 / 10);
+  const auto spec = specs({"node:2:x", "joint:33:14"});
+  const auto whole = read_mbdyn_netcdf(kIso + ".nc", spec);
+  const auto part = read_mbdyn_netcdf(cut.string(), spec);
+  const auto inventory = default_registry().for_path(cut.string()).describe(cut.string());
+  fs::remove(cut);
+  ASSERT_EQ(whole.time.size(), 201u);
+  ASSERT_GT(part.time.size(), 50u);
+  ASSERT_LT(part.time.size(), 201u * 6 / 10);
+  EXPECT_EQ(inventory.blocks, part.time.size());
+  EXPECT_EQ(inventory.t_last, part.time.back());
+  for (std::size_t k = 0; k < part.time.size(); ++k) {
+    EXPECT_EQ(part.time[k], whole.time[k]) << k;
+    for (std::size_t c = 0; c < spec.size(); ++c) EXPECT_EQ(part.values[c][k], whole.values[c][k]) << k;
+  }
+  ASSERT_FALSE(part.warnings.empty());
+  EXPECT_NE(part.warnings[0].find("have time 0 after t = "), std::string::npos) << part.warnings[0];
+  EXPECT_NE(part.warnings[0].find("read the first " + std::to_string(part.time.size()) + " records"), std::string::npos)
+      << part.warnings[0];
+}
+
 TEST(MbdynNetcdf, RecordNeverWrittenIsAnErrorNotAHugeNumber) {
   const fs::path path = fs::temp_directory_path() / ("mlce_fill_" + std::to_string(::getpid()) + ".nc");
   int id = 0, time_dim = 0, vec3 = 0, t_var = 0, x_var = 0;

@@ -181,6 +181,22 @@ const char* node_group_suffix(detail::NodeGroup g) {
   }
 }
 
+/// Records a truncated file really holds. The header's record count survives a copy or a disk that
+/// was cut short, and the classic format reads the missing records as zeros: a time that falls back
+/// to 0 and stays there marks them. The last record with a time is dropped too, because the
+/// variables stored after `time` in it may be missing. Returns n when nothing is missing.
+std::size_t records_written(const std::vector<double>& time, const std::string& path, std::vector<std::string>& warnings) {
+  const std::size_t n = time.size();
+  std::size_t k = n;
+  while (k > 1 && time[k - 1] == 0.0) --k;
+  if (k == n || !(time[k - 1] > 0.0)) return n;  // no zero tail, or a run that ends at t = 0
+  warnings.push_back(path + ": records " + std::to_string(k) + ".." + std::to_string(n - 1) +
+                     " have time 0 after t = " + std::to_string(time[k - 1]) +
+                     " (file truncated, or the run killed before its records were written): read the first " +
+                     std::to_string(k - 1) + " records, the last one with a time left out as possibly incomplete");
+  return k - 1;
+}
+
 }  // namespace
 
 ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels) {
@@ -190,9 +206,11 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
   out.source = path;
   const int tv = nc.require("time", "the time of each record");
   const auto tsh = nc.shape(tv);
-  const std::size_t n = tsh.empty() ? 0 : tsh[0];
-  if (n == 0) throw ReadError(path + ": no records");
-  out.time = nc.column(tv, 0, n, "time");
+  if (tsh.empty() || tsh[0] == 0) throw ReadError(path + ": no records");
+  out.time = nc.column(tv, 0, tsh[0], "time");
+  const std::size_t n = records_written(out.time, path, out.warnings);
+  if (n == 0) throw ReadError(path + ": no complete record");
+  out.time.resize(n);
 
   std::optional<MbdynLog> log;
   bool log_tried = false;
@@ -277,7 +295,9 @@ Inventory describe_mbdyn_netcdf(const std::string& path) {
   const auto sh = nc.shape(tv);
   inv.blocks = sh.empty() ? 0 : sh[0];
   if (inv.blocks > 0) {
-    const auto t = nc.column(tv, 0, inv.blocks, "time");
+    auto t = nc.column(tv, 0, inv.blocks, "time");
+    inv.blocks = records_written(t, path, inv.warnings);
+    t.resize(std::max<std::size_t>(inv.blocks, 1));
     inv.t_first = t.front();
     inv.t_last = t.back();
   }
