@@ -44,6 +44,15 @@ TEST(ColumnFile, ErrorsNameFileLineAndExpectation) {
   EXPECT_EQ(error_of("1 1e999\n"), "f.txt:1: column 2: '1e999' is out of the range of a double");
 }
 
+TEST(ColumnFile, FortranDoublePrecisionExponentsAreNumbers) {
+  const Table t = parse_column_text("0.0 1.0D+00\n0.1 -2.5d-01\n0.2 3D2\n0.3 +4.0D0\n", "mem");
+  ASSERT_EQ(t.rows(), 4u);
+  EXPECT_EQ(t.columns[1], (std::vector<double>{1.0, -0.25, 300.0, 4.0}));
+  EXPECT_EQ(error_of("1 1.0Dx\n"), "f.txt:1: column 2: '1.0Dx' is not a number");
+  EXPECT_EQ(error_of("1 1D+999\n"), "f.txt:1: column 2: '1D+999' is out of the range of a double");
+  EXPECT_EQ(error_of("0;1\n"), "f.txt:1: column 1: '0;1' is not a number (fields are separated by spaces, tabs or commas)");
+}
+
 TEST(ColumnFile, MissingFileIsAnError) {
   EXPECT_THROW(read_column_file("/nonexistent/file.txt"), ReadError);
 }

@@ -86,13 +86,23 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
       const char* first = tok.data();
       if (!tok.empty() && tok.front() == '+') ++first;  // from_chars rejects a leading '+'
       double v = 0.0;
-      const auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
+      auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
+      if (ec == std::errc() && ptr != tok.data() + tok.size() && (*ptr == 'D' || *ptr == 'd')) {
+        // Fortran's double-precision exponent (1.0D+00): read as 1.0e+00.
+        std::string e(first, tok.data() + tok.size());
+        e[static_cast<std::size_t>(ptr - first)] = 'e';
+        double w = 0.0;
+        const auto [p2, ec2] = std::from_chars(e.data(), e.data() + e.size(), w);
+        if (p2 == e.data() + e.size() && ec2 != std::errc::invalid_argument)
+          ptr = tok.data() + tok.size(), ec = ec2, v = w;
+      }
       if (ec == std::errc::result_out_of_range)
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
                         shorten(tok) + "' is out of the range of a double");
       if (ec != std::errc() || ptr != tok.data() + tok.size())
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
-                        shorten(tok) + "' is not a number");
+                        shorten(tok) + "' is not a number" +
+                        (tok.find(';') != std::string_view::npos ? " (fields are separated by spaces, tabs or commas)" : ""));
       if (!std::isfinite(v))
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
                         shorten(tok) + "': expected a finite number");
