@@ -38,7 +38,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
   const std::size_t n = s.size();
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);
-  // Kennel's R_A: the attractor size, the standard deviation of the (standardized) data.
+  // Kennel's R_A: the attractor size, the standard deviation of the data (1 per channel after scaling).
   const double ra = std::sqrt(static_cast<double>(s.channel_count()));
   FnnResult r;
   NeighbourOptions nopt;

@@ -93,8 +93,7 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
         e[static_cast<std::size_t>(ptr - first)] = 'e';
         double w = 0.0;
         const auto [p2, ec2] = std::from_chars(e.data(), e.data() + e.size(), w);
-        if (p2 == e.data() + e.size() && ec2 != std::errc::invalid_argument)
-          ptr = tok.data() + tok.size(), ec = ec2, v = w;
+        if (p2 == e.data() + e.size()) ptr = tok.data() + tok.size(), ec = ec2, v = w;  // ok or out of range
       }
       if (ec == std::errc::result_out_of_range)
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
