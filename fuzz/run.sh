@@ -12,6 +12,9 @@ rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_
 iso="$here/data/mbdyn/iso_200rpm_1s/iso_200rpm"
 cp "$iso.log" "$corpus/mbdyn_log/"
 head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
+# late times printed by default (%g, 6 digits): the path that rebuilds them from Step x TStep
+printf 'Step 0 1000 0 1 0 0 0 1\nStep 1 1000 0.005 2 1e-08 0 0 1\nStep 2 1000.01 0.005 2 1e-08 0 0 0\nStep 3 1000.01 0.005 2 1e-08 0 0 1\n' \
+  > "$corpus/mbdyn_out/late.out"
 head -n 30 "$iso.mov" > "$corpus/mbdyn_blocks/seed.mov"
 head -n 30 "$iso.jnt" > "$corpus/mbdyn_blocks/seed.jnt"
 head -n 50 "$here/data/lorenz_x.txt" > "$corpus/column_file/seed.txt"

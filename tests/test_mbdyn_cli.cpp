@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -212,6 +213,44 @@ TEST_F(MbdynCli, TruncatedSetReadsCompleteBlocksWithWarnings) {
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 201);  // header + 200 blocks
   EXPECT_NE(r.err.find("no end of line"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("last block is incomplete"), std::string::npos) << r.err;
+}
+
+TEST_F(MbdynCli, LateTimesPrintedWithSixDigitsGiveTheSameExponent) {
+  // The 10 s failed-damper run as if it had started at t = 1000 s and MBDyn had printed its .out
+  // by default (%g, 6 significant digits): blocks 5 ms apart print 1000, 1000, 1000.01, 1000.01, ...
+  // The times are rebuilt from the Step indices and time steps; the exponent is the run's own.
+  for (const char* e : {".log", ".mov"}) fs::copy_file(kC3 + e, dir / (std::string("late") + e));
+  std::ofstream out(dir / "late.out");
+  for (const auto& line : lines_of(kC3 + ".out")) {
+    std::istringstream f(line);
+    std::string word, step;
+    double time = 0, tstep = 0;
+    if (!(f >> word >> step >> time >> tstep) || word != "Step") {
+      out << line << "\n";
+      continue;
+    }
+    std::string rest;
+    std::getline(f, rest);
+    char head[96];
+    std::snprintf(head, sizeof head, "Step %s %g %g", step.c_str(), 1000.0 + time, tstep);
+    out << head << rest << "\n";
+  }
+  out.close();
+  ASSERT_NE(slurp(dir / "late.out").find("Step 10 1000.01 0.001"), std::string::npos);
+  const std::string late = (dir / "late").string();
+  const CliRun shifted = run("estimate " + late + " --channel rel:13:4:z --json");
+  ASSERT_EQ(shifted.status, 0) << shifted.err;
+  const CliRun original = run("estimate " + kC3 + " --channel rel:13:4:z --json --quiet");
+  ASSERT_EQ(original.status, 0) << original.err;
+  const auto a = nlohmann::json::parse(shifted.out), b = nlohmann::json::parse(original.out);
+  ASSERT_FALSE(a["warnings"].empty());
+  EXPECT_NE(a["warnings"][0].get<std::string>().find("late.out: times printed with too few digits"), std::string::npos);
+  EXPECT_NEAR(a["dt"].get<double>(), 0.005, 1e-12);
+  EXPECT_NEAR(a["lambda"].get<double>(), b["lambda"].get<double>(), 1e-9 * std::abs(b["lambda"].get<double>()));
+  const CliRun t = run("extract " + late + " --channel node:2:x");
+  ASSERT_EQ(t.status, 0) << t.err;
+  EXPECT_NE(t.err.find("times printed with too few digits"), std::string::npos) << t.err;
+  EXPECT_NE(t.out.find("\n1000.005,"), std::string::npos) << t.out.substr(0, 80);
 }
 
 TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {

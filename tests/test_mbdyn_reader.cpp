@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -442,6 +443,66 @@ TEST(ChannelSpec, ParsesEveryKindAndRejectsMalformedSpecs) {
   for (const char* bad : {"", "node:2", "node:x:x", "node:2:q", "rel:1:2:w", "joint:3:1", "joint:3:k", "col:0", "mov:1:2",
                           "Node:1:2"})
     EXPECT_THROW(parse_channel_spec(bad), ReadError) << bad;
+}
+
+namespace {
+/// A .out as MBDyn prints it by default: times and time steps in %g (6 significant digits).
+/// Step k of `steps` advances by h[k]; every `every`-th step is written (Out = 1).
+std::string coarse_out(double t0, const std::vector<double>& h, std::size_t every) {
+  std::string text = "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
+  char line[128];
+  std::snprintf(line, sizeof line, "Step 0 %g 0 1 0 0 0 1\n", t0);
+  text += line;
+  long double t = t0;
+  for (std::size_t k = 1; k <= h.size(); ++k) {
+    t += h[k - 1];
+    std::snprintf(line, sizeof line, "Step %zu %g %g 2 1e-08 0 0 %d\n", k, static_cast<double>(t), h[k - 1],
+                  k % every == 0 ? 1 : 0);
+    text += line;
+  }
+  return text;
+}
+}  // namespace
+
+TEST(MbdynOut, TimesPrintedTooCoarselyForTheStepAreRebuiltFromStepsAndTimeSteps) {
+  // Default printing at late times: t = 1000.005 prints '1000.01' like 1000.010 (format doc
+  // section 2); blocks would repeat a time. Rebuilt: exactly 1000 + 0.005 k.
+  const auto late = parse_mbdyn_out(coarse_out(1000.0, std::vector<double>(4000, 0.005), 1), "late.out");
+  ASSERT_EQ(late.time.size(), 4001u);
+  EXPECT_NEAR(late.time[1], 1000.005, 1e-12);  // printed '1000', like block 0
+  for (std::size_t k = 0; k < late.time.size(); ++k) ASSERT_NEAR(late.time[k], 1000.0 + 0.005 * k, 1e-9) << k;
+  EXPECT_NE(late.rebuilt.find("late.out: times printed with too few digits"), std::string::npos) << late.rebuilt;
+
+  // A step the 6 digits round unevenly (100.0025 -> '100.003', 100.005, 100.008): the printed steps
+  // deviate by 20 %; written every 2nd step of 1.25 ms.
+  const auto uneven = parse_mbdyn_out(coarse_out(100.0, std::vector<double>(800, 0.00125), 2), "uneven.out");
+  ASSERT_EQ(uneven.time.size(), 401u);
+  for (std::size_t k = 0; k < uneven.time.size(); ++k) ASSERT_NEAR(uneven.time[k], 100.0 + 0.0025 * k, 1e-9) << k;
+  EXPECT_FALSE(uneven.rebuilt.empty());
+
+  // The step changes mid-run (a step reduction), output every 4th step: rebuilt through the
+  // unwritten steps.
+  std::vector<double> h(400, 0.001);
+  h.insert(h.end(), 400, 0.0005);
+  const auto varied = parse_mbdyn_out(coarse_out(2000.0, h, 4), "varied.out");
+  ASSERT_EQ(varied.time.size(), 201u);
+  EXPECT_NEAR(varied.time[100], 2000.4, 1e-9);
+  EXPECT_NEAR(varied.time[200], 2000.6, 1e-9);
+  EXPECT_NEAR(varied.time[150], 2000.5, 1e-9);
+
+  // Printed at full precision (the bundled real runs): kept as printed, nothing said.
+  const auto fine = parse_mbdyn_out("Step 0 1000 0 1 0 0 0 1\nStep 1 1000.005 0.005 1 0 0 0 1\n"
+                                    "Step 2 1000.01 0.005 1 0 0 0 1\n", "fine.out");
+  EXPECT_TRUE(fine.rebuilt.empty());
+  EXPECT_EQ(fine.time[1], 1000.005);
+
+  // Printed times the time steps cannot explain (TStep 0.004 against steps of 0.005): left as
+  // printed, so that the series check reports them, never silently replaced.
+  std::string wrong = coarse_out(1000.0, std::vector<double>(50, 0.005), 1);
+  for (std::size_t p = 0; (p = wrong.find(" 0.005 2 ", p)) != std::string::npos;) wrong.replace(p, 9, " 0.004 2 ");
+  const auto kept = parse_mbdyn_out(wrong, "wrong.out");
+  EXPECT_TRUE(kept.rebuilt.empty());
+  EXPECT_EQ(kept.time[1], 1000.0);
 }
 
 TEST(MbdynOut, SevenFieldStepLinesUseTheOutputFrequency) {

@@ -47,6 +47,46 @@ TEST(Series, ExplicitResamplingInterpolatesLinearly) {
   for (std::size_t i = 0; i < s.size(); ++i) EXPECT_NEAR(s.channels[0][i], 3.0 * s.time(i) - 1.0, 1e-12);
 }
 
+TEST(Series, TimesPrintedWithTooFewDigitsForTheStepAreTakenAsTheirGrid) {
+  // A %g export (6 significant digits) of t = 1000 + 0.005 k: 1000, 1000, 1000.01, 1000.01, ...
+  // repeats times although the sampling is uniform; 100 + 0.0025 k prints steps of 0.002 and
+  // 0.003 (20 % off). Both are their grid, said in a warning.
+  for (const auto& [t0, step] : {std::pair{1000.0, 0.005}, std::pair{100.0, 0.0025}, std::pair{123456.0, 0.01}}) {
+    std::vector<double> t, x;
+    char text[32];
+    for (int i = 0; i < 4000; ++i) {
+      std::snprintf(text, sizeof text, "%g", t0 + step * i);
+      t.push_back(std::stod(text)), x.push_back(std::sin(0.3 * i));
+    }
+    std::vector<std::string> warnings;
+    const Series s = make_series_from_time(t, {x}, {}, &warnings);
+    // The grid is known to about a printed unit over the span (123456 + 0.01 k: unit 1 over 40).
+    const double unit = std::pow(10.0, std::floor(std::log10(t0)) - 5);
+    EXPECT_NEAR(s.dt, step, std::max(1e-4, unit / (4000 * step)) * step) << t0;
+    EXPECT_NEAR(s.t0, t0, unit) << t0;
+    ASSERT_EQ(warnings.size(), 1u) << t0;
+    EXPECT_NE(warnings[0].find("time printed with 6 significant digits"), std::string::npos) << warnings[0];
+  }
+  // Not rounding: a sample 3 printed units late (100.0125 printed as 100.015), a missing sample
+  // among 6-digit times that resolve the step, and sample indices with a gap (too few digits to
+  // tell a gap from rounding: never taken as a grid).
+  auto printed = [](double t0, double step, int n, int skip, double late) {
+    std::vector<double> t;
+    char text[32];
+    for (int i = 0; i < n; ++i) {
+      if (i == skip) continue;
+      std::snprintf(text, sizeof text, "%g", t0 + step * i + (i == 5 ? late : 0.0));
+      t.push_back(std::stod(text));
+    }
+    return t;
+  };
+  for (const auto& t : {printed(100.0, 0.0025, 400, -1, 0.003), printed(100.0, 0.005, 400, 200, 0.0),
+                        printed(100.0, 1.0, 100, 50, 0.0)}) {
+    const std::vector<double> x(t.size(), 1.0);
+    EXPECT_THROW(make_series_from_time(t, {x}, {}), InputError) << t[0] << " " << t[1];
+  }
+}
+
 TEST(Series, DecreasingTimeIsAnError) {
   EXPECT_THROW(make_series_from_time({0.0, 1.0, 0.5}, {{1.0, 2.0, 3.0}}, {}), InputError);
 }

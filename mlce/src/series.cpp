@@ -1,7 +1,9 @@
 #include "mlce/series.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace mlce {
@@ -31,6 +33,58 @@ void check_lengths(const std::vector<std::vector<double>>& channels, std::size_t
                        " samples, expected " + std::to_string(n));
 }
 
+/// Significant digits of the shortest decimal that reads back as v (to_chars' shortest form):
+/// 1000.01 -> 6, 0.01500000000000001 -> 16.
+int shortest_digits(double v) {
+  char buf[40];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::scientific);
+  int digits = 0;
+  for (const char* p = buf; p != r.ptr && *p != 'e'; ++p) digits += (*p >= '0' && *p <= '9') ? 1 : 0;
+  return digits;
+}
+
+struct Grid {
+  double t0, dt;
+  int digits;
+};
+
+/// Times printed with too few significant digits to resolve their step (a `%g` export at late
+/// times: 1000.005 prints '1000.01', 1000.010 too) repeat or jump although the sampling is
+/// uniform. They are taken as the grid t0 + k dt (least squares of t over k) when they never
+/// decrease (rounding keeps the order) and every printed time lies within one unit of its last
+/// printed digit of the grid: 10^(floor(log10 max(|t|, dt)) - P + 1), P the most significant
+/// digits any printed time needs. Only for P >= 6 (C's `%g`, the coarsest print of a time that
+/// has outgrown its digits): short times such as sample indices 100, 101, 103 could hide a
+/// missing sample within one unit. Times printed at full precision (P ~ 16) leave no room, so a
+/// genuinely uneven sampling is never taken for a grid.
+std::optional<Grid> grid_within_print(const std::vector<double>& time) {
+  const std::size_t n = time.size();
+  if (n < 3 || !(time[n - 1] > time[0])) return std::nullopt;
+  for (std::size_t i = 1; i < n; ++i)
+    if (time[i] < time[i - 1]) return std::nullopt;
+  int digits = 1;
+  for (double t : time) digits = std::max(digits, shortest_digits(t));
+  if (digits < 6) return std::nullopt;
+  // Least squares over the centred index (long double: n may be 10^7).
+  const long double kc = 0.5L * static_cast<long double>(n - 1);
+  long double st = 0, skt = 0, skk = 0;
+  for (std::size_t i = 0; i < n; ++i) st += time[i];
+  const long double mean = st / static_cast<long double>(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const long double k = static_cast<long double>(i) - kc;
+    skt += k * (time[i] - mean), skk += k * k;
+  }
+  const long double slope = skt / skk;
+  if (!(slope > 0)) return std::nullopt;
+  const double dt = static_cast<double>(slope);
+  for (std::size_t i = 0; i < n; ++i) {
+    const long double grid = mean + slope * (static_cast<long double>(i) - kc);
+    const double unit = std::pow(10.0, std::floor(std::log10(std::max(std::abs(time[i]), dt))) - digits + 1);
+    if (!(std::abs(static_cast<long double>(time[i]) - grid) <= unit)) return std::nullopt;
+  }
+  return Grid{static_cast<double>(mean - slope * kc), dt, digits};
+}
+
 }  // namespace
 
 Series make_series_from_time(const std::vector<double>& time, std::vector<std::vector<double>> channels,
@@ -42,28 +96,46 @@ Series make_series_from_time(const std::vector<double>& time, std::vector<std::v
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(time[i]))
       throw InputError("time at sample " + std::to_string(i) + " is not finite", i);
-  for (std::size_t i = 1; i < n; ++i)
-    if (!(time[i] > time[i - 1]))
-      throw InputError("time does not increase at sample " + std::to_string(i) + " (" + fmt_double(time[i - 1]) +
-                           " then " + fmt_double(time[i]) + "): expected strictly increasing time",
-                       i);
   check_finite(channels);
-
+  bool increasing = true;
+  for (std::size_t i = 1; i < n && increasing; ++i) increasing = time[i] > time[i - 1];
   const double dt = (time[n - 1] - time[0]) / static_cast<double>(n - 1);
   std::size_t worst = 0;
   double worst_dev = 0.0;
-  for (std::size_t i = 1; i < n; ++i) {
+  for (std::size_t i = 1; i < n && increasing; ++i) {
     const double dev = std::abs((time[i] - time[i - 1]) - dt) / dt;
     if (dev > worst_dev) worst_dev = dev, worst = i;
   }
   Series s;
   s.time_unit = std::move(time_unit);
   s.t0 = time[0];
-  if (worst_dev <= options.uniformity_tolerance) {
+  if (increasing && worst_dev <= options.uniformity_tolerance) {
     s.dt = dt;
     s.channels = std::move(channels);
     return s;
   }
+  if (const auto grid = grid_within_print(time)) {
+    s.t0 = grid->t0;
+    s.dt = grid->dt;
+    s.channels = std::move(channels);
+    if (warnings) {
+      std::size_t at = 1;
+      while (at + 1 < n && time[at] > time[at - 1] &&
+             std::abs((time[at] - time[at - 1]) - grid->dt) <= options.uniformity_tolerance * grid->dt)
+        ++at;
+      warnings->push_back("time printed with " + std::to_string(grid->digits) +
+                          " significant digits, too few to resolve the step (samples " + std::to_string(at - 1) +
+                          " and " + std::to_string(at) + " read " + fmt_double(time[at - 1]) + " and " +
+                          fmt_double(time[at]) + "); every time is within one unit of its last digit of a uniform "
+                          "step " + fmt_double(grid->dt) + " from " + fmt_double(grid->t0) + ", which is used");
+    }
+    return s;
+  }
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(time[i] > time[i - 1]))
+      throw InputError("time does not increase at sample " + std::to_string(i) + " (" + fmt_double(time[i - 1]) +
+                           " then " + fmt_double(time[i]) + "): expected strictly increasing time",
+                       i);
   if (!options.resample)
     throw InputError("non-uniform time step at sample " + std::to_string(worst) + ": step " +
                          fmt_double(time[worst] - time[worst - 1]) + " vs mean " + fmt_double(dt) +

@@ -5,8 +5,10 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "line_source.hpp"
 #include "mlce/reader/table.hpp"
@@ -113,8 +115,78 @@ MbdynLog parse_log(LineSource& src) {
   return log;
 }
 
+/// Half a unit in the 6th significant digit of |v|: the resolution of MBDyn's default `%g`
+/// printing of .out numbers (format doc sections 1 and 10). Files printed with more digits
+/// ('output precision') are resolved better; this is the coarsest a .out can be.
+double half_unit_of_6_digits(double v) {
+  const double a = std::abs(v);
+  return a > 0.0 ? 0.5 * std::pow(10.0, std::floor(std::log10(a)) - 5.0) : 0.0;
+}
+
+/// Late times printed with 6 significant digits no longer resolve the output step (format doc
+/// section 2: t = 1000.005 prints '1000', 1000.010 prints '1000.01'), so block times repeat or
+/// jump. MBDyn advances its time by TStep each step, so the times can be rebuilt as
+/// t_k = c + sum over the Step lines up to k of (step index increase) x TStep (long double), with
+/// the constant c inside every printed time's rounding interval, each widened by the accumulated
+/// rounding of the printed TSteps; c is the first line's printed time when that fits (an initial
+/// time is an input number, printed exactly), else the nearest value that does. Fed one Step line
+/// at a time (O(output blocks) memory however many steps the run took). The times are replaced only
+/// when the printed spacing of the blocks differs from the rebuilt one by more than 1e-4 of it
+/// (full-precision files stay as printed) and one c fits every line (otherwise they stay as printed,
+/// and the series check reports them).
+class CoarseTimes {
+ public:
+  void add(long step, double time, double tstep, bool out) {
+    if (lines_ > 0) {
+      if (!(tstep > 0.0) || !std::isfinite(tstep)) usable_ = false;
+      const auto steps = static_cast<long double>(step - last_step_);
+      rebuilt_ += steps * tstep;
+      slack_ += static_cast<double>(steps) * half_unit_of_6_digits(tstep);
+    } else {
+      first_time_ = time;
+    }
+    ++lines_;
+    last_step_ = step;
+    if (!usable_) return;
+    const double d = time - static_cast<double>(rebuilt_);
+    const double tol = half_unit_of_6_digits(time) + slack_ + 1e-12 * std::abs(time);
+    lo_ = std::max(lo_, d - tol), hi_ = std::min(hi_, d + tol);
+    if (out) rebuilt_out_.push_back(rebuilt_);
+  }
+  /// Replaces t.time when it has to and can; returns the warning, or "".
+  std::string apply(MbdynTimes& t, const std::string& source) const {
+    if (!usable_ || !(lo_ <= hi_) || t.time.size() < 2 || rebuilt_out_.size() != t.time.size()) return "";
+    std::size_t coarse = 0;
+    for (std::size_t k = 1; k < t.time.size() && coarse == 0; ++k) {
+      const double dp = t.time[k] - t.time[k - 1], dr = static_cast<double>(rebuilt_out_[k] - rebuilt_out_[k - 1]);
+      if (!(std::abs(dp - dr) <= 1e-4 * dr)) coarse = k;
+    }
+    if (coarse == 0) return "";
+    std::ostringstream note;
+    note.precision(10);
+    note << source << ": times printed with too few digits to resolve the output step (blocks " << coarse - 1
+         << " and " << coarse << " print " << t.time[coarse - 1] << " and " << t.time[coarse]
+         << "); rebuilt from the Step indices and time steps, which agree with every printed time to within its "
+            "last digit (an 'output precision' of 10 or more in the input avoids this)";
+    const long double c = std::clamp(first_time_, lo_, hi_);
+    for (std::size_t k = 0; k < t.time.size(); ++k) t.time[k] = static_cast<double>(c + rebuilt_out_[k]);
+    return note.str();
+  }
+
+ private:
+  std::size_t lines_ = 0;
+  long last_step_ = 0;
+  bool usable_ = true;
+  long double rebuilt_ = 0.0L;  // time since the first line, from steps x TStep
+  double slack_ = 0.0;          // accumulated rounding of the printed TSteps
+  double first_time_ = 0.0;
+  double lo_ = -std::numeric_limits<double>::infinity(), hi_ = std::numeric_limits<double>::infinity();
+  std::vector<long double> rebuilt_out_;  // rebuilt_ at every written block
+};
+
 MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
   MbdynTimes t;
+  CoarseTimes coarse;
   std::string_view line;
   long last_step = -1;
   while (src.next(line)) {
@@ -139,11 +211,15 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
       out = step % static_cast<long>(frequency) == 0;
     }
     last_step = step;
+    double tstep = std::numeric_limits<double>::quiet_NaN();
+    if (!parse_double(f[3], tstep)) tstep = std::numeric_limits<double>::quiet_NaN();
+    coarse.add(step, time, tstep, out);
     if (out) {
       t.time.push_back(time);
       t.step.push_back(step);
     }
   }
+  t.rebuilt = coarse.apply(t, src.name());
   // A Step line cut mid-write (partial tail) is not returned by the source: its block, if any, is
   // left over and the block-count check reports it.
   return t;
@@ -341,6 +417,7 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   const std::string log_path = prefix + ".log", out_path = prefix + ".out";
   const MbdynLog log = read_mbdyn_log(log_path);
   const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
+  if (!times.rebuilt.empty()) out.warnings.push_back(times.rebuilt);
 
   // Requests per file; each channel remembers where its numbers come from.
   std::map<std::string, std::vector<BlockRequest>> requests;
@@ -434,6 +511,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   inv.format = "mbdyn-text";
   const MbdynLog log = read_mbdyn_log(prefix + ".log");
   const MbdynTimes times = read_mbdyn_out(prefix + ".out", log.output_frequency);
+  if (!times.rebuilt.empty()) inv.warnings.push_back(times.rebuilt);
   std::vector<BlockRead> all;
   std::set<long> dynamic;
   for (const char* ext : {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"}) {

@@ -55,7 +55,10 @@ struct SamplingOptions {
 
 /// Builds a series from an explicit time column (one value per sample). Throws InputError naming
 /// the first offending index: fewer than 2 samples, non-increasing time, a non-uniform step
-/// (unless options.resample), non-finite values.
+/// (unless options.resample), non-finite values. Times printed with 6 or more significant digits
+/// that no longer resolve the step (repeated or uneven at late times) are taken as their
+/// least-squares grid when each lies within one unit of its last printed digit of it (series.cpp:
+/// grid_within_print), with a warning.
 Series make_series_from_time(const std::vector<double>& time, std::vector<std::vector<double>> channels,
                              const SamplingOptions& options, std::vector<std::string>* warnings = nullptr,
                              std::string time_unit = "s");

@@ -34,6 +34,9 @@ struct MbdynTimes {
   std::vector<double> time;
   std::vector<long> step;
   bool seven_fields = false;
+  /// Non-empty when the printed times could not resolve the output step (6 significant digits at
+  /// late times) and were rebuilt from the Step indices and time steps: the warning that says so.
+  std::string rebuilt;
 };
 
 /// Rows of one per-entity file, streamed in one pass. Requests name (label, 1-based column).
