@@ -145,6 +145,10 @@ TEST_F(MbdynCli, MalformedLogAndOut) {
   fs::copy_file(kIso + ".log", prefix + ".log", fs::copy_options::overwrite_existing);
   edit_line(".out", 10, [](std::string) { return std::string("Step 6 0.006 0.001"); });
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.out:10: expected 'Step");
+  // A problem block with 'output: none' leaves the .out without Step lines: no time axis.
+  std::ofstream(prefix + ".out", std::ios::trunc) << "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"),
+                        "run.out: no Step line, so the time of the 201 output blocks is unknown");
 }
 
 TEST_F(MbdynCli, EmptyEntityFile) {

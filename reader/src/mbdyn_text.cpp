@@ -214,6 +214,7 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
     double tstep = std::numeric_limits<double>::quiet_NaN();
     if (!parse_double(f[3], tstep)) tstep = std::numeric_limits<double>::quiet_NaN();
     coarse.add(step, time, tstep, out);
+    ++t.step_lines;
     if (out) {
       t.time.push_back(time);
       t.step.push_back(step);
@@ -387,6 +388,10 @@ std::size_t common_blocks(const MbdynTimes& times, const std::string& out_path,
   std::size_t n = times.time.size();
   std::size_t lo = n, hi = n;
   for (const auto* f : files) lo = std::min(lo, f->blocks), hi = std::max(hi, f->blocks);
+  if (times.step_lines == 0 && hi > 0)
+    throw ReadError(out_path + ": no Step line, so the time of the " + std::to_string(hi) +
+                    " output blocks is unknown (a problem block with 'output: none' writes none): keep its default "
+                    "'output: messages', or read the run's .nc");
   if (hi - lo > 1) {
     std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
     for (const auto* f : files) counts += ", " + f->source + ": " + std::to_string(f->blocks) + " blocks";

@@ -34,6 +34,7 @@ struct MbdynTimes {
   std::vector<double> time;
   std::vector<long> step;
   bool seven_fields = false;
+  std::size_t step_lines = 0;  ///< every Step line read, written or not
   /// Non-empty when the printed times could not resolve the output step (6 significant digits at
   /// late times) and were rebuilt from the Step indices and time steps: the warning that says so.
   std::string rebuilt;
