@@ -448,16 +448,17 @@ TEST(ChannelSpec, ParsesEveryKindAndRejectsMalformedSpecs) {
 namespace {
 /// A .out as MBDyn prints it by default: times and time steps in %g (6 significant digits).
 /// Step k of `steps` advances by h[k]; every `every`-th step is written (Out = 1).
-std::string coarse_out(double t0, const std::vector<double>& h, std::size_t every) {
+/// `digits` significant digits instead of 6 is what 'output precision' sets.
+std::string coarse_out(double t0, const std::vector<double>& h, std::size_t every, int digits = 6) {
   std::string text = "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
   char line[128];
-  std::snprintf(line, sizeof line, "Step 0 %g 0 1 0 0 0 1\n", t0);
+  std::snprintf(line, sizeof line, "Step 0 %.*g 0 1 0 0 0 1\n", digits, t0);
   text += line;
   long double t = t0;
   for (std::size_t k = 1; k <= h.size(); ++k) {
     t += h[k - 1];
-    std::snprintf(line, sizeof line, "Step %zu %g %g 2 1e-08 0 0 %d\n", k, static_cast<double>(t), h[k - 1],
-                  k % every == 0 ? 1 : 0);
+    std::snprintf(line, sizeof line, "Step %zu %.*g %.*g 2 1e-08 0 0 %d\n", k, digits, static_cast<double>(t), digits,
+                  h[k - 1], k % every == 0 ? 1 : 0);
     text += line;
   }
   return text;
@@ -471,7 +472,13 @@ TEST(MbdynOut, TimesPrintedTooCoarselyForTheStepAreRebuiltFromStepsAndTimeSteps)
   ASSERT_EQ(late.time.size(), 4001u);
   EXPECT_NEAR(late.time[1], 1000.005, 1e-12);  // printed '1000', like block 0
   for (std::size_t k = 0; k < late.time.size(); ++k) ASSERT_NEAR(late.time[k], 1000.0 + 0.005 * k, 1e-9) << k;
-  EXPECT_NE(late.rebuilt.find("late.out: times printed with too few digits"), std::string::npos) << late.rebuilt;
+  EXPECT_NE(late.rebuilt.find("late.out: times printed with 6 significant digits, too few"), std::string::npos)
+      << late.rebuilt;
+
+  // 'output precision: 4': 100.025 prints '100', 100.05 '100.1'; the digits come from the file.
+  const auto four = parse_mbdyn_out(coarse_out(100.0, std::vector<double>(400, 0.025), 1, 4), "four.out");
+  for (std::size_t k = 0; k < four.time.size(); ++k) ASSERT_NEAR(four.time[k], 100.0 + 0.025 * k, 1e-9) << k;
+  EXPECT_NE(four.rebuilt.find("printed with 4 significant digits"), std::string::npos) << four.rebuilt;
 
   // A step the 6 digits round unevenly (100.0025 -> '100.003', 100.005, 100.008): the printed steps
   // deviate by 20 %; written every 2nd step of 1.25 ms.

@@ -2,6 +2,7 @@
 #include "mlce/reader/mbdyn_text.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -115,47 +116,63 @@ MbdynLog parse_log(LineSource& src) {
   return log;
 }
 
-/// Half a unit in the 6th significant digit of |v|: the resolution of MBDyn's default `%g`
-/// printing of .out numbers (format doc sections 1 and 10). Files printed with more digits
-/// ('output precision') are resolved better; this is the coarsest a .out can be.
-double half_unit_of_6_digits(double v) {
-  const double a = std::abs(v);
-  return a > 0.0 ? 0.5 * std::pow(10.0, std::floor(std::log10(a)) - 5.0) : 0.0;
+/// Significant digits of a printed number: the mantissa's digits from its first non-zero one
+/// ('1000.01' 6, '0.01500000000000001' 16, '1e-08' 1; '1000' 1, as %g strips its zeros).
+int printed_digits(std::string_view token) {
+  int digits = 0;
+  bool leading = true;
+  for (const char ch : token) {
+    if (ch == 'e' || ch == 'E') break;
+    if (ch < '0' || ch > '9') continue;
+    if (leading && ch == '0') continue;
+    leading = false;
+    ++digits;
+  }
+  return digits;
 }
 
-/// Late times printed with 6 significant digits no longer resolve the output step (format doc
-/// section 2: t = 1000.005 prints '1000', 1000.010 prints '1000.01'), so block times repeat or
-/// jump. MBDyn advances its time by TStep each step, so the times can be rebuilt as
-/// t_k = c + sum over the Step lines up to k of (step index increase) x TStep (long double), with
-/// the constant c inside every printed time's rounding interval, each widened by the accumulated
-/// rounding of the printed TSteps; c is the first line's printed time when that fits (an initial
-/// time is an input number, printed exactly), else the nearest value that does. Fed one Step line
-/// at a time (O(output blocks) memory however many steps the run took). The times are replaced only
-/// when the printed spacing of the blocks differs from the rebuilt one by more than 1e-4 of it
-/// (full-precision files stay as printed) and one c fits every line (otherwise they stay as printed,
-/// and the series check reports them).
+/// Late times printed with 6 significant digits (MBDyn's default `%g` for the .out, format doc
+/// sections 1, 2 and 10) no longer resolve the output step: t = 1000.005 prints '1000', 1000.010
+/// prints '1000.01', so block times repeat or jump. MBDyn advances its time by TStep each step, so
+/// the times can be rebuilt as t_k = c + sum over the Step lines up to k of (step index increase) x
+/// TStep (long double), with the constant c inside every printed time's rounding interval: half a
+/// unit in its P-th significant digit, P the most digits any printed time has (6 for `%g`, more or
+/// fewer with 'output precision'), widened by the accumulated rounding of the printed TSteps at the
+/// same P. c is the first line's printed time when that fits (an initial time is an input number,
+/// printed exactly), else the nearest value that does. Fed one Step line at a time, with the
+/// interval kept for every P = 1..17 until P is known (O(output blocks) memory however many steps
+/// the run took). The times are replaced only when the printed spacing of the blocks differs from
+/// the rebuilt one by more than 1e-4 of it (full-precision files stay as printed) and one c fits
+/// every line (otherwise they stay as printed, and the series check reports them).
 class CoarseTimes {
  public:
-  void add(long step, double time, double tstep, bool out) {
+  static constexpr int kMaxDigits = 17;
+  void add(long step, double time, int time_digits, double tstep, bool out) {
     if (lines_ > 0) {
       if (!(tstep > 0.0) || !std::isfinite(tstep)) usable_ = false;
       const auto steps = static_cast<long double>(step - last_step_);
       rebuilt_ += steps * tstep;
-      slack_ += static_cast<double>(steps) * half_unit_of_6_digits(tstep);
+      const double unit = unit_above(tstep) * static_cast<double>(steps);
+      for (int p = 1; p <= kMaxDigits; ++p) slack_[p] += 0.5 * unit * kTenTo[p];
     } else {
       first_time_ = time;
     }
     ++lines_;
     last_step_ = step;
+    digits_ = std::max(digits_, std::min(time_digits, kMaxDigits));
     if (!usable_) return;
     const double d = time - static_cast<double>(rebuilt_);
-    const double tol = half_unit_of_6_digits(time) + slack_ + 1e-12 * std::abs(time);
-    lo_ = std::max(lo_, d - tol), hi_ = std::min(hi_, d + tol);
+    const double unit = unit_above(time);
+    for (int p = 1; p <= kMaxDigits; ++p) {
+      const double tol = 0.5 * unit * kTenTo[p] + slack_[p] + 1e-12 * std::abs(time);
+      lo_[p] = std::max(lo_[p], d - tol), hi_[p] = std::min(hi_[p], d + tol);
+    }
     if (out) rebuilt_out_.push_back(rebuilt_);
   }
   /// Replaces t.time when it has to and can; returns the warning, or "".
   std::string apply(MbdynTimes& t, const std::string& source) const {
-    if (!usable_ || !(lo_ <= hi_) || t.time.size() < 2 || rebuilt_out_.size() != t.time.size()) return "";
+    const int p = std::max(digits_, 1);
+    if (!usable_ || !(lo_[p] <= hi_[p]) || t.time.size() < 2 || rebuilt_out_.size() != t.time.size()) return "";
     std::size_t coarse = 0;
     for (std::size_t k = 1; k < t.time.size() && coarse == 0; ++k) {
       const double dp = t.time[k] - t.time[k - 1], dr = static_cast<double>(rebuilt_out_[k] - rebuilt_out_[k - 1]);
@@ -164,24 +181,42 @@ class CoarseTimes {
     if (coarse == 0) return "";
     std::ostringstream note;
     note.precision(10);
-    note << source << ": times printed with too few digits to resolve the output step (blocks " << coarse - 1
-         << " and " << coarse << " print " << t.time[coarse - 1] << " and " << t.time[coarse]
+    note << source << ": times printed with " << p << " significant digits, too few to resolve the output step (blocks "
+         << coarse - 1 << " and " << coarse << " print " << t.time[coarse - 1] << " and " << t.time[coarse]
          << "); rebuilt from the Step indices and time steps, which agree with every printed time to within its "
             "last digit (an 'output precision' of 10 or more in the input avoids this)";
-    const long double c = std::clamp(first_time_, lo_, hi_);
+    const long double c = std::clamp(first_time_, lo_[p], hi_[p]);
     for (std::size_t k = 0; k < t.time.size(); ++k) t.time[k] = static_cast<double>(c + rebuilt_out_[k]);
     return note.str();
   }
 
  private:
+  /// 10^(floor(log10 |v|) + 1): a unit in the P-th significant digit of v is this x 10^-P.
+  static double unit_above(double v) {
+    const double a = std::abs(v);
+    return a > 0.0 ? std::pow(10.0, std::floor(std::log10(a)) + 1.0) : 0.0;
+  }
+  static constexpr std::array<double, kMaxDigits + 1> kTenTo = [] {
+    std::array<double, kMaxDigits + 1> t{};
+    double v = 1.0;
+    for (auto& x : t) x = v, v /= 10.0;
+    return t;
+  }();  // kTenTo[p] = 10^-p
   std::size_t lines_ = 0;
   long last_step_ = 0;
   bool usable_ = true;
+  int digits_ = 0;              // most significant digits of a printed time
   long double rebuilt_ = 0.0L;  // time since the first line, from steps x TStep
-  double slack_ = 0.0;          // accumulated rounding of the printed TSteps
+  std::array<double, kMaxDigits + 1> slack_{};  // accumulated rounding of the printed TSteps, per P
   double first_time_ = 0.0;
-  double lo_ = -std::numeric_limits<double>::infinity(), hi_ = std::numeric_limits<double>::infinity();
+  std::array<double, kMaxDigits + 1> lo_ = filled(-std::numeric_limits<double>::infinity());
+  std::array<double, kMaxDigits + 1> hi_ = filled(std::numeric_limits<double>::infinity());
   std::vector<long double> rebuilt_out_;  // rebuilt_ at every written block
+  static std::array<double, kMaxDigits + 1> filled(double v) {
+    std::array<double, kMaxDigits + 1> a;
+    a.fill(v);
+    return a;
+  }
 };
 
 MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
@@ -213,7 +248,7 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
     last_step = step;
     double tstep = std::numeric_limits<double>::quiet_NaN();
     if (!parse_double(f[3], tstep)) tstep = std::numeric_limits<double>::quiet_NaN();
-    coarse.add(step, time, tstep, out);
+    coarse.add(step, time, printed_digits(f[2]), tstep, out);
     ++t.step_lines;
     if (out) {
       t.time.push_back(time);
