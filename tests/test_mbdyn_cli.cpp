@@ -61,6 +61,21 @@ TEST_F(MbdynCli, EstimateOnTheFailedDamperRunPrintsAnMlce) {
   EXPECT_EQ(j["n_points"].get<std::size_t>(), 2001u);
 }
 
+TEST_F(MbdynCli, BladeAzimuthThatWrapsIsFlaggedAndItsLagIsNot) {
+  // node:13:r3 is blade 3's absolute Euler angle about z: at 242 rpm it wraps at +-180 deg every
+  // 0.25 s (41 times in 10 s, counted from the .mov). Its lag relative to the hub (rel:13:4:z) is
+  // unwrapped by the reader and is not flagged.
+  const CliRun azimuth = run("estimate " + kC3 + " --channel node:13:r3 --json");
+  ASSERT_EQ(azimuth.status, 0) << azimuth.err;
+  const auto a = nlohmann::json::parse(azimuth.out);
+  bool said = false;
+  for (const auto& w : a["warnings"]) said |= w.get<std::string>().find("and 41 time(s) in all, by a whole turn: an angle that wraps at +-180 deg") != std::string::npos;
+  EXPECT_TRUE(said) << a["warnings"].dump();
+  const CliRun lag = run("estimate " + kC3 + " --channel rel:13:4:z --json");
+  ASSERT_EQ(lag.status, 0) << lag.err;
+  EXPECT_EQ(lag.out.find("whole turn"), std::string::npos);
+}
+
 TEST_F(MbdynCli, ExtractWritesTimeAndChannelsAsCsv) {
   const CliRun r = run("extract " + kIso + ".nc --channel joint:33:14 --channel rel:13:4:z");
   ASSERT_EQ(r.status, 0) << r.err;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -297,4 +298,30 @@ TEST(Envelope, SteadyMotionHasRateZeroAndTooShortOrConstantIsNaN) {
   const std::vector<double> flat(1000, 3.0);
   EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({flat}, 0.01), 10)));  // no log 0
   EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({lc}, 0.01), 3000)));   // 3 windows
+}
+
+TEST(WrappedAngle, AzimuthPrintedModuloATurnIsFoundAndSmoothOrMapSignalsAreNot) {
+  // A blade's azimuth at 4 rev/s with a lag wobble, sampled at 5 ms for 2 s, as MBDyn prints an
+  // Euler angle (degrees in (-180, 180]) and as a rotation vector's angle (radians).
+  std::vector<double> deg, rad, unwrapped;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 0.005 * i, a = 360.0 * 4.0 * t + 5.0 * std::sin(2.0 * std::numbers::pi * 1.3 * t) + 30.0;
+    unwrapped.push_back(a);
+    deg.push_back(std::remainder(a, 360.0));
+    rad.push_back(std::remainder(a * std::numbers::pi / 180.0, 2.0 * std::numbers::pi));
+  }
+  const auto d = wrapped_angle(make_series_with_step({deg}, 0.005));
+  EXPECT_EQ(d.count, 8u);  // 30 + 2880 deg: passes +180 eight times
+  EXPECT_TRUE(d.degrees);
+  EXPECT_NEAR(d.jump, -360.0 + 7.2, 0.5);  // a turn back, less the 7.2 deg of one step
+  EXPECT_NEAR(deg[d.sample - 1], 180.0, 10.0);
+  const auto r = wrapped_angle(make_series_with_step({unwrapped, rad}, 0.005));
+  EXPECT_EQ(r.count, 8u);
+  EXPECT_EQ(r.channel, 1u);
+  EXPECT_FALSE(r.degrees);
+  // Never: the unwrapped azimuth, Lorenz x, Henon x (every step large), a sine of amplitude 180.
+  std::vector<double> sine;
+  for (int i = 0; i < 1000; ++i) sine.push_back(180.0 * std::sin(0.05 * i));
+  for (const auto& x : {unwrapped, reference::lorenz_x(5000), reference::henon_x(5000), sine})
+    EXPECT_EQ(wrapped_angle(make_series_with_step({x}, 0.01)).count, 0u);
 }

@@ -161,6 +161,16 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     drift_warning = text;
     r.warnings.push_back(drift_warning);
   }
+  if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "channel %zu jumps by %.6g between samples %zu and %zu (t = %.6g), and %zu time(s) in all, by a whole "
+                  "turn: an angle that wraps at +-%s; its delay vectors straddle the jumps and the exponent is "
+                  "meaningless: analyse a relative angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
+                  w.channel + 1, w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
+                  w.degrees ? "180 deg" : "pi");
+    r.warnings.push_back(text);
+  }
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <utility>
@@ -210,6 +211,30 @@ Drift linear_drift(const Series& s) {
     if (std::isfinite(r2) && r2 > d.share) d.share = r2, d.channel = c;
   }
   return d;
+}
+
+WrappedAngle wrapped_angle(const Series& s) {
+  WrappedAngle w;
+  std::vector<double> steps;
+  for (std::size_t c = 0; c < s.channels.size() && w.count == 0; ++c) {
+    const auto& x = s.channels[c];
+    if (x.size() < 3) continue;
+    const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+    const double range = *hi - *lo;
+    steps.resize(x.size() - 1);
+    for (std::size_t i = 1; i < x.size(); ++i) steps[i - 1] = std::abs(x[i] - x[i - 1]);
+    auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), mid, steps.end());
+    const double median = *mid;
+    for (std::size_t i = 1; i < x.size(); ++i) {
+      const double jump = x[i] - x[i - 1], size = std::abs(jump);
+      if (size < 0.5 * range || median >= 0.05 * size) continue;
+      const bool deg = std::abs(size - 360.0) <= 36.0, rad = std::abs(size - 2.0 * std::numbers::pi) <= 0.2 * std::numbers::pi;
+      if (!deg && !rad) continue;
+      if (w.count++ == 0) w.channel = c, w.sample = i, w.jump = jump, w.degrees = deg;
+    }
+  }
+  return w;
 }
 
 Series skip_transient(const Series& series, TransientResult* result) {

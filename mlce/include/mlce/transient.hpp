@@ -85,6 +85,22 @@ Drift linear_drift(const Series& series);
 /// Above this share the estimator warns that the series drifts (and says so when it refuses one).
 inline constexpr double kDriftShare = 0.5;
 
+/// An angle printed modulo a turn (MBDyn's Euler angles in degrees wrap at +-180, its rotation
+/// vectors at pi; a rotating blade's or hub's azimuth wraps every revolution): a step between two
+/// samples of a whole turn, 360 or 2 pi within 10 %, that also spans at least half the channel's
+/// range while the median step is below 1/20 of it (a smooth signal that jumps back by a turn;
+/// maps, whose every step is large, are never taken for one). The first such step of any channel;
+/// count = 0 when there is none. Its delay vectors straddle the jump, so the exponent is
+/// meaningless: unwrap it, or analyse a relative angle or a rate.
+struct WrappedAngle {
+  std::size_t count = 0;    ///< wrapping steps in that channel
+  std::size_t channel = 0;  ///< 0-based
+  std::size_t sample = 0;   ///< the first: from sample - 1 to sample
+  double jump = 0.0;        ///< its size, signed
+  bool degrees = true;      ///< a turn of 360 (else 2 pi)
+};
+WrappedAngle wrapped_angle(const Series& series);
+
 /// A motion persists when its amplitude_ratio lies strictly within (1/kPersistentAmplitude,
 /// kPersistentAmplitude); NaN (no first-third RMS) does not. The one test the estimator's short-run
 /// refusal and the space-time plot's stationarity check share.
