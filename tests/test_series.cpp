@@ -71,18 +71,20 @@ TEST(Series, TimesPrintedWithTooFewDigitsForTheStepAreTakenAsTheirGrid) {
   // Not rounding: a sample 3 printed units late (100.0125 printed as 100.015), a missing sample
   // among 6-digit times that resolve the step, and sample indices with a gap (too few digits to
   // tell a gap from rounding: never taken as a grid).
-  auto printed = [](double t0, double step, int n, int skip, double late) {
+  auto printed = [](double t0, double step, int n, int skip, double late, int digits = 6) {
     std::vector<double> t;
     char text[32];
     for (int i = 0; i < n; ++i) {
       if (i == skip) continue;
-      std::snprintf(text, sizeof text, "%g", t0 + step * i + (i == 5 ? late : 0.0));
+      std::snprintf(text, sizeof text, "%.*g", digits, t0 + step * i + (i == 5 ? late : 0.0));
       t.push_back(std::stod(text));
     }
     return t;
   };
+  // Nor a sample missing from 1000 + 0.001 k printed with 7 digits: the step is a whole printed
+  // unit, every other time is exact, and the gap is the clock's.
   for (const auto& t : {printed(100.0, 0.0025, 400, -1, 0.003), printed(100.0, 0.005, 400, 200, 0.0),
-                        printed(100.0, 1.0, 100, 50, 0.0)}) {
+                        printed(100.0, 1.0, 100, 50, 0.0), printed(1000.0, 0.001, 4000, 2000, 0.0, 7)}) {
     const std::vector<double> x(t.size(), 1.0);
     EXPECT_THROW(make_series_from_time(t, {x}, {}), InputError) << t[0] << " " << t[1];
   }

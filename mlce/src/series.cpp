@@ -53,7 +53,8 @@ struct Grid {
 /// uniform. They are taken as the grid t0 + k dt (least squares of t over k) when they never
 /// decrease (rounding keeps the order) and every printed time lies within one unit of its last
 /// printed digit of the grid: 10^(floor(log10 max(|t|, dt)) - P + 1), P the most significant
-/// digits any printed time needs. Only for P >= 6 (C's `%g`, the coarsest print of a time that
+/// digits any printed time needs, and only when the step is not a whole number of printed units
+/// (then every sample prints exactly, and a deviation is the clock's). Only for P >= 6 (C's `%g`, the coarsest print of a time that
 /// has outgrown its digits): short times such as sample indices 100, 101, 103 could hide a
 /// missing sample within one unit. Times printed at full precision (P ~ 16) leave no room, so a
 /// genuinely uneven sampling is never taken for a grid.
@@ -77,6 +78,13 @@ std::optional<Grid> grid_within_print(const std::vector<double>& time) {
   const long double slope = skt / skk;
   if (!(slope > 0)) return std::nullopt;
   const double dt = static_cast<double>(slope);
+  // A step that is a whole number of the coarsest printed unit is printed exactly at every sample:
+  // then a deviation is the clock's (a skipped or repeated sample), not rounding (1000 + 0.001 k
+  // printed with 7 digits and one sample missing must stay an error).
+  const double coarsest = std::pow(10.0, std::floor(std::log10(std::max({std::abs(time[0]), std::abs(time[n - 1]), dt}))) -
+                                             digits + 1);
+  if (const double ratio = dt / coarsest; ratio >= 0.5 && std::abs(ratio - std::round(ratio)) <= 1e-3 * ratio)
+    return std::nullopt;
   for (std::size_t i = 0; i < n; ++i) {
     const long double grid = mean + slope * (static_cast<long double>(i) - kc);
     const double unit = std::pow(10.0, std::floor(std::log10(std::max(std::abs(time[i]), dt))) - digits + 1);
