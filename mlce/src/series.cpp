@@ -43,6 +43,9 @@ int shortest_digits(double v) {
   return digits;
 }
 
+/// A unit in the `digits`-th significant digit of a number of magnitude a > 0.
+double printed_unit(double a, int digits) { return std::pow(10.0, std::floor(std::log10(a)) - digits + 1); }
+
 struct Grid {
   double t0, dt;
   int digits;
@@ -52,12 +55,12 @@ struct Grid {
 /// times: 1000.005 prints '1000.01', 1000.010 too) repeat or jump although the sampling is
 /// uniform. They are taken as the grid t0 + k dt (least squares of t over k) when they never
 /// decrease (rounding keeps the order) and every printed time lies within one unit of its last
-/// printed digit of the grid: 10^(floor(log10 max(|t|, dt)) - P + 1), P the most significant
-/// digits any printed time needs, and only when the step is not a whole number of printed units
-/// (then every sample prints exactly, and a deviation is the clock's). Only for P >= 6 (C's `%g`, the coarsest print of a time that
-/// has outgrown its digits): short times such as sample indices 100, 101, 103 could hide a
-/// missing sample within one unit. Times printed at full precision (P ~ 16) leave no room, so a
-/// genuinely uneven sampling is never taken for a grid.
+/// printed digit of the grid (printed_unit of max(|t|, dt), P the most significant digits any
+/// printed time needs), and only when the step is not a whole number of printed units (then every
+/// sample prints exactly, and a deviation is the clock's). Only for P >= 6 (C's `%g`, the coarsest
+/// print of a time that has outgrown its digits): short times such as sample indices 100, 101, 103
+/// could hide a missing sample within one unit. Times printed at full precision (P ~ 16) leave no
+/// room, so a genuinely uneven sampling is never taken for a grid.
 std::optional<Grid> grid_within_print(const std::vector<double>& time) {
   const std::size_t n = time.size();
   if (n < 3 || !(time[n - 1] > time[0])) return std::nullopt;
@@ -81,13 +84,12 @@ std::optional<Grid> grid_within_print(const std::vector<double>& time) {
   // A step that is a whole number of the coarsest printed unit is printed exactly at every sample:
   // then a deviation is the clock's (a skipped or repeated sample), not rounding (1000 + 0.001 k
   // printed with 7 digits and one sample missing must stay an error).
-  const double coarsest = std::pow(10.0, std::floor(std::log10(std::max({std::abs(time[0]), std::abs(time[n - 1]), dt}))) -
-                                             digits + 1);
+  const double coarsest = printed_unit(std::max({std::abs(time[0]), std::abs(time[n - 1]), dt}), digits);
   if (const double ratio = dt / coarsest; ratio >= 0.5 && std::abs(ratio - std::round(ratio)) <= 1e-3 * ratio)
     return std::nullopt;
   for (std::size_t i = 0; i < n; ++i) {
     const long double grid = mean + slope * (static_cast<long double>(i) - kc);
-    const double unit = std::pow(10.0, std::floor(std::log10(std::max(std::abs(time[i]), dt))) - digits + 1);
+    const double unit = printed_unit(std::max(std::abs(time[i]), dt), digits);
     if (!(std::abs(static_cast<long double>(time[i]) - grid) <= unit)) return std::nullopt;
   }
   return Grid{static_cast<double>(mean - slope * kc), dt, digits};

@@ -152,7 +152,8 @@ class CoarseTimes {
       if (!(tstep > 0.0) || !std::isfinite(tstep)) usable_ = false;
       const auto steps = static_cast<long double>(step - last_step_);
       rebuilt_ += steps * tstep;
-      const double unit = unit_above(tstep) * static_cast<double>(steps);
+      if (tstep != cached_tstep_) cached_tstep_ = tstep, cached_tstep_unit_ = unit_above(tstep);
+      const double unit = cached_tstep_unit_ * static_cast<double>(steps);
       for (int p = 1; p <= kMaxDigits; ++p) slack_[p] += 0.5 * unit * kTenTo[p];
     } else {
       first_time_ = time;
@@ -162,7 +163,10 @@ class CoarseTimes {
     digits_ = std::max(digits_, std::min(time_digits, kMaxDigits));
     if (!usable_) return;
     const double d = time - static_cast<double>(rebuilt_);
-    const double unit = unit_above(time);
+    // unit_above changes only when |time| crosses a power of ten: recomputed then (pow and log10
+    // on every Step line of a million-step run would cost more than reading the line).
+    if (const double a = std::abs(time); !(a >= time_unit_ / 10.0 && a < time_unit_)) time_unit_ = unit_above(time);
+    const double unit = time_unit_;
     for (int p = 1; p <= kMaxDigits; ++p) {
       const double tol = 0.5 * unit * kTenTo[p] + slack_[p] + 1e-12 * std::abs(time);
       lo_[p] = std::max(lo_[p], d - tol), hi_[p] = std::min(hi_[p], d + tol);
@@ -204,6 +208,8 @@ class CoarseTimes {
   }();  // kTenTo[p] = 10^-p
   std::size_t lines_ = 0;
   long last_step_ = 0;
+  double cached_tstep_ = std::numeric_limits<double>::quiet_NaN(), cached_tstep_unit_ = 0.0;
+  double time_unit_ = 0.0;  // unit_above of the last time: 10^k with 10^(k-1) <= |time| < 10^k
   bool usable_ = true;
   int digits_ = 0;              // most significant digits of a printed time
   long double rebuilt_ = 0.0L;  // time since the first line, from steps x TStep
