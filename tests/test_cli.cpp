@@ -223,6 +223,47 @@ TEST_F(Cli, NanAndInf) {
   expect_one_line_error(run("estimate " + write("i.txt", "1\n-inf\n").string()), "i.txt:2: column 1: '-inf'");
 }
 
+TEST_F(Cli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
+  // A solver run that blew up after sample 3000: nan from there on. Analysed with --to before the
+  // blow-up it gives exactly the exponent of a file that holds only the finite rows.
+  constexpr std::size_t kFinite = 3000;
+  const auto x = mlce::reference::lorenz_x(4000, 0.01);
+  std::ostringstream diverged, finite, one_column;
+  diverged.precision(17), finite.precision(17), one_column.precision(17);
+  diverged << "# time value junk\n";
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    // a third column the analysis does not use is nan throughout
+    if (i < kFinite) diverged << t << " " << x[i] << " nan\n", finite << t << " " << x[i] << "\n", one_column << x[i] << "\n";
+    else diverged << t << " nan nan\n", one_column << "-inf\n";
+  }
+  const std::string d = write("diverged.txt", diverged.str()).string(), f = write("finite.txt", finite.str()).string();
+  const std::string o = write("one.txt", one_column.str()).string();
+  const CliRun refused = run("estimate " + d + " --time-column 1 --column 2");
+  expect_one_line_error(refused, "diverged.txt:3002: column 2: 'nan': expected a finite number (did the run diverge? the 3000 "
+                                 "rows before it, to t = 29.99");
+  EXPECT_NE(refused.err.find(": --to 29.99"), std::string::npos) << refused.err;
+  expect_one_line_error(run("estimate " + o + " --dt 0.01"), "one.txt:3001: column 1: '-inf'");
+
+  auto lambda_of = [&](const std::string& args) {
+    const CliRun r = run("estimate " + args + " --json --quiet");
+    EXPECT_EQ(r.status, 0) << r.err;
+    return r.status == 0 ? nlohmann::json::parse(r.out)["lambda"].get<double>() : std::nan("");
+  };
+  const double reference = lambda_of(f + " --time-column 1 --column 2");
+  ASSERT_TRUE(std::isfinite(reference));
+  EXPECT_EQ(lambda_of(d + " --time-column 1 --column 2 --to 29.99"), reference);
+  EXPECT_EQ(lambda_of(o + " --dt 0.01 --to 29.99"), reference);
+  EXPECT_EQ(lambda_of(d + " --time-column 1 --column 2 --from 5 --to 29.99"),
+            lambda_of(f + " --time-column 1 --column 2 --from 5"));
+  // A non-finite sample inside the window is still refused.
+  std::string inside = diverged.str();
+  const std::size_t at = inside.find("\n10 ") + 4;  // the row at t = 10, value field
+  inside.replace(at, inside.find(' ', at) - at, "inf");
+  expect_one_line_error(run("estimate " + write("inside.txt", inside).string() + " --time-column 1 --column 2 --to 29.99"),
+                        "inside.txt:1002: column 2: 'inf': expected a finite number");
+}
+
 TEST_F(Cli, NonUniformTime) {
   std::string s;
   for (int i = 0; i < 100; ++i) s += std::to_string(i < 50 ? 0.1 * i : 0.1 * i + 0.05) + " " + std::to_string(std::sin(i)) + "\n";

@@ -272,6 +272,42 @@ TEST_F(MbdynCli, LateTimesPrintedWithSixDigitsGiveTheSameExponent) {
   EXPECT_NE(t.out.find("\n1000.005,"), std::string::npos) << t.out.substr(0, 80);
 }
 
+TEST_F(MbdynCli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
+  // The 10 s failed-damper run as if it had blown up at t = 6 s: every .mov field nan from output
+  // block 1200 on. With --to before it, the exponent is exactly that of the intact run on the same
+  // window; without, one line names the row and the last finite time.
+  fs::copy_file(kC3 + ".log", dir / "blown.log");
+  fs::copy_file(kC3 + ".out", dir / "blown.out");
+  std::ofstream mov(dir / "blown.mov");
+  std::size_t n = 0;
+  for (const auto& line : lines_of(kC3 + ".mov")) {
+    if (n++ < 1200 * 7) {
+      mov << line << "\n";
+      continue;
+    }
+    std::istringstream f(line);
+    std::string label, field, row;
+    f >> label;
+    row = label;
+    while (f >> field) row += " nan";
+    mov << row << "\n";
+  }
+  mov.close();
+  const std::string blown = (dir / "blown").string();
+  const CliRun refused = run("estimate " + blown + " --channel rel:13:4:z");
+  // Line 8403: node 4, the first row of block 1200 the channel reads.
+  expect_one_line_error(refused, "blown.mov:8403: column 5: 'nan': expected a finite number (did the run diverge? This "
+                                 "block is at t = 6; the 1200 before it, to t = 5.995, are finite)");
+  const CliRun cut = run("estimate " + blown + " --channel rel:13:4:z --to 5.995 --json --quiet");
+  ASSERT_EQ(cut.status, 0) << cut.err;
+  const CliRun intact = run("estimate " + kC3 + " --channel rel:13:4:z --to 5.995 --json --quiet");
+  ASSERT_EQ(intact.status, 0) << intact.err;
+  const auto a = nlohmann::json::parse(cut.out), b = nlohmann::json::parse(intact.out);
+  EXPECT_EQ(a["n_points"], b["n_points"]);
+  EXPECT_EQ(a["lambda"].get<double>(), b["lambda"].get<double>());
+  expect_one_line_error(run("estimate " + blown + " --channel rel:13:4:z --to -1"), "blown.out: no output step at t <= -1");
+}
+
 TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {
   fs::copy_file(kIso + ".nc", dir / "alone.nc");
   const CliRun r = run("extract " + (dir / "alone.nc").string() + " --channel rel:13:4:z --channel joint:33:14");

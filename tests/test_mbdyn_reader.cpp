@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -65,6 +66,43 @@ std::vector<double> out_times(const std::string& path) {
 }
 
 double wrap_pi(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+/// The message of the ReadError `read` throws ("" and a test failure when it throws none).
+template <class F>
+std::string read_error_of(F read) {
+  try {
+    read();
+  } catch (const ReadError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a ReadError";
+  return "";
+}
+
+/// y of a record the solver never wrote (write_node_x_records leaves its X at the fill value).
+constexpr double kUnwritten = std::numeric_limits<double>::max();
+
+/// A minimal MBDyn NetCDF file: record k at time 0.1 k with node.struct.1.X = (1, y[k], 3), or
+/// with X never written when y[k] is kUnwritten.
+void write_node_x_records(const fs::path& path, const std::vector<double>& y) {
+  int id = 0, time_dim = 0, vec3 = 0, t_var = 0, x_var = 0;
+  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER, &id), NC_NOERR);
+  ASSERT_EQ(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim), NC_NOERR);
+  ASSERT_EQ(nc_def_dim(id, "vec3", 3, &vec3), NC_NOERR);
+  const int dims[2] = {time_dim, vec3};
+  ASSERT_EQ(nc_def_var(id, "time", NC_DOUBLE, 1, &time_dim, &t_var), NC_NOERR);
+  ASSERT_EQ(nc_def_var(id, "node.struct.1.X", NC_DOUBLE, 2, dims, &x_var), NC_NOERR);
+  ASSERT_EQ(nc_enddef(id), NC_NOERR);
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    const double t = 0.1 * static_cast<double>(k), x[3] = {1.0, y[k], 3.0};
+    const std::size_t start[2] = {k, 0}, one[1] = {1}, row[2] = {1, 3};
+    ASSERT_EQ(nc_put_vara_double(id, t_var, start, one, &t), NC_NOERR);
+    if (y[k] != kUnwritten) {
+      ASSERT_EQ(nc_put_vara_double(id, x_var, start, row, x), NC_NOERR);
+    }
+  }
+  ASSERT_EQ(nc_close(id), NC_NOERR);
+}
 
 }  // namespace
 
@@ -346,30 +384,10 @@ TEST(MbdynNetcdf, TruncatedFileReadsItsCompleteRecordsWithAWarning) {
 
 TEST(MbdynNetcdf, RecordNeverWrittenIsAnErrorNotAHugeNumber) {
   const fs::path path = fs::temp_directory_path() / ("mlce_fill_" + std::to_string(::getpid()) + ".nc");
-  int id = 0, time_dim = 0, vec3 = 0, t_var = 0, x_var = 0;
-  ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER, &id), NC_NOERR);
-  ASSERT_EQ(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim), NC_NOERR);
-  ASSERT_EQ(nc_def_dim(id, "vec3", 3, &vec3), NC_NOERR);
-  const int dims[2] = {time_dim, vec3};
-  ASSERT_EQ(nc_def_var(id, "time", NC_DOUBLE, 1, &time_dim, &t_var), NC_NOERR);
-  ASSERT_EQ(nc_def_var(id, "node.struct.1.X", NC_DOUBLE, 2, dims, &x_var), NC_NOERR);
-  ASSERT_EQ(nc_enddef(id), NC_NOERR);
-  for (std::size_t k = 0; k < 3; ++k) {
-    const double t = 0.1 * static_cast<double>(k), x[3] = {1.0, 2.0, 3.0};
-    const std::size_t start[2] = {k, 0}, one[1] = {1}, row[2] = {1, 3};
-    ASSERT_EQ(nc_put_vara_double(id, t_var, start, one, &t), NC_NOERR);
-    if (k < 2) {  // record 2 left unwritten
-      ASSERT_EQ(nc_put_vara_double(id, x_var, start, row, x), NC_NOERR);
-    }
-  }
-  ASSERT_EQ(nc_close(id), NC_NOERR);
-  try {
-    read_mbdyn_netcdf(path.string(), specs({"node:1:y"}));
-    ADD_FAILURE() << "expected a ReadError";
-  } catch (const ReadError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("'node.struct.1.X' record 2: holds the NetCDF fill value"), std::string::npos) << what;
-  }
+  write_node_x_records(path, {2.0, 2.0, kUnwritten});  // record 2 left unwritten
+  if (::testing::Test::HasFatalFailure()) return;
+  const std::string what = read_error_of([&] { read_mbdyn_netcdf(path.string(), specs({"node:1:y"})); });
+  EXPECT_NE(what.find("'node.struct.1.X' record 2: holds the NetCDF fill value"), std::string::npos) << what;
   fs::remove(path);
 }
 
@@ -409,6 +427,94 @@ TEST(MbdynText, InterruptedRunReadsEveryCompleteBlockWithWarnings) {
   EXPECT_NE(all.find("last block is incomplete"), std::string::npos) << all;
   EXPECT_NE(all.find("using the first 200"), std::string::npos) << all;
   fs::remove_all(dir);
+}
+
+TEST(MbdynText, RunThatDivergesIsReadUpToUntilAndSaysWhereItStopsBeingFinite) {
+  // A run that blew up: every field of every row from output block 150 on printed as nan.
+  const fs::path dir = fs::temp_directory_path() / ("mlce_diverged_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  for (const char* e : {".log", ".out"}) fs::copy_file(kIso + e, dir / (std::string("run") + e));
+  constexpr std::size_t kRows = 7, kFinite = 150;
+  {
+    std::ifstream in(kIso + ".mov");
+    std::ofstream out(dir / "run.mov");
+    std::string line;
+    for (std::size_t n = 0; std::getline(in, line); ++n) {
+      if (n >= kFinite * kRows) {
+        std::istringstream f(line);
+        std::string label, field;
+        f >> label;
+        line = label;
+        while (f >> field) line += " nan";
+      }
+      out << line << "\n";
+    }
+  }
+  const std::string prefix = (dir / "run").string();
+  const auto t = out_times(kIso + ".out");
+  ASSERT_GT(t.size(), kFinite + 1);
+  const auto channels = specs({"node:2:x", "rel:13:4:z"});
+  const auto original = read_mbdyn_text(kIso, channels);
+
+  {
+    char where[160];
+    std::snprintf(where, sizeof where, "This block is at t = %.10g; the %zu before it, to t = %.10g, are finite", t[kFinite],
+                  kFinite, t[kFinite - 1]);
+    const std::string what = read_error_of([&] { read_mbdyn_text(prefix, channels); });
+    EXPECT_NE(what.find("run.mov:" + std::to_string(kFinite * kRows + 1) + ": column "), std::string::npos) << what;
+    EXPECT_NE(what.find("'nan': expected a finite number (did the run diverge?"), std::string::npos) << what;
+    EXPECT_NE(what.find(where), std::string::npos) << what;
+  }
+  const double dt = t[1] - t[0];
+  for (const double until : {t[kFinite - 1], t[kFinite - 1] + 0.3 * dt}) {
+    ReadOptions o;
+    o.until = until;
+    const auto cs = read_mbdyn_text(prefix, channels, o);
+    ASSERT_EQ(cs.time.size(), kFinite);
+    EXPECT_TRUE(cs.warnings.empty());
+    for (std::size_t c = 0; c < channels.size(); ++c)
+      for (std::size_t k = 0; k < kFinite; ++k) ASSERT_EQ(cs.values[c][k], original.values[c][k]) << c << " " << k;
+  }
+  ReadOptions earlier;
+  earlier.until = t[kFinite - 1] - 0.3 * dt;
+  EXPECT_EQ(read_mbdyn_text(prefix, channels, earlier).time.size(), kFinite - 1);
+  ReadOptions one;  // one block: the layout ends at the second block's first row, which is not parsed
+  one.until = t[0];
+  EXPECT_EQ(read_mbdyn_text(prefix, channels, one).time.size(), 1u);
+  ReadOptions before;
+  before.until = t[0] - 1.0;
+  EXPECT_THROW(read_mbdyn_text(prefix, channels, before), ReadError);
+  fs::remove_all(dir);
+}
+
+TEST(MbdynNetcdf, RecordsAfterUntilAreNotRead) {
+  const fs::path path = fs::temp_directory_path() / ("mlce_until_" + std::to_string(::getpid()) + ".nc");
+  write_node_x_records(path, {0.0, 1.0, 2.0, std::nan(""), std::nan("")});  // records 3 and 4 diverged
+  if (::testing::Test::HasFatalFailure()) return;
+  const std::string what = read_error_of([&] { read_mbdyn_netcdf(path.string(), specs({"node:1:y"})); });
+  EXPECT_NE(what.find("'node.struct.1.X' record 3: expected a finite number"), std::string::npos) << what;
+  ReadOptions o;
+  o.until = 0.2;
+  const auto cs = read_mbdyn_netcdf(path.string(), specs({"node:1:y"}), o);
+  ASSERT_EQ(cs.time.size(), 3u);
+  EXPECT_EQ(cs.values[0], (std::vector<double>{0.0, 1.0, 2.0}));
+  fs::remove(path);
+}
+
+TEST(ReadOptions, StepsUntilCountsTheLeadingStepsWithinAMillionthOfTheStep) {
+  const std::vector<double> t{0.0, 0.1, 0.2, 0.3};
+  auto steps = [&](double until) {
+    ReadOptions o;
+    o.until = until;
+    return steps_until(t, o, "f");
+  };
+  EXPECT_EQ(steps(std::numeric_limits<double>::infinity()), 4u);
+  EXPECT_EQ(steps(0.2), 3u);
+  EXPECT_EQ(steps(0.2 - 1e-9), 3u);  // 0.1 + 0.1 prints as 0.2 and may be a rounding above it
+  EXPECT_EQ(steps(0.2 - 1e-3), 2u);
+  EXPECT_EQ(steps(5.0), 4u);
+  EXPECT_EQ(steps(0.0), 1u);
+  EXPECT_EQ(read_error_of([&] { steps(-0.5); }), "f: no output step at t <= -0.5 (the first is at t = 0)");
 }
 
 TEST(MbdynText, FilesSavedWithAByteOrderMarkAndCrlfReadTheSame) {

@@ -78,7 +78,7 @@ po::options_description series_options(cli::SeriesInput& in) {
       ("time-unit", po::value(&in.time_unit)->default_value("s"), "name of the time unit")
       ("resample", po::bool_switch(&in.resample), "resample a non-uniform time column linearly (explicit opt-in)")
       ("from", po::value(&in.from), "start of the analysed window (time units), or 'auto' to skip the transient")
-      ("to", po::value<double>(), "end of the analysed window (time units)");
+      ("to", po::value<double>(), "end of the analysed window (time units); later samples are not read, so a run that diverged after it can be analysed");
   return d;
 }
 

@@ -1,6 +1,9 @@
 #include "series_input.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -13,7 +16,8 @@
 
 namespace mlce::cli {
 
-reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs) {
+reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs,
+                                 const reader::ReadOptions& options) {
   std::vector<reader::ChannelSpec> parsed;
   for (const auto& s : specs) {
     try {
@@ -23,7 +27,7 @@ reader::ChannelSet load_channels(const std::string& file, const std::vector<std:
     }
   }
   const auto& format = reader::default_registry().for_path(file);
-  return format.read(file, parsed);
+  return format.read(file, parsed, options);
 }
 
 namespace {
@@ -37,7 +41,9 @@ LoadedSeries load_solver_channels(const SeriesInput& in) {
   if (in.channels.empty())
     throw OptionError(in.file + ": say which channel(s) to analyse with --channel SPEC "
                       "(e.g. rel:13:4:z, node:2:x, joint:33:14; 'mlce channels " + in.file + "' lists them)");
-  reader::ChannelSet cs = load_channels(in.file, in.channels);
+  reader::ReadOptions read_options;  // steps after --to are not read: a run may diverge after the window
+  if (in.to) read_options.until = *in.to;
+  reader::ChannelSet cs = load_channels(in.file, in.channels, read_options);
   LoadedSeries out;
   out.warnings = cs.warnings;
   try {
@@ -103,10 +109,51 @@ std::size_t resolve_column(const reader::Table& table, const std::string& file, 
                               fmt::join(table.names, ", ")));
 }
 
+namespace {
+
+/// Time of row k: the time column's value, k * --dt, or k (per sample).
+double row_time(const reader::Table& table, std::optional<std::size_t> time_column, const SeriesInput& in, std::size_t k) {
+  if (time_column) return table.columns[*time_column - 1][k];
+  return static_cast<double>(k) * in.dt.value_or(1.0);
+}
+
+/// The leading rows at times <= --to (all without it): the rows after the window are not analysed,
+/// so a run that diverged (nan, inf) after it is readable. At least 2 rows, so that an empty
+/// window is reported by time_window in its own words.
+std::size_t rows_to_read(const reader::Table& table, std::optional<std::size_t> time_column, const SeriesInput& in) {
+  const std::size_t n = table.rows();
+  if (!in.to || n < 2) return n;
+  const double step = std::abs(row_time(table, time_column, in, 1) - row_time(table, time_column, in, 0));
+  const double limit = *in.to + 1e-6 * (std::isfinite(step) ? step : 0.0);
+  std::size_t rows = 0;
+  while (rows < n && !(row_time(table, time_column, in, rows) > limit)) ++rows;  // a nan time is refused later
+  return std::max<std::size_t>(rows, 2);
+}
+
+/// A nan or inf among the rows read of the columns used: one line naming the file line and column,
+/// and, when earlier rows are finite (a run that diverged), the time up to which they can be analysed.
+void refuse_nonfinite(const reader::Table& table, const std::vector<std::size_t>& used, std::size_t rows,
+                      std::optional<std::size_t> time_column, const SeriesInput& in) {
+  for (std::size_t k = 0; k < rows; ++k)
+    for (std::size_t c : used) {
+      const double v = table.columns[c - 1][k];
+      if (std::isfinite(v)) continue;
+      std::string hint;
+      if (k > 0)
+        hint = fmt::format(" (did the run diverge? the {} rows before it, to t = {}, are finite: --to {} analyses only "
+                           "them)", k, row_time(table, time_column, in, k - 1), row_time(table, time_column, in, k - 1));
+      throw reader::ReadError(fmt::format("{}: column {}: '{}': expected a finite number{}", table.where(k), c, v, hint));
+    }
+}
+
+}  // namespace
+
 LoadedSeries load_column_series(const SeriesInput& in) {
   using reader::ReadError;
   if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
-  reader::Table table = reader::read_column_file(in.file);
+  reader::ColumnFileOptions read_options;
+  read_options.keep_nonfinite = true;  // refused below, in the rows analysed
+  reader::Table table = reader::read_column_file(in.file, read_options);
   const std::size_t ncols = table.columns.size();
   std::optional<std::size_t> time_column;
   if (in.time_column) time_column = resolve_column(table, in.file, *in.time_column, "--time-column");
@@ -123,15 +170,21 @@ LoadedSeries load_column_series(const SeriesInput& in) {
     }
   }
 
+  const std::size_t rows = rows_to_read(table, time_column, in);
+  std::vector<std::size_t> used = cols;
+  if (time_column) used.push_back(*time_column);
+  refuse_nonfinite(table, used, rows, time_column, in);
+
   LoadedSeries out;
   std::vector<std::vector<double>> channels;
-  for (std::size_t k : cols) channels.push_back(table.columns[k - 1]);
+  for (std::size_t k : cols) channels.emplace_back(table.columns[k - 1].begin(), table.columns[k - 1].begin() + static_cast<std::ptrdiff_t>(rows));
   try {
     if (time_column) {
       SamplingOptions so;
       so.resample = in.resample;
-      out.series = make_series_from_time(table.columns[*time_column - 1], std::move(channels), so, &out.warnings,
-                                         in.time_unit);
+      const auto& t = table.columns[*time_column - 1];
+      out.series = make_series_from_time({t.begin(), t.begin() + static_cast<std::ptrdiff_t>(rows)}, std::move(channels),
+                                         so, &out.warnings, in.time_unit);
     } else if (in.dt) {
       out.series = make_series_with_step(std::move(channels), *in.dt, in.time_unit);
     } else {

@@ -33,8 +33,10 @@ struct LoadedSeries {
   std::string transient_rule;  ///< how --from auto decided, when used
 };
 
-/// The channels of an MBDyn prefix / NetCDF file (or col:K of a column file) with their time.
-reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs);
+/// The channels of an MBDyn prefix / NetCDF file (or col:K of a column file) with their time;
+/// `options.until` leaves out a solver set's later steps.
+reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs,
+                                 const reader::ReadOptions& options = {});
 
 /// Throws std::runtime_error with a one-line message naming the file (and line) on bad input.
 LoadedSeries load_series(const SeriesInput& in);

@@ -85,7 +85,8 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
     std::ostringstream os;
     os << "FNN fraction never fell below " << options.threshold * 100 << " % up to m = " << r.fraction.size()
        << " (lowest " << r.fraction[r.dim - 1] * 100 << " % at m = " << r.dim
-       << "): the series looks noise-dominated; m taken at the lowest fraction";
+       << "): noise, a motion of higher dimension, or a delay long enough to fold the reconstruction "
+          "(compare a smaller --delay) keeps neighbours false; m taken at the lowest fraction";
     r.warnings.push_back(os.str());
   }
   if (r.zero_distance_pairs > 0)

@@ -102,7 +102,7 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
                         shorten(tok) + "' is not a number" +
                         (tok.find(';') != std::string_view::npos ? " (fields are separated by spaces, tabs or commas)" : ""));
-      if (!std::isfinite(v))
+      if (!std::isfinite(v) && !options.keep_nonfinite)
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
                         shorten(tok) + "': expected a finite number");
       row.push_back(v);

@@ -1,7 +1,10 @@
 // The format registry and the built-in plug-ins.
 #include "mlce/reader/format.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <limits>
 
 #include "mlce/reader/column_file.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
@@ -9,6 +12,23 @@
 #include "mlce/reader/table.hpp"
 
 namespace mlce::reader {
+
+std::size_t steps_until(const std::vector<double>& time, const ReadOptions& options, const std::string& source) {
+  const double until = options.until;
+  if (!(until < std::numeric_limits<double>::infinity()) || time.empty()) return time.size();
+  const double step = time.size() > 1 ? (time.back() - time.front()) / static_cast<double>(time.size() - 1) : 0.0;
+  const double limit = until + 1e-6 * std::abs(step);
+  std::size_t n = 0;
+  while (n < time.size() && time[n] <= limit) ++n;
+  if (n == 0) {
+    char text[160];
+    std::snprintf(text, sizeof text, ": no output step at t <= %.10g (the first is at t = %.10g)", until, time.front());
+    throw ReadError(source + text);
+  }
+  return n;
+}
+
+
 namespace {
 
 bool is_file(const std::string& p) {
@@ -38,7 +58,8 @@ class ColumnFormat final : public FormatReader {
     inv.warnings = t.warnings;
     return inv;
   }
-  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
+                  const ReadOptions& /*options: no time axis of its own*/) const override {
     ColumnFileOptions o;
     for (const auto& c : channels) {
       if (c.kind != ChannelSpec::Kind::column)
@@ -61,8 +82,9 @@ class MbdynTextFormat final : public FormatReader {
   std::vector<std::string> extensions() const override { return {"out", "log", "mov", "jnt", "ine", "frc", ""}; }
   bool recognizes(const std::string& path) const override { return is_file(mbdyn_prefix(path) + ".out"); }
   Inventory describe(const std::string& path) const override { return describe_mbdyn_text(path); }
-  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
-    return read_mbdyn_text(path, channels);
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
+                  const ReadOptions& options) const override {
+    return read_mbdyn_text(path, channels, options);
   }
 };
 
@@ -72,8 +94,9 @@ class MbdynNetcdfFormat final : public FormatReader {
   std::vector<std::string> extensions() const override { return {"nc"}; }
   bool recognizes(const std::string& path) const override { return extension_of(path) == "nc" && is_file(path); }
   Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(path); }
-  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const override {
-    return read_mbdyn_netcdf(path, channels);
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
+                  const ReadOptions& options) const override {
+    return read_mbdyn_netcdf(path, channels, options);
   }
 };
 

@@ -73,7 +73,7 @@ class NcFile {
         throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) +
                         ": holds the NetCDF fill value (never written by the solver)");
       if (!std::isfinite(out[k]))
-        throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) + ": expected a finite number");
+        throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) + ": expected a finite number (did the run diverge? the records before it can be read alone)");
     }
     return out;
   }
@@ -199,7 +199,8 @@ std::size_t records_written(const std::vector<double>& time, const std::string& 
 
 }  // namespace
 
-ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels) {
+ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels,
+                             const ReadOptions& options) {
   if (channels.empty()) throw ReadError(path + ": no channel requested (give --channel SPEC)");
   const NcFile nc(path);
   ChannelSet out;
@@ -208,8 +209,10 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
   const auto tsh = nc.shape(tv);
   if (tsh.empty() || tsh[0] == 0) throw ReadError(path + ": no records");
   out.time = nc.column(tv, 0, tsh[0], "time");
-  const std::size_t n = records_written(out.time, path, out.warnings);
+  std::size_t n = records_written(out.time, path, out.warnings);
   if (n == 0) throw ReadError(path + ": no complete record");
+  out.time.resize(n);
+  n = steps_until(out.time, options, path);  // records after `until` are not read
   out.time.resize(n);
 
   std::optional<MbdynLog> log;

@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -267,7 +268,7 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
   return t;
 }
 
-BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& requests) {
+BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& requests, const BlockOptions& options) {
   BlockRead r;
   r.source = src.name();
   r.values.assign(requests.size(), {});
@@ -303,9 +304,15 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
       const std::string_view tok = fields[col - 1];
       if (!parse_double(tok, v))
         throw ReadError(where(line_no) + ": column " + std::to_string(col) + ": '" + shorten(tok) + "' is not a number");
-      if (!std::isfinite(v))
+      if (!std::isfinite(v)) {
+        // Say where the run stopped being finite: the steps before it can still be read (ReadOptions::until).
+        char hint[200] = "";
+        if (r.blocks < options.times.size() && r.blocks > 0)
+          std::snprintf(hint, sizeof hint, " This block is at t = %.10g; the %zu before it, to t = %.10g, are finite",
+                        options.times[r.blocks], r.blocks, options.times[r.blocks - 1]);
         throw ReadError(where(line_no) + ": column " + std::to_string(col) + ": '" + shorten(tok) +
-                        "': expected a finite number (did the run diverge?)");
+                        "': expected a finite number (did the run diverge?" + hint + ")");
+      }
       pending[q] = v;
     }
   };
@@ -340,7 +347,7 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
     first_lines.clear();
   };
 
-  while (src.next(line)) {
+  while (!(layout_done && r.blocks >= options.max_blocks) && src.next(line)) {
     if (line.find_first_not_of(" \t") == std::string_view::npos)
       throw ReadError(src.where() + ": empty line inside the output blocks");
     const long label = label_of(line, src.line_number());
@@ -354,6 +361,7 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
       }
       finish_layout();
       row = 0;
+      if (r.blocks >= options.max_blocks) break;
     }
     if (label != r.labels[row]) {
       throw ReadError(src.where() + ": expected the row of label " + std::to_string(r.labels[row]) + " (row " +
@@ -402,13 +410,14 @@ MbdynTimes read_mbdyn_out(const std::string& path, std::size_t frequency) {
   auto src = LineSource::open(path);
   return parse_out(src, frequency);
 }
-BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, const std::vector<BlockRequest>& req) {
+BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, const std::vector<BlockRequest>& req,
+                             const BlockOptions& options) {
   auto src = LineSource::from_memory(text, source);
-  return parse_blocks(src, req);
+  return parse_blocks(src, req, options);
 }
-BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& req) {
+BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& req, const BlockOptions& options) {
   auto src = LineSource::open(path);
-  return parse_blocks(src, req);
+  return parse_blocks(src, req, options);
 }
 
 std::string mbdyn_prefix(const std::string& path) {
@@ -423,10 +432,11 @@ std::string mbdyn_prefix(const std::string& path) {
 namespace {
 
 /// Block count of every file read and of the .out must agree; an interrupted run may differ by
-/// one (entity rows are written before the Step line; format doc section 12).
-std::size_t common_blocks(const MbdynTimes& times, const std::string& out_path,
+/// one (entity rows are written before the Step line; format doc section 12). `steps`: the output
+/// steps wanted (all of the .out's, or those up to ReadOptions::until, to which the files were cut).
+std::size_t common_blocks(const MbdynTimes& times, std::size_t steps, const std::string& out_path,
                           const std::vector<const BlockRead*>& files, std::vector<std::string>& warnings) {
-  std::size_t n = times.time.size();
+  std::size_t n = steps;
   std::size_t lo = n, hi = n;
   for (const auto* f : files) lo = std::min(lo, f->blocks), hi = std::max(hi, f->blocks);
   if (times.step_lines == 0 && hi > 0)
@@ -455,7 +465,8 @@ bool file_exists(const std::string& p) {
 
 }  // namespace
 
-ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<ChannelSpec>& channels) {
+ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<ChannelSpec>& channels,
+                           const ReadOptions& options) {
   const std::string prefix = mbdyn_prefix(prefix_in);
   if (channels.empty()) throw ReadError(prefix + ": no channel requested (give --channel SPEC)");
   ChannelSet out;
@@ -464,6 +475,10 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   const MbdynLog log = read_mbdyn_log(log_path);
   const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
   if (!times.rebuilt.empty()) out.warnings.push_back(times.rebuilt);
+  const std::size_t steps = steps_until(times.time, options, out_path);
+  BlockOptions block_options;
+  if (steps < times.time.size()) block_options.max_blocks = steps;
+  block_options.times = times.time;
 
   // Requests per file; each channel remembers where its numbers come from.
   std::map<std::string, std::vector<BlockRequest>> requests;
@@ -519,11 +534,11 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   for (const auto& [ext, req] : requests) {
     const std::string path = prefix + "." + ext;
     if (!file_exists(path)) throw ReadError(path + ": cannot open the file (missing or unreadable)");
-    const BlockRead& b = read.emplace(ext, read_mbdyn_blocks(path, req)).first->second;
+    const BlockRead& b = read.emplace(ext, read_mbdyn_blocks(path, req, block_options)).first->second;
     out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
     all.push_back(&b);
   }
-  const std::size_t n = common_blocks(times, out_path, all, out.warnings);
+  const std::size_t n = common_blocks(times, steps, out_path, all, out.warnings);
   out.time.assign(times.time.begin(), times.time.begin() + static_cast<std::ptrdiff_t>(n));
 
   for (std::size_t c = 0; c < channels.size(); ++c) {
@@ -585,7 +600,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   for (auto& n : inv.nodes) n.kind = dynamic.count(n.label) ? "dynamic" : have_ine ? "static/dummy" : "unknown";
   std::vector<const BlockRead*> files;
   for (const auto& b : all) files.push_back(&b);
-  inv.blocks = common_blocks(times, prefix + ".out", files, inv.warnings);
+  inv.blocks = common_blocks(times, times.time.size(), prefix + ".out", files, inv.warnings);
   inv.t_first = times.time.front();
   inv.t_last = times.time[inv.blocks - 1];
   return inv;

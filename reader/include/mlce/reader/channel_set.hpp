@@ -1,9 +1,23 @@
 #pragma once
 // What a format reader hands to the rest of the toolchain: a time axis and named channels on it.
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace mlce::reader {
+
+/// What to read of a result set with a time axis.
+struct ReadOptions {
+  /// Read only the output steps at times <= until; later ones are not parsed at all. A run that
+  /// diverged (nan/inf printed) after the stretch of interest is then readable, and a long run
+  /// analysed over its start is read in proportion to that start. +inf = everything.
+  double until = std::numeric_limits<double>::infinity();
+};
+
+/// How many of the leading output steps `time` holds at t <= options.until (within a millionth of
+/// the mean step); all of them when until is +inf. Throws ReadError naming `source` when not one.
+std::size_t steps_until(const std::vector<double>& time, const ReadOptions& options, const std::string& source);
 
 struct ChannelSet {
   std::string source;                        ///< file or output prefix, for messages

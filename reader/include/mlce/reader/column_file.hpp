@@ -12,10 +12,13 @@ namespace mlce::reader {
 struct ColumnFileOptions {
   /// 1-based columns to keep; empty = all. Parsing still checks every field of every row.
   std::vector<std::size_t> keep;
+  /// Keep nan/inf fields as they are instead of refusing them: for a caller that reads only part
+  /// of the rows (a time window before a run diverged) and checks that part itself.
+  bool keep_nonfinite = false;
 };
 
 /// Reads the whole file. Throws ReadError for a missing or unreadable file, a file without data,
-/// a field that is not a number, a non-finite value (nan, inf), and a row with a different number
+/// a field that is not a number, a non-finite value (nan, inf; unless keep_nonfinite), and a row with a different number
 /// of columns than the first.
 Table read_column_file(const std::string& path, const ColumnFileOptions& options = {});
 

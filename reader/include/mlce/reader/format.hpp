@@ -19,7 +19,14 @@ class FormatReader {
   /// True when `path` (a file or an output prefix) looks like this format.
   virtual bool recognizes(const std::string& path) const = 0;
   virtual Inventory describe(const std::string& path) const = 0;
-  virtual ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const = 0;
+  /// The channels; `options.until` limits a set with a time axis (solver output) to its earlier
+  /// steps. A column file has no time axis of its own (which column is time is the caller's
+  /// choice), so its reader reads every row.
+  virtual ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
+                          const ReadOptions& options) const = 0;
+  ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels) const {
+    return read(path, channels, ReadOptions{});
+  }
 };
 
 class FormatRegistry {

@@ -11,7 +11,8 @@
 
 namespace mlce::reader {
 
-ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels);
+ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels,
+                             const ReadOptions& options = {});
 Inventory describe_mbdyn_netcdf(const std::string& path);
 
 }  // namespace mlce::reader

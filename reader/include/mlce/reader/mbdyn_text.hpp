@@ -2,7 +2,9 @@
 // MBDyn text output addressed by its prefix (run/hammond -> .out .log .mov .jnt .ine ...).
 // Layouts: ../shared/docs/mbdyn-output-format.md (copied rules are cited by section there).
 #include <cstddef>
+#include <limits>
 #include <map>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,19 +55,28 @@ struct BlockRead {
   std::vector<std::vector<double>> values;  ///< per request, one value per complete block
   std::vector<std::string> warnings;
 };
+struct BlockOptions {
+  /// Stop after this many complete blocks; the rest of the file is not read (ReadOptions::until).
+  std::size_t max_blocks = std::numeric_limits<std::size_t>::max();
+  /// Time of each block (from the .out), only to say where a run that diverged stops being finite.
+  std::span<const double> times;
+};
 
 MbdynLog parse_mbdyn_log(std::string_view text, const std::string& source);
 MbdynLog read_mbdyn_log(const std::string& path);
 MbdynTimes parse_mbdyn_out(std::string_view text, const std::string& source, std::size_t output_frequency = 0);
 MbdynTimes read_mbdyn_out(const std::string& path, std::size_t output_frequency = 0);
-BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, const std::vector<BlockRequest>& requests);
-BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& requests);
+BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, const std::vector<BlockRequest>& requests,
+                             const BlockOptions& options = {});
+BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& requests,
+                            const BlockOptions& options = {});
 
 /// "run/hammond.mov" -> "run/hammond"; a path with no MBDyn extension is returned unchanged.
 std::string mbdyn_prefix(const std::string& path);
 
 /// Reads the channels from the text set at `prefix`. Throws ReadError (file, line, expectation).
-ChannelSet read_mbdyn_text(const std::string& prefix, const std::vector<ChannelSpec>& channels);
+ChannelSet read_mbdyn_text(const std::string& prefix, const std::vector<ChannelSpec>& channels,
+                           const ReadOptions& options = {});
 Inventory describe_mbdyn_text(const std::string& prefix);
 
 }  // namespace mlce::reader
