@@ -244,6 +244,7 @@ TEST_F(Cli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
                                  "rows before it, to t = 29.99");
   EXPECT_NE(refused.err.find(": --to 29.99"), std::string::npos) << refused.err;
   expect_one_line_error(run("estimate " + o + " --dt 0.01"), "one.txt:3001: column 1: '-inf'");
+  expect_one_line_error(run("extract " + d + " --channel col:2 --to 5"), "--to needs a set with a time axis", 2);
 
   auto lambda_of = [&](const std::string& args) {
     const CliRun r = run("estimate " + args + " --json --quiet");

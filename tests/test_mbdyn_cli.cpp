@@ -306,6 +306,15 @@ TEST_F(MbdynCli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
   EXPECT_EQ(a["n_points"], b["n_points"]);
   EXPECT_EQ(a["lambda"].get<double>(), b["lambda"].get<double>());
   expect_one_line_error(run("estimate " + blown + " --channel rel:13:4:z --to -1"), "blown.out: no output step at t <= -1");
+  // extract --to writes the finite part: the 1200 blocks to t = 5.995, as the intact run prints them.
+  const CliRun part = run("extract " + blown + " --channel rel:13:4:z --to 5.995");
+  ASSERT_EQ(part.status, 0) << part.err;
+  const CliRun whole = run("extract " + kC3 + " --channel rel:13:4:z");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  EXPECT_EQ(std::count(part.out.begin(), part.out.end(), '\n'), 1201);  // header + 1200 blocks
+  EXPECT_EQ(whole.out.substr(0, part.out.size()), part.out);
+  EXPECT_NE(part.out.find("\n5.995"), std::string::npos);  // printed as 5.995000000000337
+  expect_one_line_error(run("extract " + blown + " --channel rel:13:4:z"), "blown.mov:8403: column 5: 'nan'");
 }
 
 TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {

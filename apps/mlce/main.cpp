@@ -5,6 +5,7 @@
 #include <boost/program_options.hpp>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -459,9 +460,12 @@ int cmd_channels(const std::vector<std::string>& args) {
 int cmd_extract(const std::vector<std::string>& args) {
   std::vector<std::string> channels;
   std::string csv_path;
+  reader::ReadOptions read_options;
   po::options_description d("mlce extract SET --channel SPEC... [options]");
   d.add_options()
       ("channel", po::value(&channels)->composing(), "channel spec (repeatable)")
+      ("to", po::value(&read_options.until), "last time to write (solver output sets); later steps are not read, so a "
+                                             "run that diverged after it can be extracted")
       ("csv", po::value(&csv_path), "write to this file instead of stdout");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
@@ -469,7 +473,10 @@ int cmd_extract(const std::vector<std::string>& args) {
   if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix, a .nc file or a column file)");
   if (channels.empty()) throw po::error("give at least one --channel SPEC");
   const std::string file = vm["file"].as<std::string>();
-  const reader::ChannelSet cs = cli::load_channels(file, channels);
+  if (std::isnan(read_options.until)) throw po::error("--to: expected a time");
+  if (vm.count("to") && reader::default_registry().for_path(file).name() == "column")
+    throw po::error("--to needs a set with a time axis (MBDyn output); a column file is written whole");
+  const reader::ChannelSet cs = cli::load_channels(file, channels, read_options);
   std::string out = cs.time.empty() ? "sample" : "time";
   for (const auto& n : cs.names) out += "," + n;
   out += "\n";
