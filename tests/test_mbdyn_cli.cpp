@@ -171,6 +171,20 @@ TEST_F(MbdynCli, EmptyEntityFile) {
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov: no rows");
 }
 
+TEST_F(MbdynCli, TextFilesLeftEmptyByANetcdfOnlyRunPointToTheNc) {
+  // 'output results: netcdf, no text': MBDyn still creates the entity files, empty.
+  fs::copy_file(kIso + ".nc", prefix + ".nc");
+  std::ofstream(prefix + ".mov", std::ios::trunc).close();
+  const std::string nc = "; the run's NetCDF output is beside it: read " + prefix + ".nc";
+  expect_one_line_error(run("estimate " + prefix + " --channel rel:13:4:z"),
+                        "run.mov: no rows (empty file, as 'output results: netcdf, no text' leaves it)" + nc);
+  expect_one_line_error(run("channels " + prefix), "run.mov: no rows (empty file");
+  fs::remove(prefix + ".mov");
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov: cannot open the file (missing or unreadable)" + nc);
+  const CliRun r = run("extract " + prefix + ".nc --channel rel:13:4:z");  // as the message says
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 TEST_F(MbdynCli, UsageErrors) {
   expect_one_line_error(run("estimate " + prefix), "--channel", 2);
   expect_one_line_error(run("extract " + prefix + " --channel node:2:q"), "channel 'node:2:q': expected", 2);

@@ -463,6 +463,18 @@ bool file_exists(const std::string& p) {
   return std::filesystem::is_regular_file(p, ec);
 }
 
+/// An entity file of the set that can be read: it exists and is not empty. MBDyn run with
+/// `output results: netcdf, no text` leaves its text files empty (or, built otherwise, does not
+/// write them; format doc section 10), so when the run's .nc is beside them the error says to read it.
+void require_entity_file(const std::string& path, const std::string& prefix) {
+  const std::string nc = prefix + ".nc";
+  const std::string hint = file_exists(nc) ? "; the run's NetCDF output is beside it: read " + nc : "";
+  if (!file_exists(path)) throw ReadError(path + ": cannot open the file (missing or unreadable)" + hint);
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) == 0 && !ec && !hint.empty())
+    throw ReadError(path + ": no rows (empty file, as 'output results: netcdf, no text' leaves it)" + hint);
+}
+
 }  // namespace
 
 ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<ChannelSpec>& channels,
@@ -533,7 +545,7 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   std::vector<const BlockRead*> all;
   for (const auto& [ext, req] : requests) {
     const std::string path = prefix + "." + ext;
-    if (!file_exists(path)) throw ReadError(path + ": cannot open the file (missing or unreadable)");
+    require_entity_file(path, prefix);
     const BlockRead& b = read.emplace(ext, read_mbdyn_blocks(path, req, block_options)).first->second;
     out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
     all.push_back(&b);
@@ -578,6 +590,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   for (const char* ext : {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"}) {
     const std::string path = prefix + "." + ext;
     if (!file_exists(path)) continue;
+    require_entity_file(path, prefix);
     BlockRead b = read_mbdyn_blocks(path, {});
     inv.warnings.insert(inv.warnings.end(), b.warnings.begin(), b.warnings.end());
     if (std::string(ext) == "mov") {
