@@ -177,14 +177,16 @@ LoadedSeries load_column_series(const SeriesInput& in) {
 
   LoadedSeries out;
   std::vector<std::vector<double>> channels;
-  for (std::size_t k : cols) channels.emplace_back(table.columns[k - 1].begin(), table.columns[k - 1].begin() + static_cast<std::ptrdiff_t>(rows));
+  auto leading = [&](std::size_t column) {
+    const auto& v = table.columns[column - 1];
+    return std::vector<double>(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(rows));
+  };
+  for (std::size_t k : cols) channels.push_back(leading(k));
   try {
     if (time_column) {
       SamplingOptions so;
       so.resample = in.resample;
-      const auto& t = table.columns[*time_column - 1];
-      out.series = make_series_from_time({t.begin(), t.begin() + static_cast<std::ptrdiff_t>(rows)}, std::move(channels),
-                                         so, &out.warnings, in.time_unit);
+      out.series = make_series_from_time(leading(*time_column), std::move(channels), so, &out.warnings, in.time_unit);
     } else if (in.dt) {
       out.series = make_series_with_step(std::move(channels), *in.dt, in.time_unit);
     } else {
