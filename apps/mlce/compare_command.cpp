@@ -120,8 +120,12 @@ int cmd_compare(const std::vector<std::string>& args) {
   po::notify(vm);
   if (files.size() != 2) throw po::error("give two runs: mlce compare A B --channel SPEC");
   if (channels.empty()) throw po::error("give at least one --channel SPEC");
-  const reader::ChannelSet a = load_channels(files[0], channels);
-  const reader::ChannelSet b = load_channels(files[1], channels);
+  // Steps after --to are not read (a run may diverge after the window); the histories are then
+  // compared up to the earlier of the two runs' last steps at or before it.
+  reader::ReadOptions read_options;
+  read_options.until = o.to;
+  const reader::ChannelSet a = load_channels(files[0], channels, read_options);
+  const reader::ChannelSet b = load_channels(files[1], channels, read_options);
   if (a.time.empty() || b.time.empty()) throw std::runtime_error("compare needs runs with a time axis (MBDyn sets)");
   std::vector<HistoryComparison> results;
   for (std::size_t c = 0; c < channels.size(); ++c) {

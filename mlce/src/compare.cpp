@@ -25,8 +25,11 @@ HistoryComparison compare_histories(const std::vector<double>& ta, const std::ve
   check(ta, a, "first history");
   check(tb, b, "second history");
   if (tb.size() < 2) throw std::invalid_argument("second history: fewer than 2 samples");
-  const double lo = std::max({o.from, ta.empty() ? 0.0 : ta.front(), tb.front()});
-  const double hi = std::min({o.to, ta.empty() ? 0.0 : ta.back(), tb.back()});
+  // The window's ends are matched within 1e-9 of A's step, as time_window does: accumulated times
+  // (5.995000000000337) belong to the window a user types (--to 5.995).
+  const double tol = ta.size() > 1 ? 1e-9 * (ta.back() - ta.front()) / static_cast<double>(ta.size() - 1) : 0.0;
+  const double lo = std::max({o.from - tol, ta.empty() ? 0.0 : ta.front(), tb.front() - tol});
+  const double hi = std::min({o.to + tol, ta.empty() ? 0.0 : ta.back(), tb.back() + tol});
   HistoryComparison r;
   r.min_a = r.min_b = std::numeric_limits<double>::infinity();
   r.max_a = r.max_b = -std::numeric_limits<double>::infinity();
@@ -37,7 +40,7 @@ HistoryComparison compare_histories(const std::vector<double>& ta, const std::ve
     if (t < lo || t > hi) continue;
     while (j + 2 < tb.size() && tb[j + 1] < t) ++j;
     const double w = std::clamp((t - tb[j]) / (tb[j + 1] - tb[j]), 0.0, 1.0);
-    const double bi = b[j] + w * (b[j + 1] - b[j]);
+    const double bi = (1.0 - w) * b[j] + w * b[j + 1];  // exact at a node (w = 0 or 1): a run against itself differs by 0
     const double d = std::abs(a[k] - bi);
     if (r.points == 0) r.t_first = t;
     r.t_last = t;
