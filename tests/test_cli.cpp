@@ -245,6 +245,11 @@ TEST_F(Cli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
   EXPECT_NE(refused.err.find(": --to 29.99"), std::string::npos) << refused.err;
   expect_one_line_error(run("estimate " + o + " --dt 0.01"), "one.txt:3001: column 1: '-inf'");
   expect_one_line_error(run("extract " + d + " --channel col:2 --to 5"), "--to needs a set with a time axis", 2);
+  expect_one_line_error(run("estimate " + d + " --time-column 1 --column 2 --to -1"),
+                        "diverged.txt: no output step at t <= -1 (the first is at t = 0)");
+  expect_one_line_error(run("estimate " + write("nantime.txt", "0 1\n0.1 2\nnan 3\n0.3 4\n").string() +
+                            " --time-column 1 --column 2 --to 0.2"),
+                        "nantime.txt:3: column 1: 'nan': expected a finite number");
 
   auto lambda_of = [&](const std::string& args) {
     const CliRun r = run("estimate " + args + " --json --quiet");

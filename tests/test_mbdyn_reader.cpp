@@ -514,6 +514,9 @@ TEST(ReadOptions, StepsUntilCountsTheLeadingStepsWithinAMillionthOfTheStep) {
   EXPECT_EQ(steps(0.2 - 1e-3), 2u);
   EXPECT_EQ(steps(5.0), 4u);
   EXPECT_EQ(steps(0.0), 1u);
+  ReadOptions o;
+  o.until = 0.1;
+  EXPECT_EQ(steps_until({0.0, std::nan(""), 0.2}, o, "f"), 2u);  // the nan time is kept for the caller to refuse
   EXPECT_EQ(read_error_of([&] { steps(-0.5); }), "f: no output step at t <= -0.5 (the first is at t = 0)");
 }
 

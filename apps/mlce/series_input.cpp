@@ -1,9 +1,7 @@
 #include "series_input.hpp"
 
-#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <limits>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -117,17 +115,17 @@ double row_time(const reader::Table& table, std::optional<std::size_t> time_colu
   return static_cast<double>(k) * in.dt.value_or(1.0);
 }
 
-/// The leading rows at times <= --to (all without it): the rows after the window are not analysed,
-/// so a run that diverged (nan, inf) after it is readable. At least 2 rows, so that an empty
-/// window is reported by time_window in its own words.
+/// The leading rows at times <= --to (all without it), by the rule solver sets are read with
+/// (reader::steps_until): the rows after the window are not analysed, so a run that diverged (nan,
+/// inf) after it is readable.
 std::size_t rows_to_read(const reader::Table& table, std::optional<std::size_t> time_column, const SeriesInput& in) {
-  const std::size_t n = table.rows();
-  if (!in.to || n < 2) return n;
-  const double step = std::abs(row_time(table, time_column, in, 1) - row_time(table, time_column, in, 0));
-  const double limit = *in.to + 1e-6 * (std::isfinite(step) ? step : 0.0);
-  std::size_t rows = 0;
-  while (rows < n && !(row_time(table, time_column, in, rows) > limit)) ++rows;  // a nan time is refused later
-  return std::max<std::size_t>(rows, 2);
+  if (!in.to) return table.rows();
+  reader::ReadOptions until;
+  until.until = *in.to;
+  if (time_column) return reader::steps_until(table.columns[*time_column - 1], until, in.file);
+  std::vector<double> t(table.rows());
+  for (std::size_t k = 0; k < t.size(); ++k) t[k] = row_time(table, time_column, in, k);
+  return reader::steps_until(t, until, in.file);
 }
 
 /// A nan or inf among the rows read of the columns used: one line naming the file line and column,

@@ -16,7 +16,8 @@ struct ReadOptions {
 };
 
 /// How many of the leading output steps `time` holds at t <= options.until (within a millionth of
-/// the mean step); all of them when until is +inf. Throws ReadError naming `source` when not one.
+/// the mean step); all of them when until is +inf. A nan time does not end the count (the caller
+/// refuses it with its line). Throws ReadError naming `source` when not one.
 std::size_t steps_until(const std::vector<double>& time, const ReadOptions& options, const std::string& source);
 
 struct ChannelSet {
