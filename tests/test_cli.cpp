@@ -288,6 +288,10 @@ TEST_F(Cli, SeriesTooShortForTheParameters) {
   expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --dim 3 --delay 10 --horizon 40 --theiler 5"),
                         "series.txt: series too short: 60 samples");
   expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --delay 20 --dim 3"), "series.txt: series too short");
+  // A Theiler window longer than the series leaves FNN no pair: the message says what m = 1 needs.
+  expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --delay 3 --theiler 100"),
+                        "series.txt: series too short for FNN: 60 samples, but delay 3 and Theiler window 100 need at "
+                        "least 105");
   // A limit cycle over 1.5 of its cycles: no neighbour on another pass (eq. 20).
   const auto v = series_file(mlce::reference::van_der_pol_x(10000, 0.001), 0.001);
   expect_one_line_error(run("estimate " + v + " --column 2 --time-column 1"),
@@ -305,6 +309,8 @@ TEST_F(Cli, AmbiguousColumnsAndBadOptions) {
   expect_one_line_error(run("estimate " + f + " --column 2 --dither -1"), "--dither: expected a width >= 0", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --dither x"), "--dither", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --dither 1 --seed -3"), "--seed '-3'", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --to nan"), "--to 'nan': expected a time", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --dt 1 --from nan"), "--from 'nan': expected a time", 2);
 }
 
 TEST_F(Cli, PhaseAlignmentSwitch) {

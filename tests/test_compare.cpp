@@ -77,4 +77,6 @@ TEST(CompareHistories, BadHistoriesAreRefusedNamingTheSample) {
   mlce::HistoryComparisonOptions o;
   o.from = 20.0, o.to = 30.0;  // outside both runs
   EXPECT_THROW(mlce::compare_histories(a.t, a.v, a.t, a.v, o), std::invalid_argument);
+  o.from = 0.0, o.to = std::nan("");  // would otherwise compare every sample
+  EXPECT_THROW(mlce::compare_histories(a.t, a.v, a.t, a.v, o), std::invalid_argument);
 }

@@ -335,6 +335,10 @@ TEST_F(MbdynCli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
   const auto c = nlohmann::json::parse(same.out)["channels"][0];
   EXPECT_EQ(c["points"].get<int>(), 1200);  // block 1199, at t = 5.995000000000337, is in the window
   EXPECT_EQ(c["max_abs_difference"].get<double>(), 0.0);
+  // A nan window end would silently take the whole run: refused as an option error.
+  expect_one_line_error(run("compare " + blown + " " + kC3 + " --channel rel:13:4:z --to nan"),
+                        "--to 'nan': expected a time", 2);
+  expect_one_line_error(run("extract " + blown + " --channel rel:13:4:z --to nan"), "--to: expected a time", 2);
 }
 
 TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {

@@ -120,6 +120,8 @@ int cmd_compare(const std::vector<std::string>& args) {
   po::notify(vm);
   if (files.size() != 2) throw po::error("give two runs: mlce compare A B --channel SPEC");
   if (channels.empty()) throw po::error("give at least one --channel SPEC");
+  if (std::isnan(o.from) || std::isnan(o.to))
+    throw po::error(std::string(std::isnan(o.from) ? "--from" : "--to") + " 'nan': expected a time");
   // Steps after --to are not read (a run may diverge after the window); the histories are then
   // compared up to the earlier of the two runs' last steps at or before it.
   reader::ReadOptions read_options;

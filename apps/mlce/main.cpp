@@ -87,6 +87,7 @@ void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
   if (vm.count("time-column")) in.time_column = vm["time-column"].as<std::string>();
   if (vm.count("dt")) in.dt = vm["dt"].as<double>();
   if (vm.count("to")) in.to = vm["to"].as<double>();
+  if (in.to && std::isnan(*in.to)) throw po::error("--to 'nan': expected a time (inf reads to the end)");
   if (!vm.count("file")) throw po::error("missing FILE");
   in.file = vm["file"].as<std::string>();
 }

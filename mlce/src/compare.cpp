@@ -25,6 +25,7 @@ HistoryComparison compare_histories(const std::vector<double>& ta, const std::ve
   check(ta, a, "first history");
   check(tb, b, "second history");
   if (tb.size() < 2) throw std::invalid_argument("second history: fewer than 2 samples");
+  if (std::isnan(o.from) || std::isnan(o.to)) throw std::invalid_argument("window [from, to]: expected times, not nan");
   // The window's ends are matched within 1e-9 of A's step, as time_window does: accumulated times
   // (5.995000000000337) belong to the window a user types (--to 5.995).
   const double tol = ta.size() > 1 ? 1e-9 * (ta.back() - ta.front()) / static_cast<double>(ta.size() - 1) : 0.0;

@@ -74,7 +74,10 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
     r.fraction.push_back(tested ? static_cast<double>(false_count) / static_cast<double>(tested) : 1.0);
     if (options.stop_at_choice && r.fraction.back() < options.threshold) break;
   }
-  if (r.fraction.empty()) throw InputError("series too short for FNN with delay " + std::to_string(delay));
+  if (r.fraction.empty())
+    throw InputError("series too short for FNN: " + std::to_string(n) + " samples, but delay " + std::to_string(delay) +
+                     " and Theiler window " + std::to_string(options.theiler) + " need at least " +
+                     std::to_string(delay + options.theiler + 2));
   const auto first_ok = std::find_if(r.fraction.begin(), r.fraction.end(),
                                      [&](double f) { return f < options.threshold; });
   if (first_ok != r.fraction.end()) {
