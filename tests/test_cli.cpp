@@ -73,6 +73,20 @@ TEST_F(Cli, MissingGnuplotIsOneErrorAndLeavesNothing) {
     EXPECT_EQ(e.path().filename().string().find("curve.png"), std::string::npos) << e.path();
 }
 
+TEST_F(Cli, PlotPathsWithAQuoteOrAMissingFolder) {
+  const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
+  // A quote ends a gnuplot string unless written twice: the plot is drawn where it was asked.
+  const auto png = dir / "blade's lag.png";
+  const CliRun r = run("estimate " + f + " --time-column 1 --column 2 --quiet --time-unit \"o'clock\" --plot \"" +
+                       png.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
+  // A folder that does not exist: the error names the plot, not the scratch file beside it.
+  const auto lost = dir / "no-such-folder" / "curve.png";
+  expect_one_line_error(run("estimate " + f + " --time-column 1 --column 2 --quiet --plot " + lost.string()),
+                        lost.string() + ": cannot write the file");
+}
+
 TEST_F(Cli, VersionIsPrinted) {
   const CliRun r = run("--version");
   EXPECT_EQ(r.status, 0) << r.err;

@@ -13,12 +13,29 @@
 
 namespace mlce::cli {
 
+namespace {
+/// Text for a gnuplot single-quoted string: a quote is written twice (a path or a title holding
+/// one, e.g. "blade's lag.png", would otherwise end the string and break the script).
+std::string quoted(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    out += c;
+    if (c == '\'') out += c;
+  }
+  return out;
+}
+}  // namespace
+
 void render_png(const std::string& png_path, const std::string& csv,
                 const std::function<std::string(const std::string&, const std::string&)>& script) {
   namespace fs = std::filesystem;
   const fs::path tmp_png = png_path + ".tmp-mlce.png";
   const fs::path data = png_path + ".tmp-mlce.csv";
-  write_file_atomically(data.string(), csv);
+  try {
+    write_file_atomically(data.string(), csv);
+  } catch (const std::runtime_error&) {  // name the file asked for, not the scratch file beside it
+    throw std::runtime_error(png_path + ": cannot write the file");
+  }
   // gnuplot's own output (and the shell's "not found") goes to stderr: stdout carries the result
   // only (one JSON object with --json).
   // A gnuplot that is missing or quits early closes the pipe: the write must fail, not raise SIGPIPE
@@ -29,7 +46,7 @@ void render_png(const std::string& png_path, const std::string& csv,
   } ignore_sigpipe;
   FILE* gp = popen("gnuplot 1>&2", "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
-  std::fputs(script(tmp_png.string(), data.string()).c_str(), gp);
+  std::fputs(script(quoted(tmp_png.string()), quoted(data.string())).c_str(), gp);
   const int rc = pclose(gp);
   std::error_code ec;
   fs::remove(data, ec);
@@ -50,7 +67,7 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
         "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
         "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}\n",
-        png, u, r.lambda, u, r.fit.first, r.fit.last, r.r2, data,
+        png, quoted(u), r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
         r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
         r.unaligned_curve.empty()
             ? ""
@@ -68,13 +85,13 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
   for (const auto& [x, label] : marks)
     lines += fmt::format("set arrow from first {0:.10g}, graph 0 to first {0:.10g}, graph 1 nohead dashtype 2 lc 'gray40'\n"
                          "set label '{1}' at first {0:.10g}, graph 0.97 offset 0.5,0 tc 'gray40'\n",
-                         x, label);
+                         x, quoted(label));
   render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n{}"
         "plot for [c=2:{}] '{}' using 1:c with lines lw 2\n",
-        png, xlabel, ylabel, title, lines, columns, data);
+        png, quoted(xlabel), quoted(ylabel), quoted(title), lines, columns, data);
   });
 }
 
@@ -88,7 +105,7 @@ void plot_map_png(const std::string& csv, const std::string& title, const std::s
         "stats '{}' every ::1 using 3 nooutput\nm = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)\n"
         "if (m > 0) set cbrange [-m:m]\n"  // white is 0: stable blue, unstable red
         "plot '{}' every ::1 using 1:2:3 with image\n",
-        png, title, xlabel, ylabel, zlabel, data, data);
+        png, quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), data, data);
   });
 }
 

@@ -9,15 +9,16 @@
 namespace mlce::cli {
 /// Runs gnuplot (Debian gnuplot-nox) on script(png_tmp, csv_tmp) with `csv` as its data and moves
 /// the PNG into place only when gnuplot succeeded; throws std::runtime_error naming png_path.
+/// script() receives both paths ready for a gnuplot single-quoted string.
 void render_png(const std::string& png_path, const std::string& csv,
                 const std::function<std::string(const std::string& png, const std::string& data)>& script);
 /// PNG of the divergence curve with the fit region and line.
 void plot_curve_png(const MlceResult& r, const std::string& png_path);
-/// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each.
 /// Colour map of z over a regular (x, y) grid: csv "x,y,z" with a header line.
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path);
 
+/// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each;
 /// `marks`: dashed vertical lines at x, each labelled.
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
                       const std::string& ylabel, const std::string& png_path,
