@@ -147,6 +147,31 @@ TEST_F(MbdynCli, BlockCountsDisagree) {
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "inconsistent output set");
 }
 
+TEST_F(MbdynCli, EntityFileCutShortSaysWhatEveryFileHoldsAndThatPartIsRead) {
+  const CliRun intact = run("extract " + prefix + " --channel node:2:x --channel joint:33:14");
+  ASSERT_EQ(intact.status, 0) << intact.err;
+  // The .mov of an interrupted copy: 100 of its 201 blocks (7 nodes each) and half a row.
+  auto v = lines_of(prefix + ".mov");
+  ASSERT_EQ(v.size(), 201u * 7);
+  std::ofstream o(prefix + ".mov", std::ios::trunc);
+  for (std::size_t k = 0; k < 100 * 7; ++k) o << v[k] << "\n";
+  o << v[700].substr(0, v[700].size() / 2);
+  o.close();
+  std::istringstream rows(intact.out);  // a header, then one row per block: row 100 is block 99's
+  std::string row;
+  for (int k = 0; k <= 100; ++k) std::getline(rows, row);
+  const std::string t99 = row.substr(0, row.find(','));
+  const CliRun refused = run("extract " + prefix + " --channel node:2:x --channel joint:33:14");
+  expect_one_line_error(refused, "run.mov: 100 blocks (expected equal counts, or one fewer for an interrupted run); "
+                                 "every file holds the first 100, to t = ");
+  const double t_said = std::stod(refused.err.substr(refused.err.rfind("t = ") + 4));
+  EXPECT_NEAR(t_said, std::stod(t99), 1e-9);
+  const CliRun part = run("extract " + prefix + " --channel node:2:x --channel joint:33:14 --to " + t99);
+  ASSERT_EQ(part.status, 0) << part.err;
+  EXPECT_EQ(part.out, intact.out.substr(0, part.out.size()));
+  EXPECT_EQ(std::count(part.out.begin(), part.out.end(), '\n'), 101);
+}
+
 TEST_F(MbdynCli, MissingFilesOfTheSet) {
   fs::remove(prefix + ".jnt");
   expect_one_line_error(run("extract " + prefix + " --channel joint:33:14"), "run.jnt: cannot open the file");

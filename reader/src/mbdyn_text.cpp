@@ -446,7 +446,13 @@ std::size_t common_blocks(const MbdynTimes& times, std::size_t steps, const std:
   if (hi - lo > 1) {
     std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
     for (const auto* f : files) counts += ", " + f->source + ": " + std::to_string(f->blocks) + " blocks";
-    throw ReadError("inconsistent output set: " + counts + " (expected equal counts, or one fewer for an interrupted run)");
+    // A file cut short (an interrupted copy, a full disk): the blocks every file holds can still be
+    // read, up to a time (ReadOptions::until).
+    char hint[160] = "";
+    if (lo > 0 && lo - 1 < times.time.size())
+      std::snprintf(hint, sizeof hint, "; every file holds the first %zu, to t = %.10g", lo, times.time[lo - 1]);
+    throw ReadError("inconsistent output set: " + counts + " (expected equal counts, or one fewer for an interrupted run)" +
+                    hint);
   }
   if (hi != lo) {
     std::string counts = out_path + ": " + std::to_string(times.time.size()) + " output steps";
