@@ -135,6 +135,13 @@ TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
   const auto g = series_file(henon, 1.0);
   expect_one_line_error(run("estimate " + g + " --time-column 1 --column x"),
                         "series.txt: --column 'x': expected a 1-based column number (the file has no header line");
+  // A name the header gives twice is not silently the first of them.
+  const auto twice = write("twice.csv", "t,x,x\n" + s.str().substr(s.str().find('\n') + 1)).string();
+  expect_one_line_error(run("estimate " + twice + " --time-column t --column x"),
+                        "twice.csv: --column 'x': 2 columns are named so (2, 3): give the column's number");
+  r = run("estimate " + twice + " --time-column t --column 3 --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), std::log(2.0), 0.03);
 }
 
 TEST_F(Cli, CurveCsvAndGivenParameters) {

@@ -84,3 +84,24 @@ TEST(ColumnFile, AByteOrderMarkIsNotPartOfTheFirstLine) {
   EXPECT_EQ(h.names.at(0), "time");
   EXPECT_DOUBLE_EQ(h.columns[1][1], 2.0);
 }
+
+TEST(ColumnFile, AnEmptyFieldIsRefusedNotSkipped) {
+  // Skipping a missing value would move every later field one column to the left, so that
+  // "--column 3" read what is column 4 in the spreadsheet the file came from.
+  EXPECT_EQ(error_of("0,1,2\n0.1,,3\n"), "f.txt:2: column 2: empty field: expected a number");
+  EXPECT_EQ(error_of("0,1,2\n,4,3\n"), "f.txt:2: column 1: empty field: expected a number");
+  EXPECT_EQ(error_of("0, ,2\n"), "f.txt:1: column 2: empty field: expected a number");
+  EXPECT_EQ(error_of("0,,\n"), "f.txt:1: column 2: empty field: expected a number");
+  // One comma between blanks is one separator; a comma ending the line opens no field.
+  const Table t = parse_column_text("0 , 1 ,\t2,\n0.1,\t4 ,5 ,  \n", "mem");
+  ASSERT_EQ(t.columns.size(), 3u);
+  EXPECT_EQ(t.columns[2], (std::vector<double>{2.0, 5.0}));
+  // A header cell left empty is a column without a name: the columns after it keep their places.
+  ColumnFileOptions o;
+  o.keep = {3};
+  const Table u = parse_column_text("time,,x\n0,7,0.5\n0.1,8,0.25\n", "mem", o);
+  EXPECT_TRUE(u.has_header);
+  EXPECT_EQ(u.names.at(0), "x");
+  EXPECT_EQ(u.columns[0], (std::vector<double>{0.5, 0.25}));
+  EXPECT_EQ(error_of(",,\n1,2\n"), "f.txt:1: column 1: empty field: expected a number");  // commas only: no header
+}

@@ -101,8 +101,13 @@ std::size_t resolve_column(const reader::Table& table, const std::string& file, 
   if (!table.has_header)
     throw ReadError(fmt::format("{}: {} '{}': expected a 1-based column number (the file has no header line naming "
                                 "its columns)", file, option, given));
+  std::vector<std::size_t> named;  // 1-based
   for (std::size_t k = 0; k < ncols; ++k)
-    if (table.names[k] == given) return k + 1;
+    if (table.names[k] == given) named.push_back(k + 1);
+  if (named.size() > 1)
+    throw ReadError(fmt::format("{}: {} '{}': {} columns are named so ({}): give the column's number", file, option,
+                                given, named.size(), fmt::join(named, ", ")));
+  if (named.size() == 1) return named.front();
   throw ReadError(fmt::format("{}: {} '{}': no such column; the header names {}", file, option, given,
                               fmt::join(table.names, ", ")));
 }

@@ -14,7 +14,8 @@ std::string Table::where(std::size_t row) const {
 
 namespace {
 
-bool is_separator(char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; }
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
+bool is_separator(char c) { return is_blank(c) || c == ','; }
 
 std::string shorten(std::string_view s) {
   std::string t(s.substr(0, 40));
@@ -22,30 +23,49 @@ std::string shorten(std::string_view s) {
   return t;
 }
 
-std::vector<std::string> split_fields(std::string_view line) {
-  std::vector<std::string> out;
-  for (std::size_t i = 0;;) {
-    while (i < line.size() && is_separator(line[i])) ++i;
-    if (i >= line.size()) return out;
+/// The fields of a line into `out`. Blanks (spaces, tabs) separate fields, and so does one comma
+/// with blanks around it; two commas with nothing between them enclose an empty field (a missing
+/// value in a CSV), which is kept as "" so that it is refused, not skipped: skipping it would move
+/// every later field one column to the left. A comma ending the line (some exporters write one on
+/// every row) ends it and opens no field.
+void split_fields(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  std::size_t i = 0;
+  while (i < line.size() && is_blank(line[i])) ++i;
+  if (i >= line.size()) return;
+  while (true) {
     std::size_t j = i;
     while (j < line.size() && !is_separator(line[j])) ++j;
-    out.emplace_back(line.substr(i, j - i));
+    out.push_back(line.substr(i, j - i));
+    while (j < line.size() && is_blank(line[j])) ++j;
+    if (j < line.size() && line[j] == ',') {
+      ++j;
+      while (j < line.size() && is_blank(line[j])) ++j;
+    }
+    if (j >= line.size()) return;
     i = j;
   }
+}
+
+std::vector<std::string> split_fields(std::string_view line) {
+  std::vector<std::string_view> views;
+  split_fields(line, views);
+  return {views.begin(), views.end()};
 }
 
 /// Every field of the line is a word that cannot be read as a number (so "1 abc" is a bad data row,
 /// not a header, and "nan"/"inf" are values, refused later as non-finite).
 bool is_header(std::string_view line) {
-  const auto fields = split_fields(line);
-  if (fields.empty()) return false;
-  for (const auto& f : fields) {
+  bool named = false;
+  for (const auto& f : split_fields(line)) {
+    if (f.empty()) continue;  // an unnamed column (",,") keeps its place; a line of commas only is no header
+    named = true;
     double v = 0.0;
     const char* first = f.data() + (f.front() == '+' ? 1 : 0);
     const auto [ptr, ec] = std::from_chars(first, f.data() + f.size(), v);
     if (ptr != first || ec == std::errc::result_out_of_range) return false;  // starts like a number
   }
-  return true;
+  return named;
 }
 
 }  // namespace
@@ -57,6 +77,7 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
   std::size_t line_no = 0, header_line = 0;
   std::vector<std::string> header;
   std::vector<double> row;
+  std::vector<std::string_view> fields;
   // A UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is not part of the first line.
   constexpr std::string_view kBom = "\xEF\xBB\xBF";
   std::size_t pos = text.substr(0, kBom.size()) == kBom ? kBom.size() : 0;
@@ -75,14 +96,12 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
       header_line = line_no;
       continue;
     }
-    std::size_t i = 0, field = 0;
-    while (true) {
-      while (i < line.size() && is_separator(line[i])) ++i;
-      if (i >= line.size()) break;
-      std::size_t j = i;
-      while (j < line.size() && !is_separator(line[j])) ++j;
-      ++field;
-      const std::string_view tok = line.substr(i, j - i);
+    split_fields(line, fields);
+    for (std::size_t field = 1; field <= fields.size(); ++field) {
+      const std::string_view tok = fields[field - 1];
+      if (tok.empty())
+        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) +
+                        ": empty field: expected a number");
       const char* first = tok.data();
       if (!tok.empty() && tok.front() == '+') ++first;  // from_chars rejects a leading '+'
       double v = 0.0;
@@ -106,7 +125,6 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
         throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
                         shorten(tok) + "': expected a finite number");
       row.push_back(v);
-      i = j;
     }
     if (row.empty()) continue;  // blank or comment-only line
     if (ncols == 0) {
