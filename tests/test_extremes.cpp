@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -37,6 +38,21 @@ TEST(Extremes, AmplitudesAtTheEndsOfTheDoubleRange) {
     EXPECT_NEAR(r.lambda, ref.lambda, 1e-9 * std::abs(ref.lambda)) << scale;
     EXPECT_TRUE(std::isfinite(r.ci95_low) && std::isfinite(r.ci95_high)) << scale;
   }
+}
+
+TEST(Extremes, SamplingStepsAtTheEndsOfTheDoubleRange) {
+  // The exponent per sample does not depend on the time unit; per unit time it is that over dt,
+  // down to the smallest normal step (0.01 per sample over 2.2e-308 is 4.5e305 1/s). A subnormal
+  // step is refused: the exponent would be inf per unit time.
+  const auto x = reference::lorenz_x(5000, 0.01);
+  const auto ref = estimate(x, 0.01);
+  for (double dt : {1e-300, std::numeric_limits<double>::min(), 1e300}) {
+    const auto r = estimate(x, dt);
+    EXPECT_EQ(r.lambda_per_sample, ref.lambda_per_sample) << dt;
+    EXPECT_NEAR(r.lambda * dt, ref.lambda_per_sample, 1e-12 * ref.lambda_per_sample) << dt;
+    EXPECT_TRUE(std::isfinite(r.ci95_low) && std::isfinite(r.ci95_high)) << dt;
+  }
+  EXPECT_THROW(estimate(x, 1e-320), OptionError);
 }
 
 TEST(Extremes, StronglyNegativeExponentDoesNotDriftWithTheRunLength) {

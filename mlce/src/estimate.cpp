@@ -350,6 +350,14 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   r.lambda = r.fit.slope / series.dt;  // eq. 23: y(i)/dt
   r.ci95_low = r.fit.ci_low / series.dt;
   r.ci95_high = r.fit.ci_high / series.dt;
+  if (!std::isfinite(r.lambda) || !std::isfinite(r.ci95_low) || !std::isfinite(r.ci95_high)) {
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "sampling step %.6g: the exponent, %.6g per sample, is beyond a double per unit time; give the "
+                  "time in a larger unit",
+                  series.dt, r.fit.slope);
+    throw InputError(what);
+  }
   r.r2 = r.fit.r2;
   r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
   report(options, "done", 1.0);

@@ -177,7 +177,9 @@ Series make_series_from_time(const std::vector<double>& time, std::vector<std::v
 }
 
 Series make_series_with_step(std::vector<std::vector<double>> channels, double dt, std::string time_unit) {
-  if (!(dt > 0.0) || !std::isfinite(dt)) throw OptionError("dt = " + fmt_double(dt) + ": expected dt > 0");
+  // A subnormal step (below 2.2e-308) would turn an exponent per sample into inf per unit time.
+  if (!(dt > 0.0) || !std::isnormal(dt))
+    throw OptionError("dt = " + fmt_double(dt) + ": expected dt > 0 (a normal double, at least 2.2e-308)");
   Series s;
   check_lengths(channels, channels.empty() ? 0 : channels.front().size());
   s.channels = std::move(channels);
@@ -188,8 +190,8 @@ Series make_series_with_step(std::vector<std::vector<double>> channels, double d
 
 void validate_series(const Series& series) {
   check_lengths(series.channels, series.size());
-  if (!(series.dt > 0.0) || !std::isfinite(series.dt))
-    throw InputError("sampling step " + fmt_double(series.dt) + ": expected dt > 0");
+  if (!(series.dt > 0.0) || !std::isnormal(series.dt))
+    throw InputError("sampling step " + fmt_double(series.dt) + ": expected dt > 0 (a normal double, at least 2.2e-308)");
   check_finite(series.channels);
   for (std::size_t c = 0; c < series.channels.size(); ++c) {
     const auto& x = series.channels[c];
