@@ -185,6 +185,12 @@ TEST_F(SweepCli, Errors) {
   expect_one_line_error(run("sweep " + kC3 + " --param rpm=200"), "--out", 2);
   expect_one_line_error(run(base + " --param rpm=200 --param cx=1 --param cy=1 --plot " + out("p.png")),
                         "one or two swept parameters", 2);
+  // One parameter on two axes (the last would win at every point), or a blade's value with all blades'.
+  expect_one_line_error(run(base + " --param rpm=200 --param rpm=210"), "--param rpm=210: rpm is swept twice", 2);
+  expect_one_line_error(run(base + " --param c=1:2:1 --param c2=3"), "--param c2=3: c2 and c set the same blade's value",
+                        2);
+  expect_one_line_error(run(base + " --param CL3=1 --param CL=3"), "--param CL=3: CL and CL3 set the same blade's value",
+                        2);
   EXPECT_FALSE(fs::exists(out("x.csv")));
   // A point that cannot be computed (0.15 s at 20 ms: 8 samples) is recorded, not fatal: no values,
   // the reason in its note, a warning on stderr.

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <functional>
@@ -131,6 +132,21 @@ int cmd_sweep(const std::vector<std::string>& args) {
     }
     const auto names = models::parameter_names(base);
     const std::string& axis = plan.axes.back().name;
+    // One parameter on two axes would make a grid whose points set it twice (the last wins): give
+    // its values in one --param. A blade's value (c2) and the value of all blades (c) overlap too.
+    const auto overlaps = [](const std::string& all, const std::string& one) {
+      return one.size() > all.size() && one.compare(0, all.size(), all) == 0 &&
+             std::all_of(one.begin() + static_cast<std::ptrdiff_t>(all.size()), one.end(),
+                         [](unsigned char ch) { return std::isdigit(ch) != 0; });
+    };
+    for (std::size_t k = 0; k + 1 < plan.axes.size(); ++k) {
+      const std::string& other = plan.axes[k].name;
+      if (other == axis)
+        throw po::error("--param " + spec + ": " + axis + " is swept twice (give its range in one --param: " + axis +
+                        "=FIRST:LAST:STEP)");
+      if (overlaps(other, axis) || overlaps(axis, other))
+        throw po::error("--param " + spec + ": " + axis + " and " + other + " set the same blade's value");
+    }
     if (axis.rfind("init:", 0) == 0) {  // an initial state, by the model's state name
       const auto& states = models::dynamical_system(base).state_names;
       if (std::find(states.begin(), states.end(), axis.substr(5)) == states.end()) {
