@@ -191,6 +191,7 @@ TEST_F(SweepCli, Errors) {
                         2);
   expect_one_line_error(run(base + " --param CL3=1 --param CL=3"), "--param CL=3: CL and CL3 set the same blade's value",
                         2);
+  expect_one_line_error(run(base + " --param rpm=200 --rpm 300"), "--param rpm=200: --rpm sets it too", 2);
   EXPECT_FALSE(fs::exists(out("x.csv")));
   // A point that cannot be computed (0.15 s at 20 ms: 8 samples) is recorded, not fatal: no values,
   // the reason in its note, a warning on stderr.

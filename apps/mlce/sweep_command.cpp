@@ -139,6 +139,10 @@ int cmd_sweep(const std::vector<std::string>& args) {
              std::all_of(one.begin() + static_cast<std::ptrdiff_t>(all.size()), one.end(),
                          [](unsigned char ch) { return std::isdigit(ch) != 0; });
     };
+    // The swept key given on the command line as well (--rpm 300) would be overridden at every
+    // point. (--c 300 with --param c3=... is a base for the other blades, and fine.)
+    if (parsed->vm.count(axis) && !parsed->vm[axis].defaulted())
+      throw po::error("--param " + spec + ": --" + axis + " sets it too (give it one or the other)");
     for (std::size_t k = 0; k + 1 < plan.axes.size(); ++k) {
       const std::string& other = plan.axes[k].name;
       if (other == axis)
