@@ -111,6 +111,7 @@ TEST_F(SpectrumCli, CountReportsTheLargestExponentsOnly) {
 TEST_F(SpectrumCli, Errors) {
   expect_one_line_error(run("eigen --c 4067.5,4067.5,0,4067.5"), "not isotropic", 1);
   expect_one_line_error(run("floquet --sensitivity stiffness"), "parameter 'stiffness' is not a hammond parameter", 2);
+  expect_one_line_error(run("floquet --sensitivity rpm,c3,rpm"), "--sensitivity rpm,c3,rpm: 'rpm' is given twice", 2);
   expect_one_line_error(run("spectrum --qr-step -1"), "--qr-step", 2);
   expect_one_line_error(run("floquet --orbit 1,2"), "orbit state: expected 12 values", 1);
   expect_one_line_error(run("spectrum --jacobian magic"), "expected analytic, complex-step or jacobian-free", 2);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -48,9 +49,13 @@ std::string time_unit(const models::Scene& s) { return s.model == "flapping" ? "
 
 std::vector<ode::ParameterFamily> families(const models::Scene& scene, const std::string& list) {
   std::vector<ode::ParameterFamily> out;
+  std::vector<std::string> seen;  // a parameter twice would print (and key in JSON) one column twice
   std::stringstream in(list);
   for (std::string name; std::getline(in, name, ',');) {
     if (name.empty()) continue;
+    if (std::find(seen.begin(), seen.end(), name) != seen.end())
+      throw po::error("--sensitivity " + list + ": '" + name + "' is given twice");
+    seen.push_back(name);
     try {
       out.push_back(models::parameter_family(scene, name));
     } catch (const std::invalid_argument& e) {
