@@ -1,7 +1,10 @@
 #pragma once
 // Plain column files: whitespace- or comma-separated numbers, '#' starts a comment, one row per
-// line, every row with the same number of columns. An optional header line (the first line that
-// is not blank or a comment, with no field that reads as a number) names the columns.
+// line, every row with the same number of columns. One comma with blanks around it is one
+// separator; two commas with nothing between them enclose an empty field, which is an error (a
+// missing value; skipping it would shift the later columns); a comma ending a line is dropped.
+// An optional header line (the first line that is not blank or a comment, with no field that
+// reads as a number; an empty cell is an unnamed column) names the columns.
 #include <string>
 #include <vector>
 
@@ -18,7 +21,7 @@ struct ColumnFileOptions {
 };
 
 /// Reads the whole file. Throws ReadError for a missing or unreadable file, a file without data,
-/// a field that is not a number, a non-finite value (nan, inf; unless keep_nonfinite), and a row with a different number
+/// a field that is empty or not a number, a non-finite value (nan, inf; unless keep_nonfinite), and a row with a different number
 /// of columns than the first.
 Table read_column_file(const std::string& path, const ColumnFileOptions& options = {});
 
