@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -77,6 +79,11 @@ std::string read_error_of(F read) {
   }
   ADD_FAILURE() << "expected a ReadError";
   return "";
+}
+
+std::string bytes_of(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 /// y of a record the solver never wrote (write_node_x_records leaves its X at the fill value).
@@ -380,6 +387,38 @@ TEST(MbdynNetcdf, TruncatedFileReadsItsCompleteRecordsWithAWarning) {
   EXPECT_NE(part.warnings[0].find("have time 0 after t = "), std::string::npos) << part.warnings[0];
   EXPECT_NE(part.warnings[0].find("read the first " + std::to_string(part.time.size()) + " records"), std::string::npos)
       << part.warnings[0];
+}
+
+TEST(MbdynNetcdf, CorruptedHeaderCountIsOneErrorNotAMinuteOfAllocation) {
+  // libnetcdf trusts a classic header's counts: a flipped byte had nc_open run 50 s in 15 GB.
+  const fs::path path = fs::temp_directory_path() / ("mlce_hdr_" + std::to_string(::getpid()) + ".nc");
+  write_node_x_records(path, {0.0, 1.0, 2.0});
+  const auto patched = [&](std::size_t at, std::uint32_t value) {  // a big-endian word of the header
+    std::string bytes = bytes_of(path);
+    for (int k = 0; k < 4; ++k) bytes[at + k] = static_cast<char>(value >> (24 - 8 * k) & 0xff);
+    const fs::path p = path.string() + ".patched.nc";
+    std::ofstream(p, std::ios::binary) << bytes;
+    return p.string();
+  };
+  // Classic layout: magic, numrecs at 4, dimensions "time" and "vec3" at 8..39, no global
+  // attributes at 40, then NC_VARIABLE (0x0B) at 48 and the variable count at 52.
+  const std::string bytes = bytes_of(path);
+  ASSERT_EQ(bytes.substr(0, 4), std::string("CDF\x01", 4));
+  ASSERT_EQ(bytes.substr(48, 8), std::string("\0\0\0\x0b\0\0\0\x02", 8));
+  EXPECT_EQ(read_error_of([&] { read_mbdyn_netcdf(patched(52, 0x7fffffff), specs({"node:1:y"})); }),
+            path.string() + ".patched.nc: corrupt NetCDF header at byte 56: 2147483647 variables cannot fit in the "
+            "file's " + std::to_string(bytes.size()) + " bytes");
+  // The first variable's dimension id (at 68) beyond the two dimensions.
+  EXPECT_NE(read_error_of([&] { describe_mbdyn_netcdf(patched(68, 7)); })
+                .find("corrupt NetCDF header at byte 72: a variable's dimension id beyond the 2 dimensions"),
+            std::string::npos);
+  // A record count of 2^31 - 1: read up to what the file holds (the zero-time tail dropped with a
+  // warning), not 2^31 records into memory.
+  const auto many = read_mbdyn_netcdf(patched(4, 0x7fffffff), specs({"node:1:y"}));
+  EXPECT_EQ(many.values[0], (std::vector<double>{0.0, 1.0}));
+  EXPECT_FALSE(many.warnings.empty());
+  fs::remove(path);
+  fs::remove(path.string() + ".patched.nc");
 }
 
 TEST(MbdynNetcdf, RecordNeverWrittenIsAnErrorNotAHugeNumber) {

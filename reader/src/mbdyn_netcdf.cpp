@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <optional>
 
 #include "mlce/reader/mbdyn_text.hpp"
@@ -15,9 +18,82 @@
 namespace mlce::reader {
 namespace {
 
+/// libnetcdf trusts the counts of a classic-format header: one corrupted byte can make nc_open
+/// allocate and copy for a minute (seen: 50 s and 15 GB for a flipped byte in a 0.5 MB file). The
+/// header (NetCDF classic format specification: magic, numrecs, dim_list, gatt_list, var_list) is
+/// walked here first, every count checked against the bytes left in the file, so that a corrupted
+/// file is one error at once. Returns the file size for a classic file, nullopt for another format
+/// (netCDF-4/HDF5: nc_open's business).
+std::optional<std::uint64_t> check_classic_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const std::uint64_t size = std::filesystem::file_size(path, ec);
+  char magic[4] = {};
+  if (!in || ec || !in.read(magic, 4) || magic[0] != 'C' || magic[1] != 'D' || magic[2] != 'F') return std::nullopt;
+  const int version = magic[3];
+  if (version != 1 && version != 2 && version != 5) return std::nullopt;  // nc_open names it
+  const bool wide = version == 5;                                          // 64-bit counts
+  std::uint64_t pos = 4;
+  auto corrupt = [&](const std::string& what) {
+    return ReadError(path + ": corrupt NetCDF header at byte " + std::to_string(pos) + ": " + what);
+  };
+  auto word = [&](int bytes) {
+    unsigned char b[8] = {};
+    if (!in.read(reinterpret_cast<char*>(b), bytes)) throw corrupt("the file ends inside its header");
+    pos += static_cast<std::uint64_t>(bytes);
+    std::uint64_t v = 0;
+    for (int k = 0; k < bytes; ++k) v = v << 8 | b[k];  // big-endian
+    return v;
+  };
+  auto count = [&] { return word(wide ? 8 : 4); };
+  auto fits = [&](std::uint64_t items, std::uint64_t min_bytes, const char* what) {
+    if (items > (size - pos) / min_bytes)
+      throw corrupt(std::to_string(items) + " " + what + " cannot fit in the file's " + std::to_string(size) + " bytes");
+  };
+  auto skip = [&](std::uint64_t bytes) {
+    fits(bytes, 1, "bytes");
+    in.seekg(static_cast<std::streamoff>(bytes), std::ios::cur);
+    pos += bytes;
+  };
+  auto name = [&] { skip((count() + 3) / 4 * 4); };
+  auto list = [&](std::uint64_t tag, std::uint64_t min_bytes, const char* what) {
+    const std::uint64_t t = word(4), n = count();
+    if (t == 0 && n == 0) return std::uint64_t{0};  // ABSENT
+    if (t != tag) throw corrupt("expected the " + std::string(what) + " list");
+    fits(n, min_bytes, what);
+    return n;
+  };
+  auto attributes = [&] {
+    for (std::uint64_t a = list(0x0C, 12, "attributes"); a > 0; --a) {
+      name();
+      static constexpr std::uint64_t kBytes[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};  // by nc_type
+      const std::uint64_t type = word(4), n = count();
+      if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("attribute type " + std::to_string(type));
+      fits(n, kBytes[type], "attribute values");
+      skip((n * kBytes[type] + 3) / 4 * 4);
+    }
+  };
+  word(wide ? 8 : 4);  // numrecs (the reader caps it by the file size)
+  const std::uint64_t dims = list(0x0A, 8, "dimensions");
+  for (std::uint64_t d = 0; d < dims; ++d) name(), count();
+  attributes();
+  for (std::uint64_t v = list(0x0B, 28, "variables"); v > 0; --v) {
+    name();
+    const std::uint64_t rank = count();
+    fits(rank, wide ? 8 : 4, "dimension ids");
+    for (std::uint64_t k = 0; k < rank; ++k)
+      if (count() >= dims) throw corrupt("a variable's dimension id beyond the " + std::to_string(dims) + " dimensions");
+    attributes();
+    word(4), word(wide ? 8 : 4), word(version == 1 ? 4 : 8);  // type, vsize, begin
+  }
+  return size;
+}
+
 class NcFile {
  public:
   explicit NcFile(const std::string& path) : path_(path) {
+    // A record holds at least its 8-byte time: a corrupted record count must not size a vector.
+    if (const auto size = check_classic_header(path)) max_records_ = *size / 8;
     const int rc = nc_open(path.c_str(), NC_NOWRITE, &id_);
     if (rc != NC_NOERR) throw ReadError(path + ": cannot open as NetCDF (" + nc_strerror(rc) + ")");
   }
@@ -26,6 +102,11 @@ class NcFile {
   NcFile& operator=(const NcFile&) = delete;
 
   const std::string& path() const { return path_; }
+  /// The records of the record variable `v` that the file can hold.
+  std::size_t records(int v) const {
+    const auto sh = shape(v);
+    return sh.empty() ? 0 : static_cast<std::size_t>(std::min<std::uint64_t>(sh[0], max_records_));
+  }
   std::optional<int> var(const std::string& name) const {
     int v = 0;
     if (nc_inq_varid(id_, name.c_str(), &v) != NC_NOERR) return std::nullopt;
@@ -107,6 +188,7 @@ class NcFile {
  private:
   std::string path_;
   int id_ = -1;
+  std::uint64_t max_records_ = std::numeric_limits<std::uint64_t>::max();
 };
 
 struct NodeOrientation {
@@ -206,9 +288,9 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
   ChannelSet out;
   out.source = path;
   const int tv = nc.require("time", "the time of each record");
-  const auto tsh = nc.shape(tv);
-  if (tsh.empty() || tsh[0] == 0) throw ReadError(path + ": no records");
-  out.time = nc.column(tv, 0, tsh[0], "time");
+  const std::size_t records = nc.records(tv);
+  if (records == 0) throw ReadError(path + ": no records");
+  out.time = nc.column(tv, 0, records, "time");
   std::size_t n = records_written(out.time, path, out.warnings);
   if (n == 0) throw ReadError(path + ": no complete record");
   out.time.resize(n);
@@ -295,8 +377,7 @@ Inventory describe_mbdyn_netcdf(const std::string& path) {
   inv.source = path;
   inv.format = "mbdyn-netcdf";
   const int tv = nc.require("time", "the time of each record");
-  const auto sh = nc.shape(tv);
-  inv.blocks = sh.empty() ? 0 : sh[0];
+  inv.blocks = nc.records(tv);
   if (inv.blocks > 0) {
     auto t = nc.column(tv, 0, inv.blocks, "time");
     inv.blocks = records_written(t, path, inv.warnings);
