@@ -8,7 +8,7 @@ build="${2:-$here/build-fuzz}"
 CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMLCE_FUZZ=ON >/dev/null
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)"
 corpus="$build/corpus"
-rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec}
+rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf}
 iso="$here/data/mbdyn/iso_200rpm_1s/iso_200rpm"
 cp "$iso.log" "$corpus/mbdyn_log/"
 head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
@@ -19,7 +19,9 @@ head -n 30 "$iso.mov" > "$corpus/mbdyn_blocks/seed.mov"
 head -n 30 "$iso.jnt" > "$corpus/mbdyn_blocks/seed.jnt"
 head -n 50 "$here/data/lorenz_x.txt" > "$corpus/column_file/seed.txt"
 for s in node:2:x joint:33:14 rel:13:4:z ine:11:3 col:2; do printf '%s' "$s" > "$corpus/channel_spec/$s"; done
-for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec; do
+# the NetCDF header and its first records (a file cut short: the reader's truncated-file path)
+head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"
+for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf; do
   echo "fuzz_$f: ${secs} s" >&2
   "$build/fuzz_$f" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 \
     "$corpus/$f" 2>"$build/fuzz_$f.log" || { tail -n 40 "$build/fuzz_$f.log" >&2; exit 1; }

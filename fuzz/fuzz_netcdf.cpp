@@ -1,0 +1,35 @@
+// libFuzzer: the MBDyn NetCDF reader on arbitrary bytes written to a file (libnetcdf opens paths).
+// What it guards: the classic-header walk before nc_open, and the record cap by file size, so
+// that no header makes libnetcdf allocate or loop without bound (-rss_limit_mb, -timeout).
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+
+#include "mlce/reader/channel_spec.hpp"
+#include "mlce/reader/mbdyn_netcdf.hpp"
+#include "mlce/reader/table.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const struct Scratch {
+    std::string path = "/tmp/mlce_fuzz_" + std::to_string(::getpid()) + ".nc";
+    ~Scratch() { std::remove(path.c_str()); }
+  } scratch;
+  const std::string& path = scratch.path;
+  if (FILE* f = std::fopen(path.c_str(), "wb")) {
+    std::fwrite(data, 1, size, f);
+    std::fclose(f);
+  } else {
+    return 0;
+  }
+  try {
+    (void)mlce::reader::describe_mbdyn_netcdf(path);
+  } catch (const mlce::reader::ReadError&) {
+  }
+  try {
+    (void)mlce::reader::read_mbdyn_netcdf(path, {mlce::reader::parse_channel_spec("node:1:y")});
+  } catch (const mlce::reader::ReadError&) {
+  }
+  return 0;
+}
