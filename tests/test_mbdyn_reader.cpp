@@ -406,11 +406,11 @@ TEST(MbdynNetcdf, CorruptedHeaderCountIsOneErrorNotAMinuteOfAllocation) {
   ASSERT_EQ(bytes.substr(0, 4), std::string("CDF\x01", 4));
   ASSERT_EQ(bytes.substr(48, 8), std::string("\0\0\0\x0b\0\0\0\x02", 8));
   EXPECT_EQ(read_error_of([&] { read_mbdyn_netcdf(patched(52, 0x7fffffff), specs({"node:1:y"})); }),
-            path.string() + ".patched.nc: corrupt NetCDF header at byte 56: 2147483647 variables cannot fit in the "
+            path.string() + ".patched.nc: corrupt NetCDF header at byte 52: 2147483647 variables cannot fit in the "
             "file's " + std::to_string(bytes.size()) + " bytes");
   // The first variable's dimension id (at 68) beyond the two dimensions.
   EXPECT_NE(read_error_of([&] { describe_mbdyn_netcdf(patched(68, 7)); })
-                .find("corrupt NetCDF header at byte 72: a variable's dimension id beyond the 2 dimensions"),
+                .find("corrupt NetCDF header at byte 68: a variable's dimension id beyond the 2 dimensions"),
             std::string::npos);
   // A record count of 2^31 - 1: read up to what the file holds (the zero-time tail dropped with a
   // warning), not 2^31 records into memory.

@@ -33,33 +33,41 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
   const int version = magic[3];
   if (version != 1 && version != 2 && version != 5) return std::nullopt;  // nc_open names it
   const bool wide = version == 5;                                          // 64-bit counts
-  std::uint64_t pos = 4;
-  auto corrupt = [&](const std::string& what) {
-    return ReadError(path + ": corrupt NetCDF header at byte " + std::to_string(pos) + ": " + what);
+  std::uint64_t pos = 4, count_at = 4;  // the read position; where the last count was read
+  auto corrupt = [&](const std::string& what, std::uint64_t at) {
+    return ReadError(path + ": corrupt NetCDF header at byte " + std::to_string(at) + ": " + what);
   };
   auto word = [&](int bytes) {
     unsigned char b[8] = {};
-    if (!in.read(reinterpret_cast<char*>(b), bytes)) throw corrupt("the file ends inside its header");
+    if (!in.read(reinterpret_cast<char*>(b), bytes)) throw corrupt("the file ends inside its header", pos);
     pos += static_cast<std::uint64_t>(bytes);
     std::uint64_t v = 0;
     for (int k = 0; k < bytes; ++k) v = v << 8 | b[k];  // big-endian
     return v;
   };
-  auto count = [&] { return word(wide ? 8 : 4); };
-  auto fits = [&](std::uint64_t items, std::uint64_t min_bytes, const char* what) {
+  auto count = [&] {
+    count_at = pos;
+    return word(wide ? 8 : 4);
+  };
+  auto fits = [&](std::uint64_t items, std::uint64_t min_bytes, const char* what) {  // the last count's items
     if (items > (size - pos) / min_bytes)
-      throw corrupt(std::to_string(items) + " " + what + " cannot fit in the file's " + std::to_string(size) + " bytes");
+      throw corrupt(std::to_string(items) + " " + what + " cannot fit in the file's " + std::to_string(size) + " bytes",
+                    count_at);
   };
   auto skip = [&](std::uint64_t bytes) {
     fits(bytes, 1, "bytes");
     in.seekg(static_cast<std::streamoff>(bytes), std::ios::cur);
     pos += bytes;
   };
-  auto name = [&] { skip((count() + 3) / 4 * 4); };
+  auto name = [&] {
+    const std::uint64_t length = count();
+    fits(length, 1, "name bytes");
+    skip((length + 3) / 4 * 4);
+  };
   auto list = [&](std::uint64_t tag, std::uint64_t min_bytes, const char* what) {
     const std::uint64_t t = word(4), n = count();
     if (t == 0 && n == 0) return std::uint64_t{0};  // ABSENT
-    if (t != tag) throw corrupt("expected the " + std::string(what) + " list");
+    if (t != tag) throw corrupt("expected the " + std::string(what) + " list", count_at - 4);
     fits(n, min_bytes, what);
     return n;
   };
@@ -68,7 +76,7 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
       name();
       static constexpr std::uint64_t kBytes[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};  // by nc_type
       const std::uint64_t type = word(4), n = count();
-      if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("attribute type " + std::to_string(type));
+      if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("attribute type " + std::to_string(type), count_at - 4);
       fits(n, kBytes[type], "attribute values");
       skip((n * kBytes[type] + 3) / 4 * 4);
     }
@@ -82,7 +90,7 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
     const std::uint64_t rank = count();
     fits(rank, wide ? 8 : 4, "dimension ids");
     for (std::uint64_t k = 0; k < rank; ++k)
-      if (count() >= dims) throw corrupt("a variable's dimension id beyond the " + std::to_string(dims) + " dimensions");
+      if (count() >= dims) throw corrupt("a variable's dimension id beyond the " + std::to_string(dims) + " dimensions", count_at);
     attributes();
     word(4), word(wide ? 8 : 4), word(version == 1 ? 4 : 8);  // type, vsize, begin
   }
