@@ -302,6 +302,9 @@ TEST_F(Cli, ConstantSeries) {
   std::string t;
   for (int i = 0; i < 200; ++i) t += "3.5\n";
   expect_one_line_error(run("estimate " + write("c.txt", t).string()), "c.txt: channel 1 is constant");
+  // One sample is no history (it was reported as a constant series of 1 sample).
+  expect_one_line_error(run("estimate " + write("one.txt", "3.5\n").string()),
+                        "one.txt: the series has a single sample: expected a time history");
 }
 
 TEST_F(Cli, SeriesTooShortForTheParameters) {

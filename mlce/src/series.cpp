@@ -196,6 +196,7 @@ void validate_series(const Series& series) {
   for (std::size_t c = 0; c < series.channels.size(); ++c) {
     const auto& x = series.channels[c];
     if (x.empty()) throw InputError("the series is empty");
+    if (x.size() == 1) throw InputError("the series has a single sample: expected a time history");
     const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
     if (*lo == *hi)
       throw InputError("channel " + std::to_string(c + 1) + " is constant (all " + std::to_string(x.size()) +
