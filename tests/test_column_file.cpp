@@ -105,3 +105,16 @@ TEST(ColumnFile, AnEmptyFieldIsRefusedNotSkipped) {
   EXPECT_EQ(u.columns[0], (std::vector<double>{0.5, 0.25}));
   EXPECT_EQ(error_of(",,\n1,2\n"), "f.txt:1: column 1: empty field: expected a number");  // commas only: no header
 }
+
+TEST(ColumnFile, DecimalCommasAreRefusedNotReadAsMoreColumns) {
+  // A spreadsheet with decimal commas and tabs between fields: every row would read as four
+  // consistent columns of wrong numbers. A line that separates some fields by commas and others by
+  // blanks only is refused.
+  EXPECT_EQ(error_of("0,01\t2,5\n0,02\t2,6\n"),
+            "f.txt:1: '0,01\\t2,5': fields separated by commas and by blanks alike (decimal commas?): write "
+            "decimal points, and one kind of separator");
+  EXPECT_EQ(error_of("1 2\n3 4,5\n"), "f.txt:2: '3 4,5': fields separated by commas and by blanks alike (decimal "
+                                        "commas?): write decimal points, and one kind of separator");
+  // Commas with blanks around them, or blanks alone, are one kind each.
+  EXPECT_EQ(parse_column_text("0 , 1,\t2\n3 4 5\n", "mem").columns.size(), 3u);
+}

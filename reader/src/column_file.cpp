@@ -27,22 +27,28 @@ std::string shorten(std::string_view s) {
 /// with blanks around it; two commas with nothing between them enclose an empty field (a missing
 /// value in a CSV), which is kept as "" so that it is refused, not skipped: skipping it would move
 /// every later field one column to the left. A comma ending the line (some exporters write one on
-/// every row) ends it and opens no field.
-void split_fields(std::string_view line, std::vector<std::string_view>& out) {
+/// every row) ends it and opens no field. Returns whether the line separates some fields by a
+/// comma and others by blanks only: "0,01<TAB>2,5", a spreadsheet's decimal commas, would
+/// otherwise read as four numbers.
+bool split_fields(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
   std::size_t i = 0;
   while (i < line.size() && is_blank(line[i])) ++i;
-  if (i >= line.size()) return;
+  if (i >= line.size()) return false;
+  bool by_comma = false, by_blank = false;
   while (true) {
     std::size_t j = i;
     while (j < line.size() && !is_separator(line[j])) ++j;
     out.push_back(line.substr(i, j - i));
     while (j < line.size() && is_blank(line[j])) ++j;
+    bool comma = false;
     if (j < line.size() && line[j] == ',') {
+      comma = true;
       ++j;
       while (j < line.size() && is_blank(line[j])) ++j;
     }
-    if (j >= line.size()) return;
+    if (j >= line.size()) return by_comma && by_blank;
+    (comma ? by_comma : by_blank) = true;
     i = j;
   }
 }
@@ -96,7 +102,13 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
       header_line = line_no;
       continue;
     }
-    split_fields(line, fields);
+    if (split_fields(line, fields)) {
+      std::string shown;
+      for (char ch : shorten(line)) shown += ch == '\t' ? std::string("\\t") : std::string(1, ch);
+      throw ReadError(source + ":" + std::to_string(line_no) + ": '" + shown +
+                      "': fields separated by commas and by blanks alike (decimal commas?): write decimal points, "
+                      "and one kind of separator");
+    }
     for (std::size_t field = 1; field <= fields.size(); ++field) {
       const std::string_view tok = fields[field - 1];
       if (tok.empty())

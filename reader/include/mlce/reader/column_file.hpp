@@ -3,6 +3,8 @@
 // line, every row with the same number of columns. One comma with blanks around it is one
 // separator; two commas with nothing between them enclose an empty field, which is an error (a
 // missing value; skipping it would shift the later columns); a comma ending a line is dropped.
+// A data line separating some fields by commas and others by blanks only is an error (decimal
+// commas: "0,01<TAB>2,5" would read as four numbers).
 // An optional header line (the first line that is not blank or a comment, with no field that
 // reads as a number; an empty cell is an unnamed column) names the columns.
 #include <string>
