@@ -260,6 +260,9 @@ TEST_F(MbdynCli, SimulateErrors) {
                         "--format mbdyn needs a hammond scene");
   EXPECT_FALSE(fs::exists(dir / "x.log"));
   expect_one_line_error(run("simulate /nonexistent.scene --out " + (dir / "x").string()), "cannot open the scene file");
+  // rpm in the wrong units: refused before it runs (it ran 19 s to the step budget at 1e300).
+  expect_one_line_error(run("simulate --rpm 2.424e10 --out " + (dir / "x").string()), "needs at least");
+  EXPECT_FALSE(fs::exists(dir / "x.log"));
 }
 
 TEST_F(MbdynCli, TruncatedSetReadsCompleteBlocksWithWarnings) {

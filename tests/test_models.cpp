@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -14,6 +15,7 @@
 #include "mlce/models/scene.hpp"
 #include "mlce/models/simulate.hpp"
 #include "mlce/ode/runge_kutta.hpp"
+#include "mlce/ode/step_budget.hpp"
 #include "mlce/reader/channel_spec.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
 
@@ -128,6 +130,64 @@ TEST(Integrators, EachSchemeShowsItsOrder) {
     const double observed = std::log2(err[0] / err[1]);
     EXPECT_NEAR(observed, order, 0.3) << ode::scheme_name(scheme) << " errors " << err[0] << " " << err[1];
   }
+}
+
+TEST(StepBudget, StiffnessBoundIsBelowTheStepsTakenAndTooStiffARunIsRefusedBeforeItStarts) {
+  // x' = A x with eigenvalues -k and -1 (and a coupling, so the eigenvalues are not A's diagonal
+  // read off): rho = k exactly, so the bound over a span S is S k / 4.
+  auto linear = [](double k) {
+    ode::DynamicalSystem sys;
+    sys.dimension = 2;
+    Eigen::Matrix2d A;
+    A << -k, 3.0, 0.0, -1.0;
+    sys.rhs = [A](const VectorXd& x, VectorXd& dx, double) { dx = A * x; };
+    sys.jacobian = [A](const VectorXd&, double) { return Eigen::MatrixXd(A); };
+    return sys;
+  };
+  const VectorXd x0 = VectorXd::Ones(2);
+  for (auto scheme : {ode::Scheme::bs23, ode::Scheme::dp45}) {
+    ode::IntegratorOptions o;
+    o.scheme = scheme;
+    const auto e = ode::estimate_step_budget(linear(1e3), x0, 0.0, 2.0, 1, o, "linear");
+    EXPECT_NEAR(e.fastest_rate, 1e3, 1e-9);
+    EXPECT_NEAR(e.minimum_steps, 500.0, 1e-9);
+    // The steps the integrator really takes (the stiff mode decays at once; stability limits h).
+    VectorXd x = x0;
+    double h = 0.0;
+    ode::IntegrationStats st;
+    ode::integrate_to(linear(1e3).rhs, x, 0.0, 2.0, o, h, st);
+    EXPECT_GE(static_cast<double>(st.steps), e.minimum_steps) << ode::scheme_name(scheme);
+    // ... and not far below: rk23 is stable to 2.5 on the real axis, rk45 to 3.3, and each runs
+    // at the edge with some rejected steps.
+    EXPECT_LT(static_cast<double>(st.steps), 4.0 * e.minimum_steps) << ode::scheme_name(scheme) << " " << st.steps;
+  }
+  // Without an analytic Jacobian: forward differences give the same rate.
+  ode::DynamicalSystem no_jacobian = linear(1e3);
+  no_jacobian.jacobian = nullptr;
+  EXPECT_NEAR(ode::estimate_step_budget(no_jacobian, x0, 0.0, 2.0, 1, {}, "linear").fastest_rate, 1e3, 1e-3);
+  // k = 1e12 over 1 s needs 2.5e11 steps: refused, naming what and the numbers.
+  try {
+    ode::require_step_budget(linear(1e12), x0, 0.0, 1.0, 1, {}, "stiff run");
+    ADD_FAILURE() << "no error";
+  } catch (const ode::IntegrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("stiff run: the fastest mode (|eigenvalue| 1e+12 per unit time) needs at least 2.5e+11 steps"),
+              std::string::npos) << e.what();
+  }
+  // Split into 10^6 calls of 1e-6 each, the same run fits the per-call budget.
+  EXPECT_NO_THROW(ode::require_step_budget(linear(1e12), x0, 0.0, 1.0, 1000000, {}, "stiff run"));
+  // A fixed step is counted, not estimated; a count beyond the budget is an error, not a cast
+  // of 1e21 to size_t.
+  ode::IntegratorOptions rk4;
+  rk4.scheme = ode::Scheme::rk4;
+  rk4.h_fixed = 1e-21;
+  EXPECT_THROW(ode::require_step_budget(linear(1.0), x0, 0.0, 1.0, 1, rk4, "rk4"), ode::IntegrationError);
+  VectorXd x = x0;
+  double h = 0.0;
+  ode::IntegrationStats st;
+  EXPECT_THROW(ode::integrate_to(linear(1.0).rhs, x, 0.0, 1.0, rk4, h, st), ode::IntegrationError);
+  // A right-hand side beyond the range of a double is named, not integrated.
+  EXPECT_THROW(ode::require_step_budget(linear(std::numeric_limits<double>::infinity()), x0, 0.0, 1.0, 1, {}, "inf"),
+               ode::IntegrationError);
 }
 
 TEST(Integrators, AdaptiveDp45AgreesWithBoostOdeintDopri5) {

@@ -117,4 +117,21 @@ TEST_F(SpectrumCli, Errors) {
   expect_one_line_error(run("spectrum --jacobian magic"), "expected analytic, complex-step or jacobian-free", 2);
   expect_one_line_error(run("spectrum --count 0"), "--count 0: expected 1..12", 2);
   expect_one_line_error(run("floquet " + (dir / "missing.scene").string()), "cannot open the scene file", 1);
+  // Parameters in the wrong units: refused at once (before: spectrum and floquet ran silently for
+  // minutes toward the step budget, or for ever).
+  expect_one_line_error(run("spectrum --rpm 1e300"), "right-hand side or its Jacobian is not finite", 1);
+  expect_one_line_error(run("floquet --rpm 1e300"), "right-hand side or Jacobian at x = 0 is not finite", 1);
+  expect_one_line_error(run("floquet --rpm 1e-300"), "Floquet: one period T = 6e+301: the fastest mode", 1);
+  expect_one_line_error(run("spectrum --integrator rk4 --h 1e-12"), "the fixed step h = 1e-12 makes 5e+09 steps per interval", 1);
+}
+
+TEST_F(SpectrumCli, FloquetAtAHighRotorSpeedAgreesWithEigen) {
+  // At 10^5 rpm, rounding leaves |f(0, t)| ~ 1e-7 (terms of size Omega^2 cancel): x = 0 is still
+  // the trivial solution (it was refused with an absolute tolerance of 1e-9).
+  const std::string scene = kScenes + "isotropic_200rpm.scene --rpm 1e5";
+  const json e = json_of("eigen " + scene);
+  const json f = json_of("floquet " + scene);
+  ASSERT_EQ(f["exponents"].size(), 12u);
+  for (std::size_t i = 0; i < 12; ++i)
+    EXPECT_NEAR(f["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 1e-5) << i;
 }

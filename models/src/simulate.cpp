@@ -7,8 +7,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "mlce/models/dynamics.hpp"
 #include "mlce/models/flapping.hpp"
 #include "mlce/models/hammond.hpp"
+#include "mlce/ode/step_budget.hpp"
 
 namespace mlce::models {
 namespace {
@@ -48,6 +50,11 @@ void commit(const std::vector<std::pair<std::string, std::string>>& files) {
 }  // namespace
 
 Trajectory simulate(const Scene& s, const std::function<void(double)>& progress) {
+  // Refuse at once a run that cannot finish within the step budget (integrate_uniform's rk4
+  // default step is dt_out / 4).
+  ode::IntegratorOptions budget = s.integrator;
+  if (budget.h_fixed <= 0) budget.h_fixed = s.dt_out / 4.0;
+  ode::require_step_budget(dynamical_system(s), s.x0, 0.0, s.t_end, 1, budget, s.source);
   if (s.model == "hammond") return run(HammondModel(s.hammond), s, progress);
   if (s.model == "flapping") return run(FlappingModel(s.flapping), s, progress);
   throw std::invalid_argument("unknown model '" + s.model + "'");

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
 
+#include "mlce/ode/step_budget.hpp"
 #include "mlce/spectrum/liouville.hpp"
 #include "variational.hpp"
 
@@ -96,14 +98,26 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
   std::vector<std::string> names;
   for (const auto& p : parameters) names.push_back(p.name);
   // Trivial solution: it must be a solution (f(0, t) = 0) for the linearisation to mean anything.
+  // Rounding leaves |f(0, t)| of order eps times the size of the terms that cancel, which grows
+  // with the Jacobian (Omega^2 at a high rotor speed): the tolerance is relative to it.
   if (!o.orbit) {
     Eigen::VectorXd f(n);
-    double worst = 0.0;
+    double worst = 0.0, scale = 1.0;
     for (int k = 0; k < 8; ++k) {
-      sys.rhs(x0, f, o.t0 + (T > 0 ? T : 1.0) * k / 8.0);
+      const double t = o.t0 + (T > 0 ? T : 1.0) * k / 8.0;
+      sys.rhs(x0, f, t);
+      const Eigen::MatrixXd A = jacobian(sys, o.jacobian, x0, t);
+      if (!f.allFinite() || !A.allFinite())
+        throw std::invalid_argument("the model's right-hand side or Jacobian at x = 0 is not finite (a parameter beyond the range of a double?)");
       worst = std::max(worst, f.cwiseAbs().maxCoeff());
+      scale = std::max(scale, A.cwiseAbs().rowwise().sum().maxCoeff());
     }
-    if (worst > 1e-9) throw std::invalid_argument("x = 0 is not a solution of this model (|f(0, t)| = " + std::to_string(worst) + "): give --orbit");
+    if (worst > 1e-9 * scale) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "x = 0 is not a solution of this model (|f(0, t)| = %.3g, against %.3g from rounding): give --orbit",
+                    worst, 1e-9 * scale);
+      throw std::invalid_argument(buf);
+    }
   }
   if (!(T > 0)) {
     // Autonomous: the exponents of the linearisation at the equilibrium are eigenvalues of A.
@@ -115,6 +129,11 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
     LinearSpectrum s = linear_eigen(jacobian(sys, o.jacobian, x0, o.t0), dA, names);
     s.warnings.push_back("the system is autonomous (no period): exponents are eigenvalues of the Jacobian at x0");
     return s;
+  }
+  {
+    char what[64];
+    std::snprintf(what, sizeof what, "Floquet: one period T = %.6g", T);
+    ode::require_step_budget(sys, x0, o.t0, T, 1, o.integrator, what);
   }
   const detail::VariationalSystem vs(sys, o.jacobian, parameters);
   Eigen::VectorXd X = Eigen::VectorXd::Zero(vs.size());

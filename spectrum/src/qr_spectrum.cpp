@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mlce/ode/step_budget.hpp"
 #include "mlce/spectrum/liouville.hpp"
 #include "variational.hpp"
 
@@ -123,6 +124,7 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   const auto j_first = static_cast<std::size_t>(t_start > o.t0 ? std::ceil((t_start - o.t0) / o.step - 1e-9) : 0.0);
   const auto averaged = static_cast<std::size_t>(std::max(1.0, std::ceil((o.t_end - t_start) / o.step - 1e-9)));
   const std::size_t J = j_first + averaged;
+  ode::require_step_budget(sys, x0, o.t0, o.t_end - o.t0, J, o.integrator, "QR spectrum");
   auto grid = [&](std::size_t j) {
     if (j <= j_first) return j == j_first ? t_start : o.t0 + (t_start - o.t0) * static_cast<double>(j) / static_cast<double>(j_first);
     return j == J ? o.t_end : t_start + (o.t_end - t_start) * static_cast<double>(j - j_first) / static_cast<double>(averaged);

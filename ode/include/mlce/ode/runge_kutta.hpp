@@ -238,7 +238,11 @@ void integrate_to(System&& f, State& x, double t0, double t1, const IntegratorOp
   const bool adaptive = T.low_order > 0 && !opt.fixed_step;
   if (!adaptive) {
     const double span = t1 - t0;
-    const auto n = static_cast<std::size_t>(opt.h_fixed > 0 ? std::ceil(span / opt.h_fixed - 1e-9) : 1.0);
+    const double steps = opt.h_fixed > 0 ? std::ceil(span / opt.h_fixed - 1e-9) : 1.0;
+    if (!(steps <= static_cast<double>(opt.max_steps)))  // also keeps the cast below defined
+      throw IntegrationError("the fixed step " + std::to_string(opt.h_fixed) + " makes more than " +
+                             std::to_string(opt.max_steps) + " steps before t = " + std::to_string(t1));
+    const auto n = static_cast<std::size_t>(steps);
     const double hs = span / static_cast<double>(std::max<std::size_t>(n, 1));
     double t = t0;
     for (std::size_t i = 0; i < std::max<std::size_t>(n, 1); ++i) {
