@@ -189,6 +189,46 @@ TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {
   EXPECT_EQ(inv.nodes[2].kind, "static/dummy");  // the massless hub has no .ine rows
 }
 
+TEST(FormatRegistry, PrefixOfARunWithNetcdfOutputOnlyReadsItsNcFile) {
+  // `output results: netcdf, no text`: MBDyn writes .out, .log and .nc, and no (or empty) entity
+  // files. By prefix such a run was read as a text set with no channel at all.
+  const fs::path dir = fs::path(::testing::TempDir()) / "netcdf_only";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const char* ext : {".out", ".log", ".nc"}) fs::copy_file(kIso + ext, dir / (std::string("iso_200rpm") + ext));
+  const std::string prefix = (dir / "iso_200rpm").string();
+  const auto& reg = default_registry();
+  const auto spec = specs({"rel:13:4:z", "node:2:x"});
+  auto expect_reads_the_nc = [&] {
+    ASSERT_EQ(reg.for_path(prefix).name(), "mbdyn-netcdf");
+    const auto by_prefix = reg.for_path(prefix).read(prefix, spec, {});
+    const auto direct = read_mbdyn_netcdf(kIso + ".nc", spec);  // independent: the bundled file itself
+    ASSERT_EQ(by_prefix.time.size(), 201u);
+    EXPECT_EQ(by_prefix.values, direct.values);
+    EXPECT_EQ(reg.for_path(prefix).describe(prefix).nodes.size(), 8u);  // node 1 (output off) too
+  };
+  expect_reads_the_nc();
+  // The .out named explicitly is the text set: it says where the channels are.
+  const auto inv = reg.for_path(prefix + ".out").describe(prefix + ".out");
+  EXPECT_TRUE(inv.nodes.empty());
+  ASSERT_EQ(inv.warnings.size(), 1u);
+  EXPECT_NE(inv.warnings[0].find("no entity rows"), std::string::npos) << inv.warnings[0];
+  EXPECT_NE(inv.warnings[0].find("read " + prefix + ".nc"), std::string::npos) << inv.warnings[0];
+  std::ofstream(prefix + ".mov").close();  // an empty .mov, as `no text` leaves it
+  expect_reads_the_nc();
+  try {
+    reg.for_path(prefix + ".out").describe(prefix + ".out");
+    ADD_FAILURE() << "no error";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("no rows (empty file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("read " + prefix + ".nc"), std::string::npos) << e.what();
+  }
+  // A text set with rows stays a text set, .nc beside it or not.
+  fs::copy_file(kIso + ".mov", prefix + ".mov", fs::copy_options::overwrite_existing);
+  EXPECT_EQ(reg.for_path(prefix).name(), "mbdyn-text");
+  EXPECT_TRUE(reg.for_path(prefix).describe(prefix).warnings.empty());
+}
+
 // ---- synthetic sets: every orientation parametrization, unwrapping, interruption ----------
 
 namespace {

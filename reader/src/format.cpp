@@ -88,16 +88,24 @@ class MbdynTextFormat final : public FormatReader {
   }
 };
 
+/// The .nc file itself, or an output prefix whose text set has no entity rows (a run with
+/// `output results: netcdf, no text` writes .out and .log, and its channels only to PREFIX.nc).
 class MbdynNetcdfFormat final : public FormatReader {
  public:
   std::string name() const override { return "mbdyn-netcdf"; }
   std::vector<std::string> extensions() const override { return {"nc"}; }
-  bool recognizes(const std::string& path) const override { return extension_of(path) == "nc" && is_file(path); }
-  Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(path); }
+  bool recognizes(const std::string& path) const override {
+    if (extension_of(path) == "nc") return is_file(path);
+    return !is_file(path) && is_file(path + ".nc") && !mbdyn_text_has_entity_rows(path);
+  }
+  Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(nc_file(path)); }
   ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
                   const ReadOptions& options) const override {
-    return read_mbdyn_netcdf(path, channels, options);
+    return read_mbdyn_netcdf(nc_file(path), channels, options);
   }
+
+ private:
+  static std::string nc_file(const std::string& path) { return extension_of(path) == "nc" ? path : path + ".nc"; }
 };
 
 }  // namespace

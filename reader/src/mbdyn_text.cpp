@@ -430,6 +430,19 @@ std::string mbdyn_prefix(const std::string& path) {
 }
 
 namespace {
+constexpr const char* kEntityExtensions[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"};
+}  // namespace
+
+bool mbdyn_text_has_entity_rows(const std::string& prefix) {
+  for (const char* ext : kEntityExtensions) {
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(prefix + "." + ext, ec);
+    if (!ec && size > 0) return true;
+  }
+  return false;
+}
+
+namespace {
 
 /// Block count of every file read and of the .out must agree; an interrupted run may differ by
 /// one (entity rows are written before the Step line; format doc section 12). `steps`: the output
@@ -593,7 +606,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   if (!times.rebuilt.empty()) inv.warnings.push_back(times.rebuilt);
   std::vector<BlockRead> all;
   std::set<long> dynamic;
-  for (const char* ext : {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"}) {
+  for (const char* ext : kEntityExtensions) {
     const std::string path = prefix + "." + ext;
     if (!file_exists(path)) continue;
     require_entity_file(path, prefix);
@@ -615,6 +628,10 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
     }
     all.push_back(std::move(b));
   }
+  if (all.empty() || !mbdyn_text_has_entity_rows(prefix))
+    inv.warnings.push_back(prefix + ": no entity rows (.mov, .jnt, .ine, ... are missing or empty)" +
+                           (file_exists(prefix + ".nc") ? "; the run's channels are in its NetCDF output: read " + prefix + ".nc"
+                                                        : ": the set holds only its step times"));
   const bool have_ine = file_exists(prefix + ".ine");
   for (auto& n : inv.nodes) n.kind = dynamic.count(n.label) ? "dynamic" : have_ine ? "static/dummy" : "unknown";
   std::vector<const BlockRead*> files;

@@ -74,6 +74,11 @@ BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequ
 /// "run/hammond.mov" -> "run/hammond"; a path with no MBDyn extension is returned unchanged.
 std::string mbdyn_prefix(const std::string& path);
 
+/// Whether the text set at `prefix` holds entity rows: one of its .mov .jnt .ine .frc .act .aer
+/// .prm .drv files exists and is not empty. A run with `output results: netcdf, no text` leaves
+/// only .out, .log and empty (or no) entity files; its channels are in PREFIX.nc.
+bool mbdyn_text_has_entity_rows(const std::string& prefix);
+
 /// Reads the channels from the text set at `prefix`. Throws ReadError (file, line, expectation).
 ChannelSet read_mbdyn_text(const std::string& prefix, const std::vector<ChannelSpec>& channels,
                            const ReadOptions& options = {});
