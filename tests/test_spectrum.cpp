@@ -252,6 +252,38 @@ TEST_P(FloquetIsotropicRotor, AgreesWithMultibladeEigenvaluesAndQr) {
 INSTANTIATE_TEST_SUITE_P(Rpm, FloquetIsotropicRotor, ::testing::Values(120.0, 200.0, 260.0, 330.0),
                          [](const ::testing::TestParamInfo<double>& i) { return std::to_string(static_cast<int>(i.param)) + "rpm"; });
 
+TEST(Floquet, TrivialSolutionTestIsRelativeToTheSizeOfTheTerms) {
+  // x'' + w^2 x = a cos t, period 2 pi. With w = 1e8 the terms of f are of size 1e16 |x|, so a
+  // residue a = 1e-2 at x = 0 is rounding (eps 1e16 ~ 2): x = 0 is taken as the solution. With
+  // w = 1, a = 1e-2 is a real forcing: refused, naming both sizes.
+  auto forced = [](double w, double a) {
+    ode::DynamicalSystem s = linear_system(oscillator(0.0, w));
+    const MatrixXd A = oscillator(0.0, w);
+    s.rhs = [A, a](const VectorXd& x, VectorXd& dx, double t) {
+      dx = A * x;
+      dx(1) += a * std::cos(t);
+    };
+    s.rhs_complex = nullptr;
+    s.period = 2 * std::numbers::pi;
+    return s;
+  };
+  try {
+    spectrum::floquet(forced(1.0, 1e-2), {});
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("x = 0 is not a solution of this model (|f(0, t)| = 0.01, above the 1e-09"),
+              std::string::npos) << e.what();
+  }
+  // w = 1e8 over 2 pi needs at least 1.6e8 steps (|h lambda| <= 4): the step budget says so at
+  // once (rather than the trivial-solution test refusing a rounding residue).
+  try {
+    spectrum::floquet(forced(1e8, 1e-2), {});
+    ADD_FAILURE() << "no error";
+  } catch (const ode::IntegrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs at least 1.57e+08 steps"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Floquet, FlappingAtZeroAdvanceRatioIsTheOscillator) {
   // mu = 0: beta'' + (gamma/8) beta' + nu^2 beta = 0, roots -gamma/16 +- i sqrt(nu^2 - (gamma/16)^2).
   const auto sc = scene({"--model", "flapping", "--mu", "0"});

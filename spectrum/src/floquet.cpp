@@ -114,7 +114,7 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
     }
     if (worst > 1e-9 * scale) {
       char buf[160];
-      std::snprintf(buf, sizeof buf, "x = 0 is not a solution of this model (|f(0, t)| = %.3g, against %.3g from rounding): give --orbit",
+      std::snprintf(buf, sizeof buf, "x = 0 is not a solution of this model (|f(0, t)| = %.3g, above the %.3g that rounding explains): give --orbit",
                     worst, 1e-9 * scale);
       throw std::invalid_argument(buf);
     }
