@@ -284,6 +284,27 @@ TEST(Floquet, TrivialSolutionTestIsRelativeToTheSizeOfTheTerms) {
   }
 }
 
+TEST(QrSpectrum, ContractionBeyondADoubleOverOneStepIsNamedWithTheCure) {
+  // Eigenvalues -1 and -1000, QR step 1: r_22 = e^-1000 is below what a double holds. The error
+  // names the step and the entry. A step of 0.1 contracts the second column by e^-100 = 4e-44
+  // per step, far below atol = 1e-10: it gives -1000 (it gave ln(atol) / step = -234 when the
+  // column's error was controlled by atol rather than relative to its size).
+  MatrixXd A(2, 2);
+  A << -1, 0, 0, -1000;
+  auto o = qr_options(20.0, 1.0);
+  try {
+    spectrum::qr_spectrum(linear_system(A), VectorXd::Ones(2), o);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("over one QR step of 1 (contraction beyond 1e-280 per step: shorten the QR step)"),
+              std::string::npos) << e.what();
+  }
+  o.step = 0.1;
+  const auto r = spectrum::qr_spectrum(linear_system(A), VectorXd::Ones(2), o);
+  EXPECT_NEAR(r.exponents(1), -1000.0, 1e-6 * 1000.0);
+  EXPECT_NEAR(r.exponents(0), -1.0, 1e-6);
+}
+
 TEST(Floquet, FlappingAtZeroAdvanceRatioIsTheOscillator) {
   // mu = 0: beta'' + (gamma/8) beta' + nu^2 beta = 0, roots -gamma/16 +- i sqrt(nu^2 - (gamma/16)^2).
   const auto sc = scene({"--model", "flapping", "--mu", "0"});

@@ -3,6 +3,7 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
@@ -140,18 +141,33 @@ QrResult qr_spectrum(const ode::DynamicalSystem& sys, const Eigen::VectorXd& x0,
   double h = 0.0;
   const std::size_t progress_every = std::max<std::size_t>(1, J / 100);
 
+  // Each tangent column's error is controlled relative to its own size (VariationalSystem::error_scale).
+  ode::IntegratorOptions integrator = o.integrator;
+  integrator.error_scale = [&vs, atol = o.integrator.atol, rtol = o.integrator.rtol](
+                               const Eigen::VectorXd& x, const Eigen::VectorXd& x_new, Eigen::ArrayXd& sc) {
+    vs.error_scale(x, x_new, atol, rtol, sc);
+  };
   double divergence_at_start = 0.0;  // D (integral of tr A) at t_start
   for (std::size_t j = 0; j < J; ++j) {
     const double ta = grid(j), tb = grid(j + 1);
     if (j == j_first) divergence_at_start = X(vs.divergence_index());
-    ode::integrate_to(vs, X, ta, tb, o.integrator, h, res.stats);
+    ode::integrate_to(vs, X, ta, tb, integrator, h, res.stats);
     Z = Eigen::Map<const Eigen::MatrixXd>(X.data() + n, n, m);
     positive_qr(Z, Q, R);
     for (Eigen::Index i = 0; i < m; ++i)
-      if (!(R(i, i) > 0.0) || !std::isfinite(R(i, i)))
-        throw std::runtime_error("QR: the tangent space collapsed at t = " + std::to_string(tb) + " (r_" +
-                                 std::to_string(i + 1) + std::to_string(i + 1) + " = " + std::to_string(R(i, i)) +
-                                 "): shorten the QR step or loosen the contraction");
+      if (!(R(i, i) >= detail::VariationalSystem::kColumnFloor) || !std::isfinite(R(i, i))) {
+        // r_ii is the growth of the i-th direction over one QR step. Below the floor its error
+        // control stops following it (VariationalSystem::error_scale): r_ii is then noise, and 0
+        // once it underflows; inf when it overflowed, nan when the integration failed.
+        const double r = R(i, i);
+        char buf[256];
+        std::snprintf(buf, sizeof buf, "QR: the tangent space collapsed at t = %.10g: r(%d,%d) = %g over one QR step of %g (%s)",
+                      tb, static_cast<int>(i + 1), static_cast<int>(i + 1), r, tb - ta,
+                      std::isnan(r) ? "the tangent integration failed: tighten rtol"
+                      : r > 1       ? "growth beyond the range of a double: shorten the QR step"
+                                    : "contraction beyond 1e-280 per step: shorten the QR step");
+        throw std::runtime_error(buf);
+      }
     const bool average = j >= j_first;
     if (average)
       for (Eigen::Index i = 0; i < m; ++i) logs[static_cast<std::size_t>(i)].add(std::log(R(i, i)));

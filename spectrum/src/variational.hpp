@@ -15,6 +15,7 @@
 // propagation of the sensitivities (eqs. 12, 18-28) is exact; only these local model derivatives
 // are differenced.
 #include <Eigen/Core>
+#include <algorithm>
 #include <Eigen/LU>
 #include <vector>
 
@@ -54,6 +55,31 @@ class VariationalSystem {
 
   /// Offset of parameter k's block (k = 0..P-1).
   Eigen::Index offset(std::size_t k) const { return block() * static_cast<Eigen::Index>(k + 1); }
+
+  /// Smallest size of a tangent column the error control follows (see error_scale).
+  static constexpr double kColumnFloor = 1e-280;
+
+  /// Tolerances of the local error for ode::IntegratorOptions::error_scale. A tangent column
+  /// starts each QR interval with norm 1 and shrinks like e^(lambda t): with the plain
+  /// atol + rtol |x_i| its error may grow to atol, so that a column that contracts below atol over
+  /// one interval holds error, not direction, and its exponent reads ln(atol) / step whatever
+  /// the truth (-234 for -1000 at step 0.1, atol 1e-10). Here atol is scaled by the column's size
+  /// (max-norm, at least kColumnFloor), and a parameter column Z_/p by the size of its Z column:
+  /// each direction is resolved relative to itself. The state x, x_/p and D keep atol + rtol |x_i|.
+  void error_scale(const Eigen::VectorXd& X, const Eigen::VectorXd& X_new, double atol, double rtol,
+                   Eigen::ArrayXd& sc) const {
+    sc = rtol * X.array().abs().max(X_new.array().abs());
+    const Eigen::Index n = n_, k = k_;
+    sc.head(n) += atol;
+    for (std::size_t q = 0; q < plus_.size(); ++q) sc.segment(offset(q), n) += atol;
+    sc(divergence_index()) += atol;
+    for (Eigen::Index j = 0; j < k; ++j) {
+      const Eigen::Index c = n + j * n;
+      const double size = std::max({X.segment(c, n).cwiseAbs().maxCoeff(), X_new.segment(c, n).cwiseAbs().maxCoeff(), kColumnFloor});
+      sc.segment(c, n) += atol * size;
+      for (std::size_t q = 0; q < plus_.size(); ++q) sc.segment(offset(q) + n + j * n, n) += atol * size;
+    }
+  }
 
   void operator()(const Eigen::VectorXd& X, Eigen::VectorXd& dX, double t) const {
     dX.resize(X.size());

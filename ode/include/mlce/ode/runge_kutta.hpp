@@ -39,6 +39,10 @@ struct IntegratorOptions {
   double h_fixed = 0.0;    ///< rk4 step (or any scheme's when fixed_step); 0 = output step / 4
   bool fixed_step = false; ///< run an embedded pair with the fixed step h_fixed (order studies)
   std::size_t max_steps = 10'000'000;
+  /// Optional tolerance of each component's local error, scale(x, x_new, sc) with sc sized like x
+  /// (> 0). Empty: atol + rtol max(|x_i|, |x_new_i|). The QR method scales atol by the size of
+  /// each tangent column, so that a column contracting far below atol is still resolved.
+  std::function<void(const State& x, const State& x_new, Eigen::ArrayXd& sc)> error_scale;
   void validate() const;
 };
 
@@ -94,6 +98,7 @@ double starting_step(const Tableau& T, Eval& eval, const State& x, const State& 
 struct StepWork {
   std::vector<State> k;
   State xs, x_new, f_new, err;
+  Eigen::ArrayXd scale;  ///< for IntegratorOptions::error_scale
   StepWork(const Tableau& T, Eigen::Index n) : k(static_cast<std::size_t>(T.stages), State(n)), xs(n), x_new(n), f_new(n), err(n) {}
 
   /// Returns the scaled RMS local error (0 when the step is not error-controlled).
@@ -113,8 +118,14 @@ struct StepWork {
     err.setZero();
     for (int s = 0; s < T.stages; ++s)
       if (T.b[s] != T.b_low[s]) err.noalias() += (h * (T.b[s] - T.b_low[s])) * k[static_cast<std::size_t>(s)];
-    const auto sc = opt.atol + opt.rtol * x.array().abs().max(x_new.array().abs());
-    const double e = std::sqrt((err.array() / sc).square().mean());
+    double e;
+    if (opt.error_scale) {
+      opt.error_scale(x, x_new, scale);
+      e = std::sqrt((err.array() / scale).square().mean());
+    } else {
+      const auto sc = opt.atol + opt.rtol * x.array().abs().max(x_new.array().abs());
+      e = std::sqrt((err.array() / sc).square().mean());
+    }
     return std::isfinite(e) ? e : 1e10;
   }
   /// f at the accepted point (FSAL: the last stage already is).
