@@ -125,6 +125,32 @@ TEST_F(SpectrumCli, Errors) {
   expect_one_line_error(run("spectrum --integrator rk4 --h 1e-12"), "the fixed step h = 1e-12 makes 5e+09 steps per interval", 1);
 }
 
+TEST_F(SpectrumCli, FloquetNamesTheExponentsBelowItsResolutionAndQrResolvesThem) {
+  // Lag dampers of 3e5 N m s/rad: the multiblade lag modes decay at -276 and -285 1/s, so their
+  // Floquet multipliers over T = 0.3 s (e^-83) lie far below the monodromy matrix's integration
+  // error: Floquet read them as about -130 (with only the Liouville mismatch to tell). Now a
+  // warning names exponents 9..12; the first eight still agree with eigen, and the QR method
+  // (tangent columns resolved relative to their own size) gives all twelve.
+  const std::string scene = kScenes + "isotropic_200rpm.scene --c 3e5";
+  const json e = json_of("eigen " + scene);
+  const json f = json_of("floquet " + scene);
+  const json q = json_of("spectrum " + scene + " --t-end 10");
+  const double floor = f["resolution_floor"].get<double>();
+  EXPECT_LT(floor, -50.0);
+  EXPECT_GT(floor, -100.0);
+  bool named = false;
+  for (const auto& w : f["warnings"]) named = named || w.get<std::string>().find("exponents 9..12 lie below") != std::string::npos;
+  EXPECT_TRUE(named) << f["warnings"].dump();
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_NEAR(f["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 1e-6) << i;
+    EXPECT_GT(f["exponents"][i].get<double>(), floor) << i;
+  }
+  for (std::size_t i = 8; i < 12; ++i) {
+    EXPECT_LT(e["exponents"][i].get<double>(), -270.0) << i;
+    EXPECT_NEAR(q["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 1e-4 * 280) << i;
+  }
+}
+
 TEST_F(SpectrumCli, FloquetAtAHighRotorSpeedAgreesWithEigen) {
   // At 10^5 rpm, rounding leaves |f(0, t)| ~ 1e-7 (terms of size Omega^2 cancel): x = 0 is still
   // the trivial solution (it was refused with an absolute tolerance of 1e-9).

@@ -241,6 +241,7 @@ int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, 
       std::vector<double> mag;
       for (Eigen::Index i = 0; i < s.values.size(); ++i) mag.push_back(std::abs(s.values(i)));
       j["multipliers_abs"] = mag;
+      j["resolution_floor"] = s.resolution_floor;
     }
     if (!coordinates.empty()) j["coordinates"] = coordinates;
     if (!s.parameters.empty()) j["sensitivities"] = sensitivities_json(s.parameters, s.sensitivities);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -177,6 +178,22 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
       s.warnings.push_back("the orbit does not close over one period (relative gap " + std::to_string(gap) + ")");
   }
   s = sorted(s, sens);
+  // Multipliers below the integration error of Phi are noise: say which exponents lie below that.
+  const double phi_norm = Phi.cwiseAbs().rowwise().sum().maxCoeff();
+  const double phi_error = std::max({o.integrator.rtol * phi_norm, o.integrator.atol,
+                                     std::numeric_limits<double>::epsilon() * phi_norm});
+  s.resolution_floor = std::log(phi_error) / T;
+  Eigen::Index first_below = n;
+  while (first_below > 0 && s.exponents(first_below - 1) < s.resolution_floor) --first_below;
+  if (first_below < n) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "exponents %d..%d lie below %.4g, the resolution of the monodromy matrix (its multipliers are "
+                  "under its integration error %.2g): they are not resolved; the QR spectrum (mlce spectrum) "
+                  "or, for an isotropic rotor, mlce eigen resolves them",
+                  static_cast<int>(first_below + 1), static_cast<int>(n), s.resolution_floor, phi_error);
+    s.warnings.push_back(buf);
+  }
   s.mean_divergence = X(vs.divergence_index()) / T;
   condition_warning(s);
   if (auto w = liouville_mismatch(s.exponents, s.mean_divergence,

@@ -10,6 +10,7 @@
 // Linear time-invariant problems (and autonomous systems, period 0): eigenvalues of A with
 // sensitivities Re(U^-1 A_/p U)_ii (linear_eigen).
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,10 @@ struct LinearSpectrum {
   /// tr A (LTI), or its mean over the period integrated with the monodromy matrix (Floquet): what
   /// the exponents sum to (Liouville, liouville.hpp); a mismatch is reported as a warning.
   double mean_divergence = 0.0;
+  /// Floquet: ln(e)/T with e the error of the monodromy matrix, max(rtol |Phi|, atol, eps |Phi|)
+  /// (|.| the infinity norm). A multiplier below e is integration error, so exponents below this
+  /// floor are not resolved (a warning names them). NaN for LTI.
+  double resolution_floor = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::string> warnings;
 };
 
