@@ -75,8 +75,14 @@ TEST(CompareHistories, BadHistoriesAreRefusedNamingTheSample) {
   b.t[6] = b.t[5];
   EXPECT_THROW(mlce::compare_histories(a.t, a.v, b.t, b.v, {}), std::invalid_argument);
   mlce::HistoryComparisonOptions o;
-  o.from = 20.0, o.to = 30.0;  // outside both runs
-  EXPECT_THROW(mlce::compare_histories(a.t, a.v, a.t, a.v, o), std::invalid_argument);
+  o.from = 20.0, o.to = 30.0;  // outside both runs: the message gives both spans and the window
+  try {
+    mlce::compare_histories(a.t, a.v, a.t, a.v, o);
+    ADD_FAILURE() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "the two histories share fewer than 2 samples in the window: A spans t = 0..0.9, B 0..0.9, "
+                           "the window is [20, 30]");
+  }
   o.from = 0.0, o.to = std::nan("");  // would otherwise compare every sample
   EXPECT_THROW(mlce::compare_histories(a.t, a.v, a.t, a.v, o), std::invalid_argument);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace mlce {
@@ -51,7 +52,14 @@ HistoryComparison compare_histories(const std::vector<double>& ta, const std::ve
     r.min_a = std::min(r.min_a, a[k]), r.max_a = std::max(r.max_a, a[k]);
     r.min_b = std::min(r.min_b, bi), r.max_b = std::max(r.max_b, bi);
   }
-  if (r.points < 2) throw std::invalid_argument("the two histories share fewer than 2 samples in the window");
+  if (r.points < 2) {
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "the two histories share fewer than 2 samples in the window: A spans t = %.10g..%.10g, B %.10g..%.10g, "
+                  "the window is [%.10g, %.10g]",
+                  ta.front(), ta.back(), tb.front(), tb.back(), o.from, o.to);
+    throw std::invalid_argument(buf);
+  }
   r.rms_difference = std::sqrt(sum_sq / static_cast<double>(r.points));
   const double ra = r.max_a - r.min_a, rb = r.max_b - r.min_b;
   r.range_relative_difference = ra > 0 ? std::abs(rb - ra) / ra : (rb > 0 ? std::numeric_limits<double>::infinity() : 0.0);
