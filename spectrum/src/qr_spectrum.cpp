@@ -21,7 +21,12 @@ void QrOptions::validate() const {
   if (!(step > 0.0) || !std::isfinite(step)) throw std::invalid_argument("qr step: expected a positive interval");
   if (!(transient >= 0.0) || !(transient < t_end - t0))
     throw std::invalid_argument("transient: expected 0 <= transient < t_end - t0");
-  if ((t_end - t0) / step > 1e9) throw std::invalid_argument("qr step: more than 1e9 intervals");
+  if (!((t_end - t0) / step <= 1e9)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "run length / qr step = %.3g / %.3g = %.3g QR intervals: expected at most 1e9 (a longer step or a shorter run)",
+                  t_end - t0, step, (t_end - t0) / step);
+    throw std::invalid_argument(buf);
+  }
   if (merge == MergeRule::tolerance && !(merge_tolerance > 0.0))
     throw std::invalid_argument("merge tolerance: expected > 0");
   integrator.validate();
