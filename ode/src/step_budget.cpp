@@ -72,7 +72,7 @@ void require_step_budget(const DynamicalSystem& sys, const State& x0, double t0,
                         number(e.minimum_steps) + " steps" + per + " (stable only while |h eigenvalue| <= 4)"
                   : "the fixed step h = " + number(opt.h_fixed) + " makes " + number(e.minimum_steps) + " steps" + per) +
         ", more than the budget of " + std::to_string(opt.max_steps) + " steps: " +
-        (adaptive ? "check the parameters' units (rpm?), or shorten the run" : "raise h, or shorten the run"));
+        (adaptive ? "check the parameters and their units, or shorten the run" : "raise h, or shorten the run"));
   }
 }
 
