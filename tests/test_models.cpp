@@ -309,6 +309,12 @@ TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
   EXPECT_THROW(models::load_scene(path, {"--c", "1,2"}), std::invalid_argument);
   EXPECT_THROW(models::load_scene(path, {"--rpm", "fast"}), std::invalid_argument);
   EXPECT_THROW(models::load_scene(path, {"--integrator", "euler"}), std::invalid_argument);
+  try {
+    models::load_scene(path, {"--h", "-1e-3"});
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), path + ": h = -1e-3: expected a step >= 0 (0: dt_out / 4)");
+  }
   EXPECT_THROW(models::load_scene(path, {"--colour", "red"}), std::invalid_argument);
   EXPECT_THROW(models::load_scene("/nonexistent.scene", {}), std::invalid_argument);
 }

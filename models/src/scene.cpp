@@ -205,6 +205,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     throw std::invalid_argument(source + ": model = " + s.model + ": expected hammond or flapping");
   }
   s.integrator.h_fixed = r.number("h", 0.0);
+  if (s.integrator.h_fixed < 0.0)
+    throw std::invalid_argument(source + ": h = " + r.text("h", "") + ": expected a step >= 0 (0: dt_out / 4)");
   if (!(s.dt_out > 0) || !(s.t_end > 0) || s.dt_out > s.t_end)
     throw std::invalid_argument(source + ": expected 0 < dt_out <= t_end");
   // Every sample is kept in memory (and written): bound it before allocating.
