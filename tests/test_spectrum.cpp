@@ -296,7 +296,7 @@ TEST(QrSpectrum, ContractionBeyondADoubleOverOneStepIsNamedWithTheCure) {
     spectrum::qr_spectrum(linear_system(A), VectorXd::Ones(2), o);
     ADD_FAILURE() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("over one QR step of 1 (contraction beyond 1e-280 per step: shorten the QR step)"),
+    EXPECT_NE(std::string(e.what()).find("over one QR step of 1 (the direction was lost: it contracted beyond 1e-280"),
               std::string::npos) << e.what();
   }
   o.step = 0.1;

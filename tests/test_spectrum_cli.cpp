@@ -150,6 +150,15 @@ TEST_F(SpectrumCli, FloquetNamesTheExponentsBelowItsResolutionAndQrResolvesThem)
     EXPECT_LT(e["exponents"][i].get<double>(), -270.0) << i;
     EXPECT_NEAR(q["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 1e-4 * 280) << i;
   }
+  EXPECT_TRUE(q["warnings"].empty()) << q["warnings"].dump();  // e^-1.4 per step of 0.005
+  // A QR step of 0.1 contracts the last direction by e^-28.5 relative to the first, beyond
+  // 1/rtol = e^18.4: a warning gives the step to check with (18.42 / 285.3 = 0.0646). At 0.2
+  // (e^-57) the direction is lost: one error, not a number.
+  const json loose = json_of("spectrum " + scene + " --t-end 10 --qr-step 0.1");
+  bool warned = false;
+  for (const auto& w : loose["warnings"]) warned = warned || w.get<std::string>().find("check them with a QR step below 0.0646") != std::string::npos;
+  EXPECT_TRUE(warned) << loose["warnings"].dump();
+  expect_one_line_error(run("spectrum " + scene + " --t-end 10 --qr-step 0.2 --quiet"), "the direction was lost", 1);
 }
 
 TEST_F(SpectrumCli, FloquetAtAHighRotorSpeedAgreesWithEigen) {
