@@ -1,17 +1,19 @@
-// Parse throughput of the MBDyn text reader: reads channels from an output set and reports the
-// bytes of the entity files scanned per second (one pass, fixed buffer).
-//   read_channel PREFIX SPEC [SPEC...]
+// Parse throughput of the readers: reads channels from an MBDyn text output set (PREFIX) or from
+// one file (a column file, a NetCDF file: the format the registry picks for it) and reports the
+// bytes scanned per second (one pass, fixed buffer).
+//   read_channel PREFIX|FILE SPEC [SPEC...]
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <set>
 
+#include "mlce/reader/format.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
 #include "mlce/reader/table.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: read_channel PREFIX SPEC [SPEC...]\n");
+    std::fprintf(stderr, "usage: read_channel PREFIX|FILE SPEC [SPEC...]\n");
     return 2;
   }
   using namespace mlce::reader;
@@ -22,13 +24,17 @@ int main(int argc, char** argv) {
       specs.push_back(parse_channel_spec(argv[k]));
       files.insert(specs.back().kind == ChannelSpec::Kind::entity ? "." + specs.back().extension : ".mov");
     }
+    const std::string path = argv[1];
+    const bool one_file = std::filesystem::is_regular_file(path);
     double bytes = 0;
-    for (const auto& e : files) bytes += static_cast<double>(std::filesystem::file_size(std::string(argv[1]) + e));
+    if (one_file) bytes = static_cast<double>(std::filesystem::file_size(path));
+    else
+      for (const auto& e : files) bytes += static_cast<double>(std::filesystem::file_size(path + e));
     const auto t0 = std::chrono::steady_clock::now();
-    const ChannelSet cs = read_mbdyn_text(argv[1], specs);
+    const ChannelSet cs = one_file ? default_registry().for_path(path).read(path, specs, {}) : read_mbdyn_text(path, specs);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("blocks %zu  bytes %.0f  seconds %.3f  throughput %.0f MB/s\n", cs.time.size(), bytes, s,
-                bytes / s / 1e6);
+    const std::size_t rows = cs.values.empty() ? cs.time.size() : cs.values.front().size();
+    std::printf("blocks %zu  bytes %.0f  seconds %.3f  throughput %.0f MB/s\n", rows, bytes, s, bytes / s / 1e6);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "read_channel: %s\n", e.what());
     return 1;

@@ -30,3 +30,21 @@ for r in ${repeats[@]}; do
   done
   rm -f "$p".*
 done
+
+# Column files (as `mlce extract` or a spreadsheet writes them): a time column and three channels
+# at 17 significant digits, read for one channel. The reader streams the lines; memory is the
+# selected column and each row's line number (kept to name a bad value's line).
+echo
+echo "| column file size | rows | channel | seconds | MB/s | peak RSS |"
+echo "|---|---|---|---|---|---|"
+for rows in 1000000 5000000; do
+  f="$work/series$rows.csv"
+  awk -v n="$rows" 'BEGIN { print "time,x,y,z";
+       for (k = 0; k < n; k++) { t = 0.01 * k; printf "%.17g,%.17g,%.17g,%.17g\n", t, sin(t), cos(1.3 * t), sin(0.7 * t) * cos(t) } }' > "$f"
+  line=$( { /usr/bin/time -f "RSS %M" "$build/read_channel" "$f" col:2; } 2>&1 )
+  secs=$(sed -nE 's/.*seconds ([0-9.]+).*/\1/p' <<<"$line")
+  mbs=$(sed -nE 's/.*throughput ([0-9]+) MB.*/\1/p' <<<"$line")
+  rss=$(sed -nE 's/.*RSS ([0-9]+).*/\1/p' <<<"$line")
+  echo "| $(( $(stat -c %s "$f") / 1000000 )) MB | $rows | col:2 | $secs | $mbs | $(( rss / 1024 )) MB |"
+  rm -f "$f"
+done

@@ -1,5 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
 #include "mlce/reader/column_file.hpp"
 
 using namespace mlce::reader;
@@ -10,7 +15,7 @@ TEST(ColumnFile, ParsesWhitespaceCommasAndComments) {
   ASSERT_EQ(t.rows(), 3u);
   EXPECT_DOUBLE_EQ(t.columns[1][1], -2e-3);
   EXPECT_DOUBLE_EQ(t.columns[0][2], 0.2);
-  EXPECT_EQ(t.line[1], 4u);
+  EXPECT_EQ(t.line_of(1), 4u);
   EXPECT_EQ(t.where(2), "mem:5");
 }
 
@@ -65,7 +70,7 @@ TEST(ColumnFile, AHeaderLineNamesTheColumns) {
   ASSERT_EQ(t.rows(), 2u);
   EXPECT_EQ(t.names.at(0), "rel:13:4:z");
   EXPECT_DOUBLE_EQ(t.columns[0][1], 0.25);
-  EXPECT_EQ(t.line[0], 3u);
+  EXPECT_EQ(t.line_of(0), 3u);
   // Only the first line can be a header, only when no field reads as a number, and it must name
   // every column.
   EXPECT_EQ(error_of("a b\n1 2\nc d\n"), "f.txt:3: column 1: 'c' is not a number");
@@ -117,4 +122,55 @@ TEST(ColumnFile, DecimalCommasAreRefusedNotReadAsMoreColumns) {
                                         "commas?): write decimal points, and one kind of separator");
   // Commas with blanks around them, or blanks alone, are one kind each.
   EXPECT_EQ(parse_column_text("0 , 1,\t2\n3 4 5\n", "mem").columns.size(), 3u);
+}
+
+TEST(ColumnFile, AFileIsStreamedAcrossItsReadBufferAndItsLastLineNeedsNoNewline) {
+  // The reader holds the table, never the file's text: rows cross the 1 MiB read buffer's edges,
+  // and a file saved without a final newline (many editors) keeps its last row.
+  namespace fs = std::filesystem;
+  const fs::path path = fs::temp_directory_path() / ("mlce_stream_" + std::to_string(::getpid()) + ".csv");
+  const std::size_t rows = 300000;  // about 4.6 MB: several buffer refills
+  {
+    std::ofstream out(path, std::ios::binary);
+    out.precision(17);
+    out << "\xEF\xBB\xBFtime,x\r\n";
+    for (std::size_t i = 0; i < rows; ++i) out << i << "," << 0.5 * static_cast<double>(i) << (i + 1 < rows ? "\r\n" : "");
+  }
+  const Table t = read_column_file(path.string());
+  ASSERT_EQ(t.rows(), rows);
+  EXPECT_EQ(t.names, (std::vector<std::string>{"time", "x"}));
+  for (std::size_t i = 0; i < rows; ++i) {
+    ASSERT_EQ(t.columns[0][i], static_cast<double>(i)) << "row " << i;
+    ASSERT_EQ(t.columns[1][i], 0.5 * static_cast<double>(i)) << "row " << i;
+  }
+  EXPECT_EQ(t.where(rows - 1), path.string() + ":" + std::to_string(rows + 1));
+  fs::remove(path);
+  // A directory is not a file of columns: one error naming it, no crash.
+  const std::string dir = fs::temp_directory_path().string();
+  try {
+    read_column_file(dir);
+    ADD_FAILURE() << "a directory was read";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find(dir), std::string::npos) << e.what();
+  }
+}
+
+TEST(ColumnFile, EveryRowKnowsItsLineAcrossCommentsAndBlankLines) {
+  // The row-to-line map is kept as runs of consecutive lines: checked against the lines written.
+  std::string text = "# run 3\ntime x\n";
+  std::vector<std::size_t> expected;
+  std::size_t line = 2;
+  unsigned state = 12345;
+  for (int row = 0; row < 2000; ++row) {
+    state = state * 1103515245u + 12345u;
+    const unsigned gap = (state >> 16) % 7 == 0 ? (state >> 20) % 3 + 1 : 0;  // sometimes 1..3 lines between rows
+    for (unsigned g = 0; g < gap; ++g, ++line) text += g % 2 ? "\n" : "   # note\n";
+    text += std::to_string(row) + " 1\n";
+    expected.push_back(++line);
+  }
+  const Table t = parse_column_text(text, "mem");
+  ASSERT_EQ(t.rows(), expected.size());
+  for (std::size_t r = 0; r < expected.size(); ++r) ASSERT_EQ(t.line_of(r), expected[r]) << "row " << r;
+  EXPECT_EQ(t.where(1999), "mem:" + std::to_string(expected.back()));
+  EXPECT_EQ(t.where(2000), "mem");
 }

@@ -3,13 +3,25 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+
+#include "line_source.hpp"
 
 namespace mlce::reader {
 
+void Table::add_row_line(std::size_t line) {
+  if (line_runs_.empty() || line != line_of(rows_ - 1) + 1) line_runs_.push_back({rows_, line});
+  ++rows_;
+}
+
+std::size_t Table::line_of(std::size_t row) const {
+  const auto run = std::upper_bound(line_runs_.begin(), line_runs_.end(), row,
+                                    [](std::size_t r, const LineRun& l) { return r < l.first_row; });
+  if (row >= rows_ || run == line_runs_.begin()) throw std::out_of_range("Table::line_of: no row " + std::to_string(row));
+  return std::prev(run)->first_line + (row - std::prev(run)->first_row);
+}
+
 std::string Table::where(std::size_t row) const {
-  return row < line.size() ? source + ":" + std::to_string(line[row]) : source;
+  return row < rows_ ? source + ":" + std::to_string(line_of(row)) : source;
 }
 
 namespace {
@@ -74,9 +86,8 @@ bool is_header(std::string_view line) {
   return named;
 }
 
-}  // namespace
-
-Table parse_column_text(std::string_view text, const std::string& source, const ColumnFileOptions& options) {
+/// One pass over the lines: memory is the table, never a copy of the file's text.
+Table parse_lines(detail::LineSource& src, const std::string& source, const ColumnFileOptions& options) {
   Table t;
   t.source = source;
   std::size_t ncols = 0;
@@ -84,15 +95,12 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
   std::vector<std::string> header;
   std::vector<double> row;
   std::vector<std::string_view> fields;
-  // A UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") is not part of the first line.
-  constexpr std::string_view kBom = "\xEF\xBB\xBF";
-  std::size_t pos = text.substr(0, kBom.size()) == kBom ? kBom.size() : 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    ++line_no;
+  // The source drops a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") and a CR before the
+  // newline, and returns a last line that has no newline: such a file is complete.
+  src.keep_unterminated_tail();
+  std::string_view line;
+  while (src.next(line)) {
+    line_no = src.line_number();
     if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
     row.clear();
     // A header (the first line that is not blank or a comment, every field non-numeric, as
@@ -165,19 +173,22 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
       for (std::size_t k = 0; k < ncols; ++k) t.columns[k].push_back(row[k]);
     else
       for (std::size_t k = 0; k < options.keep.size(); ++k) t.columns[k].push_back(row[options.keep[k] - 1]);
-    t.line.push_back(line_no);
+    t.add_row_line(line_no);
   }
-  if (t.line.empty()) throw ReadError(source + ": no data (the file is empty or holds only comments)");
+  if (t.rows() == 0) throw ReadError(source + ": no data (the file is empty or holds only comments)");
   return t;
 }
 
+}  // namespace
+
+Table parse_column_text(std::string_view text, const std::string& source, const ColumnFileOptions& options) {
+  auto src = detail::LineSource::from_memory(text, source);
+  return parse_lines(src, source, options);
+}
+
 Table read_column_file(const std::string& path, const ColumnFileOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ReadError(path + ": cannot open the file (missing or unreadable)");
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw ReadError(path + ": read error");
-  return parse_column_text(buf.str(), path, options);
+  auto src = detail::LineSource::open(path);
+  return parse_lines(src, path, options);
 }
 
 }  // namespace mlce::reader

@@ -28,12 +28,17 @@ bool LineSource::next(std::string_view& line) {
     if (begin_ >= memory_.size()) return false;
     const std::size_t nl = memory_.find('\n', begin_);
     if (nl == std::string_view::npos) {
-      partial_tail_ = true;
+      const std::size_t first = begin_;
       begin_ = memory_.size();
-      return false;
+      if (!keep_tail_) {
+        partial_tail_ = true;
+        return false;
+      }
+      line = memory_.substr(first);
+    } else {
+      line = memory_.substr(begin_, nl - begin_);
+      begin_ = nl + 1;
     }
-    line = memory_.substr(begin_, nl - begin_);
-    begin_ = nl + 1;
   } else {
     while (true) {
       const char* p = begin_ < end_ ? static_cast<const char*>(std::memchr(buf_.data() + begin_, '\n', end_ - begin_))
@@ -45,9 +50,15 @@ bool LineSource::next(std::string_view& line) {
         break;
       }
       if (eof_) {
-        if (end_ > begin_) partial_tail_ = true;
+        if (end_ == begin_) return false;
+        const std::size_t first = begin_;
         begin_ = end_;
-        return false;
+        if (!keep_tail_) {
+          partial_tail_ = true;
+          return false;
+        }
+        line = std::string_view(buf_.data() + first, end_ - first);
+        break;
       }
       // Keep the unfinished line, grow the buffer only for a line longer than it.
       const std::size_t rest = end_ - begin_;

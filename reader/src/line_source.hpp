@@ -1,7 +1,8 @@
 #pragma once
 // Streams the lines of a file in one pass with a fixed buffer (memory independent of file size).
 // Lines are views into the buffer, valid until the next call. A final line without '\n' (a run
-// killed mid-write) is not returned: partial_tail() reports it.
+// killed mid-write) is not returned: partial_tail() reports it, unless keep_unterminated_tail()
+// asks for it (a column file saved without a final newline is complete).
 #include <cstdint>
 #include <cstdio>
 #include <memory>
@@ -19,6 +20,8 @@ class LineSource {
   static LineSource from_memory(std::string_view text, std::string name);
 
   bool next(std::string_view& line);
+  /// Return a final line that has no '\n' as a line (partial_tail() then stays false).
+  void keep_unterminated_tail() { keep_tail_ = true; }
   std::size_t line_number() const { return line_no_; }  ///< 1-based number of the last line returned
   bool partial_tail() const { return partial_tail_; }
   const std::string& name() const { return name_; }
@@ -37,6 +40,7 @@ class LineSource {
   std::size_t begin_ = 0, end_ = 0;
   bool eof_ = false;
   bool partial_tail_ = false;
+  bool keep_tail_ = false;
   std::size_t line_no_ = 0;
 };
 
