@@ -190,6 +190,59 @@ TEST(StepBudget, StiffnessBoundIsBelowTheStepsTakenAndTooStiffARunIsRefusedBefor
                ode::IntegrationError);
 }
 
+TEST(StepBudget, ARunWhoseStiffnessGrowsAlongTheWayIsRefusedWhereItStandsNotAtTheBudget) {
+  // x' = -e^{20 t} x: stiffness 1 at the start, so the estimate before the run passes, but the
+  // explicit schemes' stability (|h rho| <= 3.3) makes [0, 2] need (e^40 - 1) / 66 ~ 3.6e15 steps.
+  // The run must fail once its steps show it, not after the whole budget of 10^7 steps.
+  std::size_t evaluations = 0;
+  ode::DynamicalSystem sys;
+  sys.dimension = 1;
+  sys.rhs = [&evaluations](const VectorXd& x, VectorXd& dx, double t) {
+    ++evaluations;
+    dx = -std::exp(20.0 * t) * x;
+  };
+  const VectorXd x0 = VectorXd::Ones(1);
+  EXPECT_NO_THROW(ode::require_step_budget(sys, x0, 0.0, 0.0 + 1e-3, 1, {}, "growing stiffness"));
+  for (const bool uniform : {true, false}) {
+    evaluations = 0;
+    try {
+      if (uniform) {
+        ode::integrate_uniform(sys.rhs, x0, 0.0, 0.01, 201, {}, [](std::size_t, double, const VectorXd&) {});
+      } else {
+        VectorXd x = x0;
+        double h = 0.0;
+        ode::IntegrationStats st;
+        ode::integrate_to(sys.rhs, x, 0.0, 2.0, {}, h, st);
+      }
+      ADD_FAILURE() << "no error";
+    } catch (const ode::IntegrationError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("the steps have shrunk to"), std::string::npos) << m;
+      EXPECT_NE(m.find("beyond the budget of 10000000"), std::string::npos) << m;
+    }
+    // dp45 makes 6 evaluations per step: well under a tenth of the budget was spent.
+    EXPECT_LT(evaluations, 6'000'000u) << (uniform ? "integrate_uniform" : "integrate_to");
+  }
+  // A constant stiffness that fits the budget is never refused by the projection (exact for a
+  // constant step): rho = 1000 at about 400 steps per unit time, over a span needing ~60 % of a
+  // budget of 400 000 attempts (more than two windows of 65 536).
+  ode::IntegratorOptions o;
+  o.max_steps = 400'000;
+  ode::DynamicalSystem stiff;
+  stiff.rhs = [](const VectorXd& x, VectorXd& dx, double) { dx = -1e3 * x; };
+  VectorXd x = x0;
+  double h = 0.0;
+  ode::IntegrationStats st;
+  ode::integrate_to(stiff.rhs, x, 0.0, 1.0, o, h, st);
+  const double per_unit_time = static_cast<double>(st.steps + st.rejected);
+  const double span = 0.6 * static_cast<double>(o.max_steps) / per_unit_time;
+  x = x0;
+  h = 0.0;
+  st = {};
+  EXPECT_NO_THROW(ode::integrate_to(stiff.rhs, x, 0.0, span, o, h, st)) << per_unit_time << " attempts per unit time";
+  EXPECT_GT(st.steps + st.rejected, 2 * ode::BudgetWatch::kWindow);
+}
+
 TEST(Integrators, AdaptiveDp45AgreesWithBoostOdeintDopri5) {
   const auto s = scene({"--rpm", "242.4", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "5"});
   const models::HammondModel m(s.hammond);

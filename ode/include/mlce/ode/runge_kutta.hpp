@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -143,12 +144,50 @@ inline double step_factor(double err_norm, int low_order) {
 inline void check_budget(const IntegrationStats& st, const IntegratorOptions& opt, double h, double t, double t_end) {
   if (st.steps + st.rejected >= opt.max_steps)
     throw IntegrationError("more than " + std::to_string(opt.max_steps) + " steps before t = " + std::to_string(t_end) +
-                           " (stiff problem? loosen rtol, or use rk4 with a step h)");
+                           " (reached t = " + std::to_string(t) + "; stiff problem? loosen rtol, or use rk4 with a step h)");
   if (h < 16.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t)))
     throw IntegrationError("step size underflow at t = " + std::to_string(t) + " (stiff or singular problem?)");
 }
 
+
 }  // namespace detail
+
+/// Refuses a run whose steps have shrunk so far that the rest of its span cannot fit in the step
+/// budget at their present size. The budget estimate made before a run (step_budget.hpp) sees the
+/// stiffness at the initial state only; a state that grows into a stiffer region (a negative
+/// spring driving a nonlinear damper) shrinks the steps along the way. Without this check such a
+/// run spends the whole budget (seconds to minutes, with no output sample to report progress by)
+/// before it fails. Every kWindow attempts, the mean advance per attempt over them projects the
+/// remaining steps; the projection is exact for a constant step and optimistic while the steps keep
+/// shrinking, so a run it refuses could not have finished within the budget at the present step.
+/// The integrators watch each call; a caller that splits a run into many calls (the QR method)
+/// watches the whole run with its own.
+class BudgetWatch {
+ public:
+  static constexpr std::size_t kWindow = std::size_t{1} << 16;
+  BudgetWatch(const IntegrationStats& st, double t) : mark_attempts_(st.steps + st.rejected), mark_t_(t) {}
+  void check(const IntegrationStats& st, const IntegratorOptions& opt, double t, double t_end) {
+    const std::size_t attempts = st.steps + st.rejected;
+    if (attempts - mark_attempts_ < kWindow) return;
+    const double advance = (t - mark_t_) / static_cast<double>(attempts - mark_attempts_);
+    const double remaining = advance > 0.0 ? (t_end - t) / advance : std::numeric_limits<double>::infinity();
+    if (static_cast<double>(attempts) + remaining > static_cast<double>(opt.max_steps)) {
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "at t = %.9g the steps have shrunk to %.3g on average over the last %zu, so the %.9g left to "
+                    "t = %.9g need about %.3g more steps, beyond the budget of %zu (the motion grew stiffer along "
+                    "the run, or it is about to diverge: loosen rtol, or end the run before t = %.9g)",
+                    t, advance, attempts - mark_attempts_, t_end - t, t_end, remaining, opt.max_steps, t);
+      throw IntegrationError(buf);
+    }
+    mark_attempts_ = attempts;
+    mark_t_ = t;
+  }
+
+ private:
+  std::size_t mark_attempts_;
+  double mark_t_;
+};
 
 /// Integrates dx/dt = f(x, t) from (t0, x0) and calls observer(k, t_k, x(t_k)) for
 /// t_k = t0 + k dt_out, k = 0..n_out-1. Throws IntegrationError on step-size underflow or a
@@ -180,8 +219,10 @@ IntegrationStats integrate_uniform(System&& f, State x, double t0, double dt_out
                                  : detail::starting_step(T, eval, x, w.k[0], t, dt_out, opt);
   if (opt.h_max > 0) h = std::min(h, opt.h_max);
 
+  BudgetWatch watch(st, t);
   while (next < n_out) {
     detail::check_budget(st, opt, h, t, t_end);
+    watch.check(st, opt, t, t_end);
     const double err_norm = w.attempt(T, eval, x, t, h, adaptive, opt);
     if (adaptive && err_norm > 1.0) {
       ++st.rejected;
@@ -270,11 +311,13 @@ void integrate_to(System&& f, State& x, double t0, double t1, const IntegratorOp
   if (!(h > 0)) h = opt.h_initial > 0 ? opt.h_initial : detail::starting_step(T, eval, x, w.k[0], t0, t1 - t0, opt);
   if (opt.h_max > 0) h = std::min(h, opt.h_max);
   double t = t0;
+  BudgetWatch watch(st, t);
   while (t < t1) {
     // Land on t1: shorten the last step, and stretch one that would leave a sliver behind.
     const bool last = t + h * 1.01 >= t1;
     const double hs = last ? t1 - t : h;
     detail::check_budget(st, opt, hs, t, t1);
+    watch.check(st, opt, t, t1);
     const double err_norm = w.attempt(T, eval, x, t, hs, true, opt);
     if (err_norm > 1.0) {
       ++st.rejected;
