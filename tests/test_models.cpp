@@ -246,6 +246,22 @@ TEST(StepBudget, ARunWhoseStiffnessGrowsAlongTheWayIsRefusedWhereItStandsNotAtTh
   }
 }
 
+TEST(Integrators, ProgressReportsTheTimeReachedBetweenFarApartOutputSamples) {
+  // Two output samples, many steps between them (rho = 1e4 over 10: stability-limited steps):
+  // progress comes from the steps, every kProgressSteps of them, at increasing times.
+  std::vector<double> reported;
+  ode::IntegratorOptions o;
+  o.progress = [&reported](double t) { reported.push_back(t); };
+  const auto rhs = [](const VectorXd& x, VectorXd& dx, double) { dx = -1e4 * x; };
+  const auto st = ode::integrate_uniform(rhs, VectorXd::Ones(1), 0.0, 10.0, 2, o, [](std::size_t, double, const VectorXd&) {});
+  ASSERT_EQ(reported.size(), st.steps / ode::IntegratorOptions::kProgressSteps) << st.steps << " steps";
+  ASSERT_GE(reported.size(), 5u);
+  for (std::size_t k = 0; k < reported.size(); ++k) {
+    EXPECT_GT(reported[k], k == 0 ? 0.0 : reported[k - 1]);
+    EXPECT_LE(reported[k], 10.0);
+  }
+}
+
 TEST(Integrators, AdaptiveDp45AgreesWithBoostOdeintDopri5) {
   const auto s = scene({"--rpm", "242.4", "--c", "4067.5,4067.5,0,4067.5", "--t_end", "5"});
   const models::HammondModel m(s.hammond);

@@ -22,12 +22,14 @@ Trajectory run(const Model& model, const Scene& s, const std::function<void(doub
   const std::size_t n = s.samples();
   tr.time.reserve(n);
   tr.states.reserve(n);
-  const std::size_t every = std::max<std::size_t>(1, n / 20);
-  tr.stats = ode::integrate_uniform(model, s.x0, 0.0, s.dt_out, n, s.integrator,
-                                    [&](std::size_t k, double t, const Eigen::VectorXd& x) {
+  // Progress by the time reached, every few thousand steps: output samples may be far apart.
+  ode::IntegratorOptions integrator = s.integrator;
+  const double t_last = s.dt_out * static_cast<double>(n > 0 ? n - 1 : 0);
+  if (progress && t_last > 0) integrator.progress = [&progress, t_last](double t) { progress(std::min(1.0, t / t_last)); };
+  tr.stats = ode::integrate_uniform(model, s.x0, 0.0, s.dt_out, n, integrator,
+                                    [&](std::size_t, double t, const Eigen::VectorXd& x) {
                                       tr.time.push_back(t);
                                       tr.states.push_back(x);
-                                      if (progress && k % every == 0) progress(static_cast<double>(k) / static_cast<double>(n));
                                     });
   return tr;
 }

@@ -44,6 +44,10 @@ struct IntegratorOptions {
   /// (> 0). Empty: atol + rtol max(|x_i|, |x_new_i|). The QR method scales atol by the size of
   /// each tangent column, so that a column contracting far below atol is still resolved.
   std::function<void(const State& x, const State& x_new, Eigen::ArrayXd& sc)> error_scale;
+  /// Optional: called with the time reached every kProgressSteps accepted steps, so that a run
+  /// whose output samples are far apart (or whose steps have become tiny) still reports progress.
+  std::function<void(double t)> progress;
+  static constexpr std::size_t kProgressSteps = 4096;
   void validate() const;
 };
 
@@ -276,6 +280,7 @@ IntegrationStats integrate_uniform(System&& f, State x, double t0, double dt_out
     x.swap(w.x_new);
     w.k[0] = w.f_new;
     ++st.steps;
+    if (opt.progress && st.steps % IntegratorOptions::kProgressSteps == 0) opt.progress(t);
     if (adaptive) {
       h *= detail::step_factor(err_norm, T.low_order);
       if (opt.h_max > 0) h = std::min(h, opt.h_max);
