@@ -9,7 +9,8 @@
 namespace mlce::reader {
 
 void Table::add_row_line(std::size_t line) {
-  if (line_runs_.empty() || line != line_of(rows_ - 1) + 1) line_runs_.push_back({rows_, line});
+  if (rows_ == 0 || line != last_line_ + 1) line_runs_.push_back({rows_, line});
+  last_line_ = line;
   ++rows_;
 }
 

@@ -37,6 +37,7 @@ struct Table {
   };
   std::vector<LineRun> line_runs_;
   std::size_t rows_ = 0;
+  std::size_t last_line_ = 0;
 };
 
 }  // namespace mlce::reader
