@@ -89,6 +89,17 @@ TEST_F(MbdynCli, ExtractWritesTimeAndChannelsAsCsv) {
   const fs::path csv = dir / "lag.csv";
   ASSERT_EQ(run("extract " + prefix + " --channel joint:33:14 --csv " + csv.string()).status, 0);
   EXPECT_EQ(slurp(csv).substr(0, 26), "time,joint:33:14\n0,0\n0.005");
+  // The CSV is streamed through a temporary beside it: written whole, it equals stdout's rows, and
+  // no temporary is left behind; a path that cannot be written is one error and leaves nothing.
+  const CliRun to_stdout = run("extract " + prefix + " --channel joint:33:14");
+  EXPECT_EQ(slurp(csv), to_stdout.out);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp-mlce"), std::string::npos) << e.path();
+  const fs::path blocked = csv / "lag.csv";  // its parent is a file
+  expect_one_line_error(run("extract " + prefix + " --channel joint:33:14 --csv " + blocked.string()),
+                        blocked.string() + ": cannot write the file", 1);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp-mlce"), std::string::npos) << e.path();
 }
 
 TEST_F(MbdynCli, ChannelsListsNodesJointsAndTimeSpan) {

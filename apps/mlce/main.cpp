@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -399,7 +400,11 @@ int cmd_simulate(const std::vector<std::string>& args) {
   cli::ProgressLine progress("simulated", quiet);
   const models::Trajectory tr = models::simulate(scene, std::ref(progress));
   if (format == "mbdyn") models::write_mbdyn_set(scene, tr, out_prefix);
-  else cli::write_file_atomically(out_prefix + ".txt", models::trajectory_columns(tr));
+  else {
+    cli::AtomicFile f(out_prefix + ".txt");
+    models::write_trajectory_columns(tr, f.stream());
+    f.commit();
+  }
   cli::write_file_atomically(out_prefix + ".scene", "# the scene as run (mlce simulate)\n" + models::describe_scene(scene));
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "mlce: %zu samples to t = %g, %zu steps (%zu rejected), %zu evaluations, %.3f s; wrote %s.%s\n",
@@ -478,18 +483,29 @@ int cmd_extract(const std::vector<std::string>& args) {
   if (vm.count("to") && reader::default_registry().for_path(file).name() == "column")
     throw po::error("--to needs a set with a time axis (MBDyn output); a column file is written whole");
   const reader::ChannelSet cs = cli::load_channels(file, channels, read_options);
-  std::string out = cs.time.empty() ? "sample" : "time";
-  for (const auto& n : cs.names) out += "," + n;
-  out += "\n";
-  const std::size_t n = cs.values.empty() ? 0 : cs.values[0].size();
-  for (std::size_t k = 0; k < n; ++k) {
-    if (cs.time.empty()) out += fmt::format("{}", k);
-    else out += fmt::format("{}", cs.time[k]);
-    for (const auto& v : cs.values) out += fmt::format(",{}", v[k]);
-    out += '\n';
+  // Streamed row by row: a long run's CSV is never held in memory whole.
+  const auto write_csv = [&cs](std::ostream& os) {
+    os << (cs.time.empty() ? "sample" : "time");
+    for (const auto& name : cs.names) os << ',' << name;
+    os << '\n';
+    const std::size_t n = cs.values.empty() ? 0 : cs.values[0].size();
+    fmt::memory_buffer row;
+    for (std::size_t k = 0; k < n; ++k) {
+      row.clear();
+      if (cs.time.empty()) fmt::format_to(std::back_inserter(row), "{}", k);
+      else fmt::format_to(std::back_inserter(row), "{}", cs.time[k]);
+      for (const auto& v : cs.values) fmt::format_to(std::back_inserter(row), ",{}", v[k]);
+      row.push_back('\n');
+      os.write(row.data(), static_cast<std::streamsize>(row.size()));
+    }
+  };
+  if (csv_path.empty()) {
+    write_csv(std::cout);
+  } else {
+    cli::AtomicFile f(csv_path);
+    write_csv(f.stream());
+    f.commit();
   }
-  if (csv_path.empty()) std::cout << out;
-  else cli::write_file_atomically(csv_path, out);
   print_warnings(cs.warnings);
   return 0;
 }

@@ -242,27 +242,38 @@ std::string convergence_csv(const ConvergenceResult& r) {
   return s;
 }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path tmp = target.string() + ".tmp-mlce";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(path + ": cannot write the file");
-    out << content;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error(path + ": write failed");
-    }
-  }
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp-mlce") {
+  out_.open(tmp_, std::ios::binary | std::ios::trunc);
+  if (!out_) throw std::runtime_error(path_ + ": cannot write the file");
+}
+
+AtomicFile::~AtomicFile() {
+  if (committed_) return;
+  out_.close();
   std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot write the file");
+  std::filesystem::remove(tmp_, ec);
+}
+
+void AtomicFile::commit() {
+  out_.close();
+  std::error_code ec;
+  if (!out_) {
+    std::filesystem::remove(tmp_, ec);
+    committed_ = true;
+    throw std::runtime_error(path_ + ": write failed");
   }
+  std::filesystem::rename(tmp_, path_, ec);
+  committed_ = true;
+  if (ec) {
+    std::filesystem::remove(tmp_, ec);
+    throw std::runtime_error(path_ + ": cannot write the file");
+  }
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  AtomicFile f(path);
+  f.stream() << content;
+  f.commit();
 }
 
 }  // namespace mlce::cli

@@ -1,6 +1,8 @@
 #pragma once
 // Results as text for people, JSON for scripts, CSV for curves.
 #include <nlohmann/json.hpp>
+#include <fstream>
+#include <ostream>
 #include <string>
 
 #include "mlce/estimate.hpp"
@@ -29,8 +31,25 @@ std::string convergence_csv(const ConvergenceResult& r);
 /// separation,time,contour_<fraction>...,pairs
 std::string space_time_csv(const SpaceTimeResult& r, double dt);
 
-/// Writes `content` to `path` through a temporary file and a rename: no partial file is left
-/// behind on failure. Throws std::runtime_error naming the path.
+/// A file written through a temporary beside it and renamed into place by commit(): a failure
+/// (or an exception before commit) leaves no partial file behind, and the content is streamed, never
+/// held whole in memory. Errors throw std::runtime_error naming the path.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile();
+  std::ostream& stream() { return out_; }
+  void commit();
+
+ private:
+  std::string path_, tmp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+/// Writes `content` to `path` through an AtomicFile.
 void write_file_atomically(const std::string& path, const std::string& content);
 
 }  // namespace mlce::cli

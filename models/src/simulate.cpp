@@ -62,21 +62,22 @@ Trajectory simulate(const Scene& s, const std::function<void(double)>& progress)
   throw std::invalid_argument("unknown model '" + s.model + "'");
 }
 
-std::string trajectory_columns(const Trajectory& t) {
-  std::string out = "# time";
-  for (const auto& n : t.names) out += " " + n;
-  out += "\n";
+void write_trajectory_columns(const Trajectory& t, std::ostream& os) {
+  os << "# time";
+  for (const auto& n : t.names) os << ' ' << n;
+  os << '\n';
+  std::string row;
   char buf[64];
   for (std::size_t k = 0; k < t.time.size(); ++k) {
     std::snprintf(buf, sizeof buf, "%.17g", t.time[k]);
-    out += buf;
+    row = buf;
     for (Eigen::Index i = 0; i < t.states[k].size(); ++i) {
       std::snprintf(buf, sizeof buf, " %.17g", t.states[k](i));
-      out += buf;
+      row += buf;
     }
-    out += "\n";
+    row += '\n';
+    os << row;
   }
-  return out;
 }
 
 void write_mbdyn_set(const Scene& s, const Trajectory& t, const std::string& prefix) {

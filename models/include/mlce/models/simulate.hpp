@@ -11,6 +11,7 @@
 //         | orientation euler123 (0, 0, psi_i + zeta_i), angular velocity (0, 0, Omega + zeta_i')
 #include <Eigen/Core>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,8 @@ struct Trajectory {
 /// Integrates the scene; progress(fraction) is called now and then.
 Trajectory simulate(const Scene& scene, const std::function<void(double)>& progress = {});
 
-/// "# time name..." header and one row per sample (17 significant digits).
-std::string trajectory_columns(const Trajectory& t);
+/// Writes a "# time name..." header and one row per sample (17 significant digits).
+void write_trajectory_columns(const Trajectory& t, std::ostream& os);
 
 /// Writes PREFIX.log, PREFIX.out, PREFIX.mov (Hammond scenes only), each through a temporary file
 /// renamed at the end. Throws std::runtime_error naming the file on failure.
