@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # End-to-end cost of `mlce estimate` (every parameter automatic) on Lorenz x, dt = 0.01, for
-# N = 1e4, 1e5, 1e6: wall time (best of 3) and peak resident memory, as a Markdown table.
-#   bench/scaling.sh [BUILD_DIR]
+# N = 1e4, 1e5, 1e6 (or the N given): wall time (best of 3) and peak resident memory, as a
+# Markdown table.
+#   bench/scaling.sh [BUILD_DIR] [N ...]
 set -euo pipefail
 build="${1:-build}"
+shift $(( $# > 0 ? 1 : 0 ))
+sizes=("${@:-10000 100000 1000000}")
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 echo "| N | wall time (s, best of 3) | peak RSS (MB) | lambda (1/s) |"
 echo "|---|---|---|---|"
-for n in 10000 100000 1000000; do
+for n in ${sizes[@]}; do
   "$build/make_series" lorenz "$n" 0.01 > "$work/lorenz.txt"
   best=""
   for _ in 1 2 3; do

@@ -56,3 +56,33 @@ TEST(Fnn, NoisyHenonStillFindsALowDimension) {
   EXPECT_GE(r.dim, 2u);
   EXPECT_LE(r.dim, 4u);
 }
+
+TEST(Fnn, CappedTreesUseTheSeriesFirstPointsAndGiveTheirFractions) {
+  // With max_points, each m's kd-tree holds the first max_points points: the fractions must equal
+  // those of an uncapped run on exactly those samples (criterion 1 only, which does not depend on
+  // the series' scaling, while criterion 2's R_A would see the shorter series' deviation).
+  const auto x = reference::henon_x(20000);
+  FnnOptions capped;
+  capped.max_points = 5000;
+  capped.max_dim = 4;
+  capped.atol = 1e9;
+  const auto r = estimate_dimension_fnn(make_series_with_step({x}, 1.0), 1, capped);
+  ASSERT_EQ(r.fraction.size(), 4u);
+  EXPECT_TRUE(r.capped);
+  for (std::size_t m = 1; m <= 4; ++m) {
+    EXPECT_EQ(r.points[m - 1], 5000u);
+    FnnOptions all = capped;
+    all.max_points = 0;
+    all.max_dim = m;
+    const std::vector<double> head(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(5000 + m));
+    const auto t = estimate_dimension_fnn(make_series_with_step({head}, 1.0), 1, all);
+    ASSERT_EQ(t.points.at(m - 1), 5000u);
+    EXPECT_FALSE(t.capped);
+    EXPECT_EQ(t.fraction.at(m - 1), r.fraction[m - 1]) << "m = " << m;
+    EXPECT_EQ(t.queries.at(m - 1), r.queries[m - 1]) << "m = " << m;
+  }
+  // Series no longer than the cap are untouched: the default cap is 10^6 points.
+  const auto u = estimate_dimension_fnn(make_series_with_step({x}, 1.0), 1, {});
+  EXPECT_FALSE(u.capped);
+  EXPECT_EQ(u.points.front(), x.size() - 1);
+}

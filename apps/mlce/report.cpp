@@ -28,6 +28,7 @@ nlohmann::json to_json(const FnnResult& r) {
   return {{"dim", r.dim},
           {"fraction", r.fraction},
           {"queries", r.queries},
+          {"points", r.points},  // kd-tree size per m: the series' first FnnOptions::max_points
           {"reached_threshold", r.reached_threshold},
           {"warnings", r.warnings}};
 }
@@ -66,6 +67,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_period"] = r.mean_period.mean_period;
   if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
   if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
+  if (r.fnn) j["fnn_points"] = r.fnn->points;  // kd-tree size per m (capped on long series)
   j["pairs"] = r.curve.pairs;
   j["references"] = r.curve.references;
   j["warnings"] = r.warnings;
@@ -90,6 +92,7 @@ std::string to_text(const MlceResult& r) {
   if (r.fnn) {
     s += "  FNN fraction ";
     for (std::size_t m = 0; m < r.fnn->fraction.size(); ++m) s += fmt::format(" m={}:{:.3f}", m + 1, r.fnn->fraction[m]);
+    if (r.fnn->capped) s += fmt::format(" (over the first {} points)", r.fnn->points.front());
     s += "\n";
   }
   s += fmt::format("Theiler window  {} samples\n", r.theiler);
@@ -112,9 +115,9 @@ std::string to_text(const AmiResult& r) {
 }
 
 std::string to_text(const FnnResult& r) {
-  std::string s = "# false nearest neighbours\n# m fraction tested\n";
+  std::string s = "# false nearest neighbours\n# m fraction tested tree_points\n";
   for (std::size_t m = 0; m < r.fraction.size(); ++m)
-    s += fmt::format("{} {:.6f} {}\n", m + 1, r.fraction[m], r.queries[m]);
+    s += fmt::format("{} {:.6f} {} {}\n", m + 1, r.fraction[m], r.queries[m], r.points[m]);
   s += fmt::format("# dim = {}{}\n", r.dim, r.reached_threshold ? "" : " (threshold not reached)");
   for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
   return s;

@@ -15,6 +15,7 @@ void FnnOptions::validate() const {
   if (!(rtol > 0.0)) throw OptionError("fnn.rtol: expected > 0");
   if (!(atol > 0.0)) throw OptionError("fnn.atol: expected > 0");
   if (!(threshold > 0.0 && threshold < 1.0)) throw OptionError("fnn.threshold: expected 0 < value < 1");
+  if (max_points != 0 && max_points < 2) throw OptionError("fnn.max_points = " + std::to_string(max_points) + ": expected 0 (all) or >= 2");
 }
 
 std::vector<std::uint32_t> strided_indices(std::size_t count, std::size_t max_count) {
@@ -50,7 +51,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
                            std::to_string(m) + " with delay " + std::to_string(delay));
       break;
     }
-    const std::size_t points = n - span;
+    const std::size_t points = options.max_points ? std::min(n - span, options.max_points) : n - span;
     const DelayEmbedding emb(channels, m, delay, points);
     const auto queries = strided_indices(points, options.max_queries);
     const NeighbourResult nn = find_nearest_neighbours(emb, queries, nopt);
@@ -71,6 +72,8 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
     }
     r.zero_distance_pairs += nn.zero_distance_candidates;
     r.queries.push_back(tested);
+    r.points.push_back(points);
+    r.capped = r.capped || points < n - span;
     r.fraction.push_back(tested ? static_cast<double>(false_count) / static_cast<double>(tested) : 1.0);
     if (options.stop_at_choice && r.fraction.back() < options.threshold) break;
   }
