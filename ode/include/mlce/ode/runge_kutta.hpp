@@ -153,7 +153,6 @@ inline void check_budget(const IntegrationStats& st, const IntegratorOptions& op
     throw IntegrationError("step size underflow at t = " + std::to_string(t) + " (stiff or singular problem?)");
 }
 
-
 }  // namespace detail
 
 /// Stops a run whose steps have shrunk so far, and are still shrinking, that the rest of its span
@@ -165,7 +164,7 @@ inline void check_budget(const IntegrationStats& st, const IntegratorOptions& op
 ///
 /// Every kWindow attempts, the mean advance per attempt over them projects the steps still needed
 /// at the present step. Steps may grow back later (a start-up transient decays: Hammond at 10^6 rpm
-/// projects 1.8 budgets early on and takes 0.15 of one in the end), so the run is stopped only when
+/// takes 0.19 of the budget, but its first windows project more than one), so the run is stopped only when
 /// the projection exceeds kFactor budgets while the steps are still shrinking, window on window.
 /// A run stopped here was headed for the budget; every other run ends as it would without the
 /// watch. The integrators watch each call; a caller that splits a run into many calls (the QR
