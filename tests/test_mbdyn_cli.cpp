@@ -274,6 +274,13 @@ TEST_F(MbdynCli, SimulateErrors) {
   // rpm in the wrong units: refused before it runs (it ran 19 s to the step budget at 1e300).
   expect_one_line_error(run("simulate --rpm 2.424e10 --out " + (dir / "x").string()), "needs at least");
   EXPECT_FALSE(fs::exists(dir / "x.log"));
+  // Stopped where it stands (a negative lag spring: the lags pass 1000 rad by t = 0.5) after
+  // thousands of samples were written as they came: neither format leaves a file behind.
+  const std::string scene = std::string(MLCE_DATA_DIR) + "/../scenes/nonlinear_CL0.scene --k -1e6 --quiet --out ";
+  expect_one_line_error(run("simulate " + scene + (dir / "stop").string()), "the steps have shrunk");
+  expect_one_line_error(run("simulate " + scene + (dir / "stop").string() + " --format columns"), "the steps have shrunk");
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_NE(entry.path().filename().string().rfind("stop", 0), 0u) << entry.path() << " was left behind";
 }
 
 TEST_F(MbdynCli, TruncatedSetReadsCompleteBlocksWithWarnings) {

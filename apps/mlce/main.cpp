@@ -398,17 +398,31 @@ int cmd_simulate(const std::vector<std::string>& args) {
   const models::Scene& scene = parsed->scene;
   const auto start = std::chrono::steady_clock::now();
   cli::ProgressLine progress("simulated", quiet);
-  const models::Trajectory tr = models::simulate(scene, std::ref(progress));
-  if (format == "mbdyn") models::write_mbdyn_set(scene, tr, out_prefix);
-  else {
+  // The samples are written as the integration reaches them (a run of any length in constant
+  // memory), through temporaries that only a finished run renames into place.
+  std::size_t samples = 0;
+  double t_reached = 0.0;
+  ode::IntegrationStats stats;
+  auto counted = [&](auto& writer) {
+    return [&](std::size_t k, double t, const Eigen::VectorXd& x) {
+      writer(k, t, x);
+      samples = k + 1, t_reached = t;
+    };
+  };
+  if (format == "mbdyn") {
+    models::MbdynSetWriter writer(scene, out_prefix);
+    stats = models::simulate(scene, counted(writer), std::ref(progress));
+    writer.commit();
+  } else {
     cli::AtomicFile f(out_prefix + ".txt");
-    models::write_trajectory_columns(tr, f.stream());
+    models::ColumnsWriter writer(f.stream(), models::state_names(scene));
+    stats = models::simulate(scene, counted(writer), std::ref(progress));
     f.commit();
   }
   cli::write_file_atomically(out_prefix + ".scene", "# the scene as run (mlce simulate)\n" + models::describe_scene(scene));
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr, "mlce: %zu samples to t = %g, %zu steps (%zu rejected), %zu evaluations, %.3f s; wrote %s.%s\n",
-               tr.time.size(), tr.time.back(), tr.stats.steps, tr.stats.rejected, tr.stats.evaluations, secs,
+               samples, t_reached, stats.steps, stats.rejected, stats.evaluations, secs,
                out_prefix.c_str(), format == "mbdyn" ? "{log,out,mov}" : "txt");
   return 0;
 }

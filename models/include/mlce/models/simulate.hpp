@@ -20,21 +20,62 @@
 
 namespace mlce::models {
 
+/// Watches the output samples as the integration reaches them (Boost.Odeint's observer): sample k
+/// at time t = k dt_out with state x. Writers below are observers, so a run of any length is
+/// written as it goes and never held in memory.
+using SampleObserver = std::function<void(std::size_t k, double t, const Eigen::VectorXd& x)>;
+
+/// Integrates the scene, handing every output sample to `observe`; progress(fraction) is called
+/// now and then. Refuses at once a run that cannot finish within the step budget
+/// (ode/step_budget.hpp) and throws where one stops.
+ode::IntegrationStats simulate(const Scene& scene, const SampleObserver& observe,
+                               const std::function<void(double)>& progress = {});
+
+/// The state names of the scene's model, in the order of its state vector.
+std::vector<std::string> state_names(const Scene& scene);
+
+/// Every sample of a run, in memory (tests, sweeps, short runs).
 struct Trajectory {
   std::vector<double> time;
   std::vector<Eigen::VectorXd> states;
   std::vector<std::string> names;
   ode::IntegrationStats stats;
 };
-
-/// Integrates the scene; progress(fraction) is called now and then.
 Trajectory simulate(const Scene& scene, const std::function<void(double)>& progress = {});
 
-/// Writes a "# time name..." header and one row per sample (17 significant digits).
-void write_trajectory_columns(const Trajectory& t, std::ostream& os);
+/// Observer writing a "# time name..." header and one row per sample (17 significant digits).
+class ColumnsWriter {
+ public:
+  ColumnsWriter(std::ostream& os, const std::vector<std::string>& names);
+  void operator()(std::size_t k, double t, const Eigen::VectorXd& x);
 
-/// Writes PREFIX.log, PREFIX.out, PREFIX.mov (Hammond scenes only), each through a temporary file
-/// renamed at the end. Throws std::runtime_error naming the file on failure.
-void write_mbdyn_set(const Scene& scene, const Trajectory& t, const std::string& prefix);
+ private:
+  std::ostream* os_;
+  std::string row_;
+};
+
+/// Observer writing PREFIX.log, PREFIX.out and PREFIX.mov (Hammond scenes only), each through a
+/// temporary file beside it; commit() renames them into place, and a writer destroyed before that
+/// (an error, a run stopped by its step budget) removes them: never a partial set. Throws
+/// std::invalid_argument for a scene other than Hammond and std::runtime_error naming the file
+/// that cannot be written.
+class MbdynSetWriter {
+ public:
+  MbdynSetWriter(const Scene& scene, const std::string& prefix);
+  ~MbdynSetWriter();
+  MbdynSetWriter(const MbdynSetWriter&) = delete;
+  MbdynSetWriter& operator=(const MbdynSetWriter&) = delete;
+  void operator()(std::size_t k, double t, const Eigen::VectorXd& x);
+  void commit();
+
+ private:
+  struct File;
+  void flush();
+  HammondParameters p_;
+  std::vector<File> files_;  // .log, .out, .mov
+  double previous_t_ = 0.0;
+  std::string steps_, rows_;  // .out and .mov text not yet handed to the streams
+  bool committed_ = false;
+};
 
 }  // namespace mlce::models
