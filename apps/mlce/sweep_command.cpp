@@ -223,18 +223,18 @@ int cmd_sweep(const std::vector<std::string>& args) {
     if (method == "rosenstein") {
       scene.dt_out *= preset.output_step_factor;
       scene.t_end *= preset.run_factor;
-      const models::Trajectory t = models::simulate(scene);
       const double t0 = from < 0 ? 0.0 : from;
       Series s;
       s.dt = scene.dt_out;
       s.time_unit = unit;
       s.names = {channel};
       s.channels.emplace_back();
-      for (std::size_t i = 0; i < t.time.size(); ++i)
-        if (t.time[i] >= t0 - 1e-9 * scene.dt_out) {
-          if (s.channels[0].empty()) s.t0 = t.time[i];
-          s.channels[0].push_back(t.states[i](static_cast<Eigen::Index>(channel_state)));
-        }
+      // Only the analysed channel is kept, sample by sample (not every state of the run).
+      models::simulate(scene, [&s, t0, &scene, channel_state](std::size_t, double t, const Eigen::VectorXd& x) {
+        if (t < t0 - 1e-9 * scene.dt_out) return;
+        if (s.channels[0].empty()) s.t0 = t;
+        s.channels[0].push_back(x(static_cast<Eigen::Index>(channel_state)));
+      });
       // --from auto: cut the transient as `mlce estimate --from auto` does (a decay or a growth is
       // kept whole; a decay into the noise floor is cut at the floor by the estimator itself).
       if (from < 0) s = skip_transient(s);
