@@ -370,6 +370,71 @@ TEST(Flapping, HoverIsADampedOscillatorWithKnownExponent) {
   }
 }
 
+namespace {
+
+/// Accepts `room` bytes, then fails every write (a disk that fills up).
+class FillingBuffer : public std::streambuf {
+ public:
+  explicit FillingBuffer(std::size_t room) : room_(room) {}
+  std::size_t written = 0;
+
+ protected:
+  std::streamsize xsputn(const char*, std::streamsize n) override {
+    if (written + static_cast<std::size_t>(n) > room_) return 0;
+    written += static_cast<std::size_t>(n);
+    return n;
+  }
+  int_type overflow(int_type c) override { return xsputn(nullptr, 1) == 1 ? c : traits_type::eof(); }
+
+ private:
+  std::size_t room_;
+};
+
+}  // namespace
+
+TEST(Simulate, ObserversSeeEverySampleAsItComesAndAFailingStreamStopsTheRunAtOnce) {
+  const auto s = scene({"--model", "flapping", "--mu", "0.15", "--t_end", "40", "--dt_out", "0.1"});
+  const auto tr = models::simulate(s);
+  ASSERT_EQ(tr.time.size(), 401u);
+  // The rows written as the run goes are the samples of the whole trajectory, to 17 digits.
+  std::ostringstream text;
+  models::ColumnsWriter columns(text, models::state_names(s));
+  std::size_t seen = 0;
+  models::simulate(s, [&](std::size_t k, double t, const Eigen::VectorXd& x) {
+    EXPECT_EQ(k, seen++);
+    columns(k, t, x);
+  });
+  EXPECT_EQ(seen, tr.time.size());
+  std::istringstream rows(text.str());
+  std::string header;
+  std::getline(rows, header);
+  EXPECT_EQ(header, "# time beta betadot");
+  for (std::size_t k = 0; k < tr.time.size(); ++k) {
+    double t = 0, beta = 0, rate = 0;
+    ASSERT_TRUE(rows >> t >> beta >> rate) << k;
+    EXPECT_EQ(t, tr.time[k]);
+    EXPECT_EQ(beta, tr.states[k](0));
+    EXPECT_EQ(rate, tr.states[k](1));
+  }
+  // A stream that fills up after 2000 bytes stops the run at the first row it cannot take.
+  FillingBuffer full(2000);
+  std::ostream out(&full);
+  models::ColumnsWriter failing(out, models::state_names(s), "run.txt");
+  std::size_t offered = 0;
+  try {
+    models::simulate(s, [&](std::size_t k, double t, const Eigen::VectorXd& x) {
+      ++offered;
+      failing(k, t, x);
+    });
+    FAIL() << "a failing stream went unnoticed";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("run.txt: write failed at sample " + std::to_string(offered - 1)), std::string::npos)
+        << e.what();
+  }
+  EXPECT_LT(offered, 50u);
+  EXPECT_LE(full.written, 2000u);
+}
+
 TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
   const std::string path = ::testing::TempDir() + "/s.scene";
   std::ofstream(path) << "# failed damper\nmodel = hammond\nrpm = 124.2\nc = 4067.5,4067.5,0,4067.5\ndamper = nonlinear\n";

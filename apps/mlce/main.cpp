@@ -415,7 +415,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
     writer.commit();
   } else {
     cli::AtomicFile f(out_prefix + ".txt");
-    models::ColumnsWriter writer(f.stream(), models::state_names(scene));
+    models::ColumnsWriter writer(f.stream(), models::state_names(scene), out_prefix + ".txt");
     stats = models::simulate(scene, counted(writer), std::ref(progress));
     f.commit();
   }

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "mlce/models/dynamics.hpp"
 #include "mlce/models/flapping.hpp"
@@ -73,18 +74,20 @@ Trajectory simulate(const Scene& s, const std::function<void(double)>& progress)
   return tr;
 }
 
-ColumnsWriter::ColumnsWriter(std::ostream& os, const std::vector<std::string>& names) : os_(&os) {
+ColumnsWriter::ColumnsWriter(std::ostream& os, const std::vector<std::string>& names, std::string target)
+    : os_(&os), target_(std::move(target)) {
   *os_ << "# time";
   for (const auto& n : names) *os_ << ' ' << n;
   *os_ << '\n';
 }
 
-void ColumnsWriter::operator()(std::size_t, double t, const Eigen::VectorXd& x) {
+void ColumnsWriter::operator()(std::size_t k, double t, const Eigen::VectorXd& x) {
   row_.clear();
   fmt::format_to(std::back_inserter(row_), "{:.17g}", t);
   for (Eigen::Index i = 0; i < x.size(); ++i) fmt::format_to(std::back_inserter(row_), " {:.17g}", x(i));
   row_ += '\n';
   os_->write(row_.data(), static_cast<std::streamsize>(row_.size()));
+  if (!*os_) throw std::runtime_error(fmt::format("{}: write failed at sample {} (t = {:g})", target_, k, t));
 }
 
 struct MbdynSetWriter::File {
@@ -161,6 +164,8 @@ void MbdynSetWriter::flush() {
   files_[2].stream.write(rows_.data(), static_cast<std::streamsize>(rows_.size()));
   steps_.clear();
   rows_.clear();
+  for (const File& f : files_)  // a full disk stops the run now, not after the rest of it
+    if (!f.stream) throw std::runtime_error(f.name + ": write failed at t = " + fmt::format("{:g}", previous_t_));
 }
 
 void MbdynSetWriter::commit() {

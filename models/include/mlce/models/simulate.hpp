@@ -44,13 +44,16 @@ struct Trajectory {
 Trajectory simulate(const Scene& scene, const std::function<void(double)>& progress = {});
 
 /// Observer writing a "# time name..." header and one row per sample (17 significant digits).
+/// A stream that fails (a full disk) throws std::runtime_error naming `target` and the sample at
+/// once, not after the rest of the run.
 class ColumnsWriter {
  public:
-  ColumnsWriter(std::ostream& os, const std::vector<std::string>& names);
+  ColumnsWriter(std::ostream& os, const std::vector<std::string>& names, std::string target = "output");
   void operator()(std::size_t k, double t, const Eigen::VectorXd& x);
 
  private:
   std::ostream* os_;
+  std::string target_;
   std::string row_;
 };
 
