@@ -187,7 +187,7 @@ TEST_F(MbdynCli, MissingFilesOfTheSet) {
   fs::remove(prefix + ".jnt");
   expect_one_line_error(run("extract " + prefix + " --channel joint:33:14"), "run.jnt: cannot open the file");
   fs::remove(prefix + ".log");
-  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.log: cannot open the file");
+  expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.log: missing; MBDyn writes it beside");
 }
 
 TEST_F(MbdynCli, MalformedLogAndOut) {
@@ -281,6 +281,29 @@ TEST_F(MbdynCli, SimulateErrors) {
   expect_one_line_error(run("simulate " + scene + (dir / "stop").string() + " --format columns"), "the steps have shrunk");
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_NE(entry.path().filename().string().rfind("stop", 0), 0u) << entry.path() << " was left behind";
+}
+
+TEST_F(MbdynCli, AMovWithoutItsOutSaysWhatIsMissing) {
+  // Only the .mov was copied: it reads as 13 plain columns, and a node channel says why not.
+  const fs::path lone = dir / "lone";
+  fs::create_directory(lone);
+  fs::copy_file(prefix + ".mov", lone / "run.mov");
+  const std::string mov = (lone / "run.mov").string();
+  const std::string missing = (lone / "run.out").string() + " (whose Step lines give the time of every output block) is not beside it";
+  expect_one_line_error(run("estimate " + mov + " --channel rel:13:4:z"), missing, 2);  // an option error
+  expect_one_line_error(run("extract " + mov + " --channel node:2:x"), missing);
+  const CliRun inventory = run("channels " + mov);
+  EXPECT_EQ(inventory.status, 0) << inventory.err;
+  EXPECT_NE(inventory.err.find(missing), std::string::npos) << inventory.err;
+  // Its columns stay readable; beside its .out and .log the same file is an MBDyn set again.
+  EXPECT_EQ(run("extract " + mov + " --channel col:2").status, 0);
+  fs::copy_file(prefix + ".out", lone / "run.out");
+  expect_one_line_error(run("extract " + mov + " --channel node:2:x"),
+                        "run.log: missing; MBDyn writes it beside " + (lone / "run").string() + ".out");
+  fs::copy_file(prefix + ".log", lone / "run.log");
+  const CliRun set = run("extract " + mov + " --channel node:2:x");
+  EXPECT_EQ(set.status, 0) << set.err;
+  EXPECT_EQ(set.out, run("extract " + prefix + " --channel node:2:x").out);
 }
 
 TEST_F(MbdynCli, TruncatedSetReadsCompleteBlocksWithWarnings) {

@@ -78,7 +78,8 @@ LoadedSeries load_series(const SeriesInput& in_) {
         throw OptionError(e.what());
       }
       if (c.kind != reader::ChannelSpec::Kind::column)
-        throw OptionError(in.file + " is a column file: channel '" + spec + "' does not apply (use col:K or --column K)");
+        throw OptionError(in.file + " is a column file: channel '" + spec + "' does not apply (use col:K or --column K)" +
+                          reader::missing_mbdyn_out_hint(in.file));
       in.columns.push_back(std::to_string(c.column));
     }
     out = load_column_series(in);

@@ -1,9 +1,11 @@
 // The format registry and the built-in plug-ins.
 #include "mlce/reader/format.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <limits>
 
 #include "mlce/reader/column_file.hpp"
@@ -43,6 +45,21 @@ std::string extension_of(const std::string& path) {
   return path.substr(dot + 1);
 }
 
+}  // namespace
+
+std::string missing_mbdyn_out_hint(const std::string& path) {
+  const std::string ext = extension_of(path);
+  static const char* const entity_files[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv", "log"};
+  if (std::find(std::begin(entity_files), std::end(entity_files), ext) == std::end(entity_files)) return "";
+  const std::string out = mbdyn_prefix(path) + ".out";
+  if (is_file(out)) return "";
+  return "; its name says MBDyn output, but " + out +
+         " (whose Step lines give the time of every output block) is not beside it: copy it and the .log there "
+         "to read node:, joint: and rel: channels, or read this file's columns as col:K with --dt";
+}
+
+namespace {
+
 class ColumnFormat final : public FormatReader {
  public:
   std::string name() const override { return "column"; }
@@ -56,6 +73,8 @@ class ColumnFormat final : public FormatReader {
     inv.columns = t.names;
     inv.blocks = t.rows();
     inv.warnings = t.warnings;
+    if (const std::string hint = missing_mbdyn_out_hint(path); !hint.empty())
+      inv.warnings.push_back("read as a column file" + hint);
     return inv;
   }
   ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
@@ -63,7 +82,7 @@ class ColumnFormat final : public FormatReader {
     ColumnFileOptions o;
     for (const auto& c : channels) {
       if (c.kind != ChannelSpec::Kind::column)
-        throw ReadError(path + ": channel '" + c.text + "': a column file takes col:K channels");
+        throw ReadError(path + ": channel '" + c.text + "': a column file takes col:K channels" + missing_mbdyn_out_hint(path));
       o.keep.push_back(c.column);
     }
     Table t = read_column_file(path, o);

@@ -402,6 +402,22 @@ MbdynLog read_mbdyn_log(const std::string& path) {
   auto src = LineSource::open(path);
   return parse_log(src);
 }
+namespace {
+
+/// The set's .log, which the reader cannot do without: a copy of the entity files and the .out
+/// alone is refused with what the .log holds, not just "cannot open".
+MbdynLog read_set_log(const std::string& prefix) {
+  const std::string path = prefix + ".log";
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw ReadError(path + ": missing; MBDyn writes it beside " + prefix +
+                    ".out and it gives each node's orientation description (how the .mov rows are laid out) and the "
+                    "output frequency: copy it there too");
+  return read_mbdyn_log(path);
+}
+
+}  // namespace
+
 MbdynTimes parse_mbdyn_out(std::string_view text, const std::string& source, std::size_t frequency) {
   auto src = LineSource::from_memory(text, source);
   return parse_out(src, frequency);
@@ -503,7 +519,7 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   ChannelSet out;
   out.source = prefix;
   const std::string log_path = prefix + ".log", out_path = prefix + ".out";
-  const MbdynLog log = read_mbdyn_log(log_path);
+  const MbdynLog log = read_set_log(prefix);
   const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
   if (!times.rebuilt.empty()) out.warnings.push_back(times.rebuilt);
   const std::size_t steps = steps_until(times.time, options, out_path);
@@ -601,7 +617,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   Inventory inv;
   inv.source = prefix;
   inv.format = "mbdyn-text";
-  const MbdynLog log = read_mbdyn_log(prefix + ".log");
+  const MbdynLog log = read_set_log(prefix);
   const MbdynTimes times = read_mbdyn_out(prefix + ".out", log.output_frequency);
   if (!times.rebuilt.empty()) inv.warnings.push_back(times.rebuilt);
   std::vector<BlockRead> all;

@@ -46,6 +46,11 @@ class FormatRegistry {
 /// A registry holding the built-in formats: column files, MBDyn text output, MBDyn NetCDF.
 const FormatRegistry& default_registry();
 
+/// For a file that is read as columns but whose extension says MBDyn output (.mov .jnt .ine .frc
+/// .act .aer .prm .drv .log) and whose set has no PREFIX.out: why its node, joint and rel channels
+/// are not available and what to do, as a clause to append to a message ("; ..."). Empty otherwise.
+std::string missing_mbdyn_out_hint(const std::string& path);
+
 std::unique_ptr<FormatReader> make_column_format();
 std::unique_ptr<FormatReader> make_mbdyn_text_format();
 std::unique_ptr<FormatReader> make_mbdyn_netcdf_format();
