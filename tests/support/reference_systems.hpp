@@ -25,6 +25,45 @@ std::array<double, N> rk4_step(const F& f, const std::array<double, N>& x, doubl
   return r;
 }
 
+/// Lorenz (sigma = 10, rho = 28, beta = 8/3) and Roessler (a = b = 0.2, c = 5.7) right-hand sides,
+/// and the same with a tangent vector carried along (state, then tangent: x' = f(x), v' = Df(x) v).
+inline std::array<double, 3> lorenz_rhs(const std::array<double, 3>& s) {
+  return {10.0 * (s[1] - s[0]), s[0] * (28.0 - s[2]) - s[1], s[0] * s[1] - 8.0 / 3.0 * s[2]};
+}
+inline std::array<double, 6> lorenz_tangent_rhs(const std::array<double, 6>& s) {
+  const auto f = lorenz_rhs({s[0], s[1], s[2]});
+  return {f[0], f[1], f[2], 10.0 * (s[4] - s[3]), (28.0 - s[2]) * s[3] - s[4] - s[0] * s[5],
+          s[1] * s[3] + s[0] * s[4] - 8.0 / 3.0 * s[5]};
+}
+inline std::array<double, 3> roessler_rhs(const std::array<double, 3>& s) {
+  return {-s[1] - s[2], s[0] + 0.2 * s[1], 0.2 + s[2] * (s[0] - 5.7)};
+}
+inline std::array<double, 6> roessler_tangent_rhs(const std::array<double, 6>& s) {
+  const auto f = roessler_rhs({s[0], s[1], s[2]});
+  return {f[0], f[1], f[2], -s[4] - s[5], s[3] + 0.2 * s[4], s[2] * s[3] + (s[0] - 5.7) * s[5]};
+}
+
+/// The finite-time exponent of the very trajectory a series of `n` samples (step dt, RK4 step h)
+/// from x0 after `transient` time units samples: the tangent vector aligns during the transient's
+/// last 50 time units, then its growth over the n - 1 sampled steps, per time unit.
+template <class F, class FT>
+double own_exponent(const F& flow, const FT& with_tangent, std::array<double, 3> x, double transient, double dt,
+                    double h, std::size_t n) {
+  const auto substeps = static_cast<std::size_t>(std::lround(dt / h));
+  double t = 0;
+  for (; t < transient - 50.0; t += h) x = rk4_step<3>(flow, x, h);
+  std::array<double, 6> s{x[0], x[1], x[2], 1, 0, 0};
+  for (; t < transient; t += h) s = rk4_step<6>(with_tangent, s, h);
+  long double acc = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double norm = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+    if (k > 0) acc += std::log(norm);
+    for (int c = 3; c < 6; ++c) s[c] /= norm;
+    for (std::size_t j = 0; j < substeps; ++j) s = rk4_step<6>(with_tangent, s, h);
+  }
+  return static_cast<double>(acc) / (static_cast<double>(n - 1) * dt);
+}
+
 /// Samples component `component` of a flow every dt after discarding `transient` time units.
 template <std::size_t N, class F>
 std::vector<double> sample_flow(const F& f, std::array<double, N> x, double dt, std::size_t n, double transient,
