@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "mlce/neighbours.hpp"
@@ -8,6 +9,9 @@
 using namespace mlce;
 
 namespace {
+/// The kd-tree search, as one tree and split into two (NeighbourOptions::split_tree_points, which
+/// long series use), against the brute force: the same distance and, equal distances going to the
+/// earlier point, the same neighbour.
 void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler) {
   const std::size_t M = DelayEmbedding::max_points(x.size(), dim, delay);
   const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
@@ -15,13 +19,17 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
   for (std::size_t i = 0; i < M; i += 7) q.push_back(static_cast<std::uint32_t>(i));
   NeighbourOptions o;
   o.theiler = theiler;
-  const auto fast = find_nearest_neighbours(emb, q, o);
   const auto slow = find_nearest_neighbours_brute_force(emb, q, o);
-  ASSERT_EQ(fast.neighbour.size(), slow.neighbour.size());
-  for (std::size_t k = 0; k < q.size(); ++k) {
-    EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k];  // exact search: same distance
-    const std::size_t j = fast.neighbour[k];
-    EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
+  for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
+    o.split_tree_points = split;
+    const auto fast = find_nearest_neighbours(emb, q, o);
+    ASSERT_EQ(fast.neighbour.size(), slow.neighbour.size());
+    for (std::size_t k = 0; k < q.size(); ++k) {
+      EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k] << ", split " << split;  // exact search
+      EXPECT_EQ(fast.neighbour[k], slow.neighbour[k]) << "query " << q[k] << ", split " << split;
+      const std::size_t j = fast.neighbour[k];
+      EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
+    }
   }
 }
 }  // namespace
@@ -39,6 +47,10 @@ TEST(Neighbours, KdTreeMatchesBruteForceOnEmbeddedData) {
   const auto x = reference::lorenz_x(3000);
   for (std::size_t w : {0u, 10u, 100u}) expect_same_as_brute_force(x, 3, 17, w);
   expect_same_as_brute_force(reference::henon_x(3000), 2, 1, 3);
+  // Quantised to integers: many neighbours at equal distances (and some at zero, passed over).
+  auto coarse = x;
+  for (double& v : coarse) v = std::round(v);
+  expect_same_as_brute_force(coarse, 3, 17, 10);
 }
 
 TEST(Neighbours, EmbeddingIsAViewWithIndexArithmetic) {

@@ -4,13 +4,32 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace mlce {
 namespace {
 
-using Metric = nanoflann::L2_Simple_Adaptor<double, DelayEmbedding, double, std::uint32_t>;
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<Metric, DelayEmbedding, -1, std::uint32_t>;
+/// Points [first, first + count) of an embedding as a nanoflann dataset: a long series is split
+/// into parts whose kd-trees are built side by side (nanoflann 1.4 builds one tree on one thread).
+class EmbeddingRange {
+ public:
+  EmbeddingRange(const DelayEmbedding& embedding, std::size_t first, std::size_t count)
+      : embedding_(&embedding), first_(first), count_(count) {}
+  std::size_t first() const { return first_; }
+  std::size_t kdtree_get_point_count() const { return count_; }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const { return embedding_->coordinate(first_ + i, d); }
+  template <class BBox>
+  bool kdtree_get_bbox(BBox&) const { return false; }
+
+ private:
+  const DelayEmbedding* embedding_;
+  std::size_t first_, count_;
+};
+
+using Metric = nanoflann::L2_Simple_Adaptor<double, EmbeddingRange, double, std::uint32_t>;
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<Metric, EmbeddingRange, -1, std::uint32_t>;
 
 std::size_t separation(std::size_t a, std::size_t b) { return a > b ? a - b : b - a; }
 
@@ -24,29 +43,37 @@ class TheilerNearestResultSet {
 
   TheilerNearestResultSet(std::size_t query, std::size_t theiler) : query_(query), theiler_(theiler) {}
 
+  /// The tree searched next holds the points from `first` on (its indices are local to it). The
+  /// set carries its best distance from one tree's search to the next, which prunes it.
+  void set_offset(std::size_t first) { offset_ = first; }
+
   void init() {}
   std::size_t size() const { return index_ == NeighbourResult::none ? 0 : 1; }
   bool full() const { return true; }
-  bool addPoint(double squared_distance, std::uint32_t index) {
+  bool addPoint(double squared_distance, std::uint32_t local_index) {
+    const std::size_t index = offset_ + local_index;
     if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
     if (squared_distance == 0.0) {  // repeated point: log(0) downstream, take the next one
       ++zero_hits_;
       return true;
     }
-    if (squared_distance < best_) {
+    // Equal distances go to the earlier point, whatever order the trees visit them in.
+    if (squared_distance < best_ || (squared_distance == best_ && index < index_)) {
       best_ = squared_distance;
-      index_ = index;
+      index_ = static_cast<std::uint32_t>(index);
     }
     return true;
   }
-  double worstDist() const { return best_; }
+  /// Just above the best distance: nanoflann offers a leaf's point only when it is strictly
+  /// closer than this, and a point at the best distance must be offered for the tie rule.
+  double worstDist() const { return std::nextafter(best_, std::numeric_limits<double>::infinity()); }
 
   std::uint32_t index() const { return index_; }
   double squared_distance() const { return best_; }
   std::size_t zero_hits() const { return zero_hits_; }
 
  private:
-  std::size_t query_, theiler_;
+  std::size_t query_, theiler_, offset_ = 0;
   double best_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
   std::size_t zero_hits_ = 0;
@@ -78,7 +105,20 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
     finish(r);
     return r;
   }
-  const KdTree tree(embedding.dimension(), embedding, nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
+  const std::size_t n = embedding.size(), parts = options.split_tree_points > 0 && n >= options.split_tree_points ? 2 : 1;
+  std::vector<EmbeddingRange> ranges;
+  for (std::size_t p = 0; p < parts; ++p) ranges.emplace_back(embedding, p * n / parts, (p + 1) * n / parts - p * n / parts);
+  std::vector<std::unique_ptr<KdTree>> trees(parts);
+  const auto build = [&](std::size_t p) {
+    trees[p] = std::make_unique<KdTree>(embedding.dimension(), ranges[p],
+                                        nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
+  };
+  if (parts == 1) {
+    build(0);
+  } else {
+#pragma omp parallel for schedule(static, 1)
+    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(parts); ++p) build(static_cast<std::size_t>(p));
+  }
   const nanoflann::SearchParams params(32, static_cast<float>(options.eps));
   const std::size_t D = embedding.dimension();
   std::size_t zeros = 0;
@@ -91,7 +131,10 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
       const std::size_t i = queries[static_cast<std::size_t>(k)];
       embedding.point(i, q.data());
       TheilerNearestResultSet set(i, options.theiler);
-      tree.findNeighbors(set, q.data(), params);
+      for (std::size_t p = 0; p < parts; ++p) {
+        set.set_offset(ranges[p].first());
+        trees[p]->findNeighbors(set, q.data(), params);
+      }
       zeros += set.zero_hits();
       if (set.index() != NeighbourResult::none) {
         r.neighbour[static_cast<std::size_t>(k)] = set.index();

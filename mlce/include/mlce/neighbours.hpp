@@ -19,6 +19,12 @@ struct NeighbourOptions {
   /// 0 = exact search. eps > 0 accepts neighbours within (1+eps) of the true distance (faster;
   /// for the speed/accuracy study only).
   double eps = 0.0;
+  /// Embeddings with at least this many points are searched through two kd-trees over their two
+  /// halves, built in parallel (nanoflann 1.4 builds a tree on one thread: at 10^7 points the
+  /// build was most of the search's time). 0 = always one tree. The split is fixed, and equal
+  /// distances go to the earlier point, so the result depends on neither the split nor the
+  /// thread count.
+  std::size_t split_tree_points = std::size_t{1} << 21;
   void validate() const;
 };
 
