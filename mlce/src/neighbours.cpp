@@ -3,6 +3,7 @@
 #include <nanoflann.hpp>
 
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
 #include <string>
@@ -109,16 +110,19 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
   std::vector<EmbeddingRange> ranges;
   for (std::size_t p = 0; p < parts; ++p) ranges.emplace_back(embedding, p * n / parts, (p + 1) * n / parts - p * n / parts);
   std::vector<std::unique_ptr<KdTree>> trees(parts);
+  std::vector<std::exception_ptr> failures(parts);  // an exception must not leave an OpenMP region
   const auto build = [&](std::size_t p) {
-    trees[p] = std::make_unique<KdTree>(embedding.dimension(), ranges[p],
-                                        nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
+    try {
+      trees[p] = std::make_unique<KdTree>(embedding.dimension(), ranges[p],
+                                          nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
+    } catch (...) {
+      failures[p] = std::current_exception();
+    }
   };
-  if (parts == 1) {
-    build(0);
-  } else {
-#pragma omp parallel for schedule(static, 1)
-    for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(parts); ++p) build(static_cast<std::size_t>(p));
-  }
+#pragma omp parallel for schedule(static, 1) if (parts > 1)
+  for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(parts); ++p) build(static_cast<std::size_t>(p));
+  for (const auto& failure : failures)
+    if (failure) std::rethrow_exception(failure);
   const nanoflann::SearchParams params(32, static_cast<float>(options.eps));
   const std::size_t D = embedding.dimension();
   std::size_t zeros = 0;
