@@ -171,6 +171,35 @@ TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
   j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["dim"], 2);
   EXPECT_EQ(j["fraction"].size(), 4u);
+  // The same curves as CSV (equal to the JSON's values) and as PNG.
+  const auto ami_csv = dir / "ami.csv", ami_png = dir / "ami.png", fnn_csv = dir / "fnn.csv", fnn_png = dir / "fnn.png";
+  r = run("ami " + f + " --column 2 --time-column 1 --max-delay 20 --json --csv " + ami_csv.string() + " --plot " +
+          ami_png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto ami = nlohmann::json::parse(r.out)["ami"];
+  std::istringstream rows(slurp(ami_csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "tau,ami,smoothed");
+  for (std::size_t tau = 0; tau < ami.size(); ++tau) {
+    ASSERT_TRUE(std::getline(rows, line)) << tau;
+    EXPECT_EQ(std::stoul(line), tau);
+    EXPECT_NEAR(std::stod(line.substr(line.find(',') + 1)), ami[tau].get<double>(), 1e-9 * ami[0].get<double>());
+  }
+  EXPECT_EQ(slurp(ami_png).substr(1, 3), "PNG");
+  r = run("fnn " + f + " --column 2 --time-column 1 --max-dim 4 --json --csv " + fnn_csv.string() + " --plot " +
+          fnn_png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto fraction = nlohmann::json::parse(r.out)["fraction"];
+  std::istringstream fnn_rows(slurp(fnn_csv));
+  std::getline(fnn_rows, line);
+  EXPECT_EQ(line, "m,false_fraction,tested,tree_points");
+  for (std::size_t m = 1; m <= fraction.size(); ++m) {
+    ASSERT_TRUE(std::getline(fnn_rows, line)) << m;
+    EXPECT_EQ(std::stoul(line), m);
+    EXPECT_NEAR(std::stod(line.substr(line.find(',') + 1)), fraction[m - 1].get<double>(), 1e-9);
+  }
+  EXPECT_EQ(slurp(fnn_png).substr(1, 3), "PNG");
 }
 
 TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {

@@ -198,11 +198,14 @@ int cmd_ami(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   AmiOptions o;
   bool json = false;
+  std::string csv_path, plot_path;
   po::options_description d("mlce ami FILE [options]");
   d.add(series_options(in));
   d.add_options()
       ("max-delay", po::value(&o.max_delay), "largest delay (0 = auto)")
       ("bins", po::value(&o.bins), "histogram bins (0 = Sturges)")
+      ("csv", po::value(&csv_path), "write the curve as CSV (tau, ami, smoothed)")
+      ("plot", po::value(&plot_path), "write the curve with the chosen delay as PNG (gnuplot)")
       ("json", po::bool_switch(&json), "print one JSON object");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
@@ -210,6 +213,11 @@ int cmd_ami(const std::vector<std::string>& args) {
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const AmiResult r = cli::on_file(in, [&] { return estimate_delay_ami(loaded.series, o); });
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::ami_csv(r));
+  if (!plot_path.empty())
+    cli::plot_columns_png(cli::ami_csv(r), "average mutual information: " + in.file, "delay tau (samples)",
+                          "I(tau) (nats)", plot_path,
+                          {{static_cast<double>(r.delay), fmt::format("delay {} ({})", r.delay, to_string(r.rule))}});
   if (json) std::cout << cli::to_json(r).dump() << "\n";
   else std::cout << cli::to_text(r);
   print_warnings(loaded.warnings);
@@ -219,7 +227,7 @@ int cmd_ami(const std::vector<std::string>& args) {
 int cmd_fnn(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   FnnOptions o;
-  std::string delay = "auto", theiler = "auto";
+  std::string delay = "auto", theiler = "auto", csv_path, plot_path;
   bool json = false;
   po::options_description d("mlce fnn FILE [options]");
   d.add(series_options(in));
@@ -230,6 +238,8 @@ int cmd_fnn(const std::vector<std::string>& args) {
       ("rtol", po::value(&o.rtol), "Kennel R_tol")
       ("atol", po::value(&o.atol), "Kennel A_tol")
       ("threshold", po::value(&o.threshold), "false fraction that accepts m")
+      ("csv", po::value(&csv_path), "write the fractions as CSV (m, false_fraction, tested, tree_points)")
+      ("plot", po::value(&plot_path), "write the fractions, the threshold and the chosen m as PNG (gnuplot)")
       ("json", po::bool_switch(&json), "print one JSON object");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
@@ -245,6 +255,14 @@ int cmd_fnn(const std::vector<std::string>& args) {
     J = choose_embedding(loaded.series, delay_only, o.theiler).delay;
     return estimate_dimension_fnn(loaded.series, J, o);
   });
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::fnn_csv(r));
+  if (!plot_path.empty()) {
+    std::string data = "m,false fraction,threshold\n";
+    for (std::size_t m = 0; m < r.fraction.size(); ++m) data += fmt::format("{},{:.10g},{:g}\n", m + 1, r.fraction[m], o.threshold);
+    cli::plot_columns_png(data, fmt::format("false nearest neighbours (delay {}, Theiler window {}): {}", J, o.theiler, in.file),
+                          "embedding dimension m", "false fraction", plot_path,
+                          {{static_cast<double>(r.dim), fmt::format("m = {}", r.dim)}});
+  }
   if (json) {
     auto j = cli::to_json(r);
     j["delay"] = J;

@@ -123,6 +123,19 @@ std::string to_text(const FnnResult& r) {
   return s;
 }
 
+std::string ami_csv(const AmiResult& r) {
+  std::string s = "tau,ami,smoothed\n";
+  for (std::size_t t = 0; t < r.ami.size(); ++t) s += fmt::format("{},{:.10g},{:.10g}\n", t, r.ami[t], r.smoothed[t]);
+  return s;
+}
+
+std::string fnn_csv(const FnnResult& r) {
+  std::string s = "m,false_fraction,tested,tree_points\n";
+  for (std::size_t m = 0; m < r.fraction.size(); ++m)
+    s += fmt::format("{},{:.10g},{},{}\n", m + 1, r.fraction[m], r.queries[m], r.points[m]);
+  return s;
+}
+
 std::string curve_csv(const MlceResult& r) {
   // A phase-aligned curve is followed by the plain one (same pairs) in a last column.
   const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();

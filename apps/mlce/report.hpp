@@ -19,6 +19,10 @@ std::string to_text(const AmiResult& r);
 std::string to_text(const FnnResult& r);
 /// step,time,mean_log_distance,terms,in_fit,fit_line
 std::string curve_csv(const MlceResult& r);
+/// "tau,ami,smoothed": the AMI curve in nats (mlce ami --csv; the plot's data).
+std::string ami_csv(const AmiResult& r);
+/// "m,false_fraction,tested,tree_points" (mlce fnn --csv).
+std::string fnn_csv(const FnnResult& r);
 /// Space-time separation plot; `dt` and `time_unit` convert separations to time.
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
 std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);
