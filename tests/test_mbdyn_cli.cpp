@@ -102,6 +102,24 @@ TEST_F(MbdynCli, ExtractWritesTimeAndChannelsAsCsv) {
     EXPECT_EQ(e.path().string().find(".tmp-mlce"), std::string::npos) << e.path();
 }
 
+TEST_F(MbdynCli, ExtractDrawsTheChannelsAndALongRecordAsItsEnvelope) {
+  const fs::path png = dir / "lag.png";
+  const CliRun r = run("extract " + prefix + " --channel rel:13:4:z --channel node:2:x --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 202);  // the CSV still goes to stdout
+  EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
+  // 300 000 rows: drawn as the min/max envelope of buckets, not every row.
+  const fs::path long_run = dir / "long.txt", long_png = dir / "long.png";
+  {
+    std::ofstream f(long_run);
+    for (int k = 0; k < 300000; ++k) f << k * 1e-3 << ' ' << std::sin(2e-3 * k) << '\n';
+  }
+  const CliRun l = run("extract " + long_run.string() + " --channel col:2 --csv " + (dir / "long.csv").string() +
+                       " --plot " + long_png.string());
+  ASSERT_EQ(l.status, 0) << l.err;
+  EXPECT_EQ(slurp(long_png).substr(1, 3), "PNG");
+}
+
 TEST_F(MbdynCli, ChannelsListsNodesJointsAndTimeSpan) {
   const CliRun r = run("channels " + prefix + " --json");
   ASSERT_EQ(r.status, 0) << r.err;

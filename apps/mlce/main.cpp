@@ -4,6 +4,7 @@
 
 #include <boost/program_options.hpp>
 #include <charconv>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -497,14 +498,15 @@ int cmd_channels(const std::vector<std::string>& args) {
 
 int cmd_extract(const std::vector<std::string>& args) {
   std::vector<std::string> channels;
-  std::string csv_path;
+  std::string csv_path, plot_path;
   reader::ReadOptions read_options;
   po::options_description d("mlce extract SET --channel SPEC... [options]");
   d.add_options()
       ("channel", po::value(&channels)->composing(), "channel spec (repeatable)")
       ("to", po::value(&read_options.until), "last time to write (solver output sets); later steps are not read, so a "
                                              "run that diverged after it can be extracted")
-      ("csv", po::value(&csv_path), "write to this file instead of stdout");
+      ("csv", po::value(&csv_path), "write to this file instead of stdout")
+      ("plot", po::value(&plot_path), "also draw the channels against time as PNG (gnuplot)");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
@@ -537,6 +539,30 @@ int cmd_extract(const std::vector<std::string>& args) {
     cli::AtomicFile f(csv_path);
     write_csv(f.stream());
     f.commit();
+  }
+  if (!plot_path.empty()) {
+    // Up to kPlotRows rows are drawn as they are; a longer record as its envelope: per bucket of
+    // rows, each channel's minimum and maximum (plain decimation would alias a rotor's harmonics).
+    constexpr std::size_t kPlotRows = 200000;
+    const std::size_t n = cs.values.empty() ? 0 : cs.values[0].size();
+    const std::size_t bucket = n > kPlotRows ? (2 * n + kPlotRows - 1) / kPlotRows : 1;
+    const auto time_of = [&cs](std::size_t k) { return cs.time.empty() ? static_cast<double>(k) : cs.time[k]; };
+    std::string data = cs.time.empty() ? "sample" : "time";
+    for (const auto& name : cs.names) data += "," + name;
+    data += "\n";
+    for (std::size_t first = 0; first < n; first += bucket) {
+      const std::size_t last = std::min(n, first + bucket) - 1;
+      std::string low = fmt::format("{}", time_of(first)), high = fmt::format("{}", time_of((first + last + 1) / 2));
+      for (const auto& v : cs.values) {
+        const auto [lo, hi] = std::minmax_element(v.begin() + static_cast<std::ptrdiff_t>(first),
+                                                  v.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+        low += fmt::format(",{}", *lo), high += fmt::format(",{}", *hi);
+      }
+      data += low + "\n";
+      if (bucket > 1) data += high + "\n";
+    }
+    cli::plot_columns_png(data, file + (bucket > 1 ? fmt::format(" (envelope: min and max of every {} rows)", bucket) : ""),
+                          cs.time.empty() ? "sample" : "time", "value", plot_path);
   }
   print_warnings(cs.warnings);
   return 0;
