@@ -20,11 +20,12 @@ struct NeighbourOptions {
   /// for the speed/accuracy study only).
   double eps = 0.0;
   /// Embeddings with at least this many points are searched through two kd-trees over their two
-  /// halves, built in parallel (nanoflann 1.4 builds a tree on one thread: at 10^7 points the
-  /// build was most of the search's time). 0 = always one tree. The split is fixed, and equal
+  /// halves, built in parallel (nanoflann 1.4 builds a tree on one thread: at 10^6-10^7 points the
+  /// builds were most of the estimate's time; 2^18: estimate at 10^6 1.09 -> 0.71 s, at 10^7
+  /// 6.11 -> 4.00 s, bench/scaling.sh). 0 = always one tree. The split is fixed, and equal
   /// distances go to the earlier point, so the result depends on neither the split nor the
   /// thread count.
-  std::size_t split_tree_points = std::size_t{1} << 21;
+  std::size_t split_tree_points = std::size_t{1} << 18;
   void validate() const;
 };
 
