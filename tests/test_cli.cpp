@@ -69,8 +69,16 @@ TEST_F(Cli, MissingGnuplotIsOneErrorAndLeavesNothing) {
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // the shell's "gnuplot: not found" went to stdout once
   EXPECT_NE(r.err.find("curve.png: gnuplot failed to draw the plot (is gnuplot installed?)"), std::string::npos) << r.err;
-  for (const auto& e : fs::directory_iterator(dir))  // no plot, no temporary file
+  EXPECT_NE(r.err.find("not found"), std::string::npos) << r.err;  // the shell's word, in the one line
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const auto& e : fs::directory_iterator(dir))  // no plot, no temporary file (nor gnuplot's log)
     EXPECT_EQ(e.path().filename().string().find("curve.png"), std::string::npos) << e.path();
+  // A plot that is drawn brings no word from gnuplot (a one-row record: "empty x range" warnings).
+  const CliRun one = run("extract " + write("one.txt", "1 2\n").string() + " --channel col:2 --plot " +
+                         (dir / "one.png").string());
+  EXPECT_EQ(one.status, 0) << one.err;
+  EXPECT_TRUE(one.err.empty()) << one.err;
+  EXPECT_EQ(slurp(dir / "one.png").substr(1, 3), "PNG");
 }
 
 TEST_F(Cli, PlotPathsWithAQuoteOrAMissingFolder) {

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <stdexcept>
 
 #include "report.hpp"
@@ -36,23 +38,37 @@ void render_png(const std::string& png_path, const std::string& csv,
   } catch (const std::runtime_error&) {  // name the file asked for, not the scratch file beside it
     throw std::runtime_error(png_path + ": cannot write the file");
   }
-  // gnuplot's own output (and the shell's "not found") goes to stderr: stdout carries the result
-  // only (one JSON object with --json).
+  // gnuplot's own output (and the shell's "not found") goes to a log beside the plot, never to
+  // stdout (which carries the result only: one JSON object with --json): a plot that is drawn
+  // needs no word from gnuplot ("empty x range" for a one-row record), one that is not is one
+  // error with gnuplot's first line.
+  const fs::path log = png_path + ".tmp-mlce.log";
+  std::string shell_log = "'";
+  for (char c : log.string()) shell_log += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  shell_log += "'";
   // A gnuplot that is missing or quits early closes the pipe: the write must fail, not raise SIGPIPE
   // (which would kill mlce with no message).
   struct IgnoreSigpipe {
     void (*previous)(int) = std::signal(SIGPIPE, SIG_IGN);
     ~IgnoreSigpipe() { std::signal(SIGPIPE, previous); }
   } ignore_sigpipe;
-  FILE* gp = popen("gnuplot 1>&2", "w");
+  FILE* gp = popen(("gnuplot >" + shell_log + " 2>&1").c_str(), "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
   std::fputs(script(quoted(tmp_png.string()), quoted(data.string())).c_str(), gp);
   const int rc = pclose(gp);
   std::error_code ec;
   fs::remove(data, ec);
+  std::string said;
+  if (rc != 0 || !fs::exists(tmp_png)) {
+    std::ifstream in(log);
+    for (std::string line; said.empty() && std::getline(in, line);)
+      if (line.find_first_not_of(" \t\r^") != std::string::npos) said = line.substr(line.find_first_not_of(" \t"));
+  }
+  fs::remove(log, ec);
   if (rc != 0 || !fs::exists(tmp_png)) {
     fs::remove(tmp_png, ec);
-    throw std::runtime_error(png_path + ": gnuplot failed to draw the plot (is gnuplot installed?)");
+    throw std::runtime_error(png_path + ": gnuplot failed to draw the plot (is gnuplot installed?)" +
+                             (said.empty() ? std::string() : ": " + said));
   }
   fs::rename(tmp_png, png_path, ec);
   if (ec) throw std::runtime_error(png_path + ": cannot write the file");
