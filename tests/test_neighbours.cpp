@@ -93,3 +93,22 @@ TEST(Neighbours, WindowLargerThanSeriesLeavesNoNeighbour) {
   const auto r = find_nearest_neighbours(emb, {0, 1, 2}, o);
   EXPECT_EQ(r.without_neighbour, 3u);
 }
+
+TEST(Neighbours, AnIndexSearchedUpToALimitIsAnIndexOverThosePointsOnly) {
+  // The adaptive horizon searches one index up to a shrinking limit (rosenstein PairFinder).
+  const auto x = reference::lorenz_x(4000);
+  const std::size_t M = DelayEmbedding::max_points(x.size(), 3, 17), L = M - 700;
+  const DelayEmbedding all({std::span<const double>(x)}, 3, 17, M), first({std::span<const double>(x)}, 3, 17, L);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < L; i += 5) q.push_back(static_cast<std::uint32_t>(i));
+  for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
+    NeighbourOptions o;
+    o.theiler = 50;
+    o.split_tree_points = split;
+    const auto limited = NeighbourIndex(all, o).nearest(q, L);
+    const auto alone = find_nearest_neighbours_brute_force(first, q, o);
+    EXPECT_EQ(limited.neighbour, alone.neighbour) << "split " << split;
+    EXPECT_EQ(limited.distance, alone.distance) << "split " << split;
+    for (const auto j : limited.neighbour) EXPECT_LT(j, L);
+  }
+}

@@ -409,3 +409,21 @@ TEST(Rosenstein, PhaseAlignmentRemovesTheOffsetAlongTheFlow) {
   EXPECT_FALSE(plain.phase_aligned);
   EXPECT_DOUBLE_EQ(plain.mean_phase_shift, 0.0);
 }
+
+TEST(Rosenstein, PairsOfALongerHorizonFromOneIndexAreThoseFoundForIt) {
+  // estimate_mlce's adaptive horizon doubles over one PairFinder (one kd-tree) instead of a new
+  // search per horizon: every doubling must give exactly what a fresh find_pairs gives.
+  const Series s = make_series_with_step({reference::lorenz_x(5000, 0.01)}, 0.01);
+  RosensteinOptions o;
+  o.dim = 3, o.delay = 17, o.theiler = 150, o.horizon = 100, o.max_references = 700;
+  const PairFinder finder(s, o);
+  for (const std::size_t h : {std::size_t{100}, std::size_t{200}, std::size_t{800}}) {
+    o.horizon = h;
+    const NeighbourPairs reused = finder.find(h), fresh = find_pairs(s, o);
+    EXPECT_EQ(reused.references, fresh.references) << h;
+    EXPECT_EQ(reused.nearest.neighbour, fresh.nearest.neighbour) << h;
+    EXPECT_EQ(reused.nearest.distance, fresh.nearest.distance) << h;
+    EXPECT_EQ(follow_pairs(s, o, reused).mean_log_distance, follow_pairs(s, o, fresh).mean_log_distance) << h;
+  }
+  EXPECT_THROW(finder.find(50), std::logic_error);  // shorter than the index was built for
+}

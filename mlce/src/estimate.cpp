@@ -299,10 +299,12 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                        std::to_string((r.dim - 1) * r.delay + 3 * h_min + r.theiler + 2) + " samples)");
     }
     std::size_t h = std::clamp<std::size_t>(8 * period, 32, h_max);
+    ro.horizon = h;
+    const PairFinder finder(series, ro);  // one kd-tree for every doubling
     for (int pass = 0;; ++pass) {
       ro.horizon = h;
       report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
-      pairs = find_pairs(series, ro);
+      pairs = finder.find(h);
       if (pass == 0 && judge_start)
         if (auto rest = estimate_without_start(pairs)) return std::move(*rest);
       r.curve = follow_pairs(series, ro, pairs);

@@ -2,6 +2,7 @@
 
 #include <nanoflann.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -42,7 +43,10 @@ class TheilerNearestResultSet {
   using DistanceType = double;
   using IndexType = std::uint32_t;
 
-  TheilerNearestResultSet(std::size_t query, std::size_t theiler) : query_(query), theiler_(theiler) {}
+  /// Candidates at `limit` and beyond are not points of the search (an index built for a shorter
+  /// horizon than the one searched: NeighbourIndex::nearest).
+  TheilerNearestResultSet(std::size_t query, std::size_t theiler, std::size_t limit)
+      : query_(query), theiler_(theiler), limit_(limit) {}
 
   /// The tree searched next holds the points from `first` on (its indices are local to it). The
   /// set carries its best distance from one tree's search to the next, which prunes it.
@@ -53,6 +57,7 @@ class TheilerNearestResultSet {
   bool full() const { return true; }
   bool addPoint(double squared_distance, std::uint32_t local_index) {
     const std::size_t index = offset_ + local_index;
+    if (index >= limit_) return true;                        // beyond the points searched
     if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
     if (squared_distance == 0.0) {  // repeated point: log(0) downstream, take the next one
       ++zero_hits_;
@@ -74,7 +79,7 @@ class TheilerNearestResultSet {
   std::size_t zero_hits() const { return zero_hits_; }
 
  private:
-  std::size_t query_, theiler_, offset_ = 0;
+  std::size_t query_, theiler_, limit_, offset_ = 0;
   double best_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
   std::size_t zero_hits_ = 0;
@@ -98,18 +103,20 @@ void NeighbourOptions::validate() const {
   if (!(eps >= 0.0)) throw OptionError("neighbours.eps: expected >= 0");
 }
 
-NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
-                                        const NeighbourOptions& options) {
-  options.validate();
-  NeighbourResult r = make_result(queries.size());
-  if (embedding.size() < 2) {
-    finish(r);
-    return r;
-  }
-  const std::size_t n = embedding.size(), parts = options.split_tree_points > 0 && n >= options.split_tree_points ? 2 : 1;
+struct NeighbourIndex::Trees {
   std::vector<EmbeddingRange> ranges;
+  std::vector<std::unique_ptr<KdTree>> trees;
+};
+
+NeighbourIndex::NeighbourIndex(const DelayEmbedding& embedding, const NeighbourOptions& options)
+    : embedding_(&embedding), options_(options), trees_(std::make_unique<Trees>()) {
+  options.validate();
+  if (embedding.size() < 2) return;
+  const std::size_t n = embedding.size(), parts = options.split_tree_points > 0 && n >= options.split_tree_points ? 2 : 1;
+  auto& ranges = trees_->ranges;
+  auto& trees = trees_->trees;
   for (std::size_t p = 0; p < parts; ++p) ranges.emplace_back(embedding, p * n / parts, (p + 1) * n / parts - p * n / parts);
-  std::vector<std::unique_ptr<KdTree>> trees(parts);
+  trees.resize(parts);
   std::vector<std::exception_ptr> failures(parts);  // an exception must not leave an OpenMP region
   const auto build = [&](std::size_t p) {
     try {
@@ -123,8 +130,21 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
   for (std::ptrdiff_t p = 0; p < static_cast<std::ptrdiff_t>(parts); ++p) build(static_cast<std::size_t>(p));
   for (const auto& failure : failures)
     if (failure) std::rethrow_exception(failure);
-  const nanoflann::SearchParams params(32, static_cast<float>(options.eps));
-  const std::size_t D = embedding.dimension();
+}
+
+NeighbourIndex::~NeighbourIndex() = default;
+
+NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const {
+  NeighbourResult r = make_result(queries.size());
+  limit = std::min(limit, embedding_->size());
+  if (limit < 2 || trees_->trees.empty()) {
+    finish(r);
+    return r;
+  }
+  const auto& ranges = trees_->ranges;
+  const auto& trees = trees_->trees;
+  const nanoflann::SearchParams params(32, static_cast<float>(options_.eps));
+  const std::size_t D = embedding_->dimension();
   std::size_t zeros = 0;
   const auto nq = static_cast<std::ptrdiff_t>(queries.size());
 #pragma omp parallel reduction(+ : zeros)
@@ -133,9 +153,10 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
 #pragma omp for schedule(dynamic, 512)
     for (std::ptrdiff_t k = 0; k < nq; ++k) {
       const std::size_t i = queries[static_cast<std::size_t>(k)];
-      embedding.point(i, q.data());
-      TheilerNearestResultSet set(i, options.theiler);
-      for (std::size_t p = 0; p < parts; ++p) {
+      embedding_->point(i, q.data());
+      TheilerNearestResultSet set(i, options_.theiler, limit);
+      for (std::size_t p = 0; p < trees.size(); ++p) {
+        if (ranges[p].first() >= limit) break;
         set.set_offset(ranges[p].first());
         trees[p]->findNeighbors(set, q.data(), params);
       }
@@ -149,6 +170,11 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
   r.zero_distance_candidates = zeros;
   finish(r);
   return r;
+}
+
+NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
+                                        const NeighbourOptions& options) {
+  return NeighbourIndex(embedding, options).nearest(queries, embedding.size());
 }
 
 NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedding,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -44,7 +45,14 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
 
 std::size_t minimum_length(const RosensteinOptions& o) { return (o.dim - 1) * o.delay + o.horizon + o.theiler + 2; }
 
-NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options) {
+struct PairFinder::State {
+  Series scaled;
+  std::unique_ptr<DelayEmbedding> embedding;  // the points admissible at the shortest horizon
+  std::unique_ptr<NeighbourIndex> index;
+};
+
+PairFinder::PairFinder(const Series& series, const RosensteinOptions& options)
+    : options_(options), state_(std::make_unique<State>()) {
   options.validate();
   validate_series(series);
   const std::size_t n = series.size();
@@ -53,20 +61,36 @@ NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options
                      ", delay = " + std::to_string(options.delay) + ", horizon = " + std::to_string(options.horizon) +
                      " and Theiler window = " + std::to_string(options.theiler) + " need at least " +
                      std::to_string(minimum_length(options)) + " ((m-1)*delay + horizon + theiler + 2)");
-  const Series s = scaled_to_unit_deviation(series);
+  state_->scaled = scaled_to_unit_deviation(series);
   std::vector<std::span<const double>> channels;
-  for (const auto& c : s.channels) channels.emplace_back(c);
-  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
-  const std::size_t L = M - options.horizon;  // points whose trajectory can be followed for H steps
-  const DelayEmbedding admissible(channels, options.dim, options.delay, L);
-  NeighbourPairs pairs;
-  pairs.references = strided_indices(L, options.max_references);
-  pairs.dim = options.dim, pairs.delay = options.delay, pairs.horizon = options.horizon, pairs.theiler = options.theiler;
+  for (const auto& c : state_->scaled.channels) channels.emplace_back(c);
+  points_ = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
+  state_->embedding = std::make_unique<DelayEmbedding>(channels, options.dim, options.delay, points_ - options.horizon);
   NeighbourOptions nopt;
   nopt.theiler = options.theiler;
   nopt.eps = options.eps;
-  pairs.nearest = find_nearest_neighbours(admissible, pairs.references, nopt);  // eq. 18 with eq. 20
+  state_->index = std::make_unique<NeighbourIndex>(*state_->embedding, nopt);
+}
+
+PairFinder::~PairFinder() = default;
+
+NeighbourPairs PairFinder::find(std::size_t horizon) const {
+  if (horizon < options_.horizon) throw std::logic_error("PairFinder::find: a horizon shorter than the one it was built for");
+  RosensteinOptions o = options_;
+  o.horizon = horizon;
+  if (state_->scaled.size() < minimum_length(o))
+    throw InputError("series too short: " + std::to_string(state_->scaled.size()) + " samples for a horizon of " +
+                     std::to_string(horizon) + " (at least " + std::to_string(minimum_length(o)) + ")");
+  const std::size_t L = points_ - horizon;  // points whose trajectory can be followed for H steps
+  NeighbourPairs pairs;
+  pairs.references = strided_indices(L, options_.max_references);
+  pairs.dim = o.dim, pairs.delay = o.delay, pairs.horizon = horizon, pairs.theiler = o.theiler;
+  pairs.nearest = state_->index->nearest(pairs.references, L);  // eq. 18 with eq. 20
   return pairs;
+}
+
+NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options) {
+  return PairFinder(series, options).find(options.horizon);
 }
 
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {

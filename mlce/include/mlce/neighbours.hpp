@@ -4,6 +4,7 @@
 // inside the search.
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "mlce/embedding.hpp"
@@ -37,6 +38,26 @@ struct NeighbourResult {
   /// give log(0). The nearest neighbour at a positive distance is returned instead.
   std::size_t zero_distance_candidates = 0;
   std::size_t without_neighbour = 0;
+};
+
+/// The kd-tree(s) over an embedding's points (which must outlive it), built once and searched
+/// many times: the adaptive horizon's doublings search the same points up to a shrinking limit.
+class NeighbourIndex {
+ public:
+  NeighbourIndex(const DelayEmbedding& embedding, const NeighbourOptions& options);
+  ~NeighbourIndex();
+  NeighbourIndex(const NeighbourIndex&) = delete;
+  NeighbourIndex& operator=(const NeighbourIndex&) = delete;
+  /// Nearest neighbour of each query among the points [0, limit) (the same result as an index
+  /// over those points only). Runs the queries on all cores (OpenMP); the result does not depend
+  /// on the thread count.
+  NeighbourResult nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const;
+
+ private:
+  struct Trees;
+  const DelayEmbedding* embedding_;
+  NeighbourOptions options_;
+  std::unique_ptr<Trees> trees_;
 };
 
 /// Nearest neighbour among the embedding's points of each point in `queries` (indices into the

@@ -1,6 +1,7 @@
 #pragma once
 // Rosenstein's mean log-divergence curve (paper 001 eqs. 18-23), kept apart from its fit.
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,24 @@ struct NeighbourPairs {
 };
 
 NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options);
+
+/// find_pairs for several horizons over one neighbour index: built for options.horizon, whose
+/// admissible points include those of every longer horizon (the adaptive horizon's doublings
+/// rebuilt the kd-trees at every pass). find(H) gives what find_pairs with horizon H gives.
+class PairFinder {
+ public:
+  PairFinder(const Series& series, const RosensteinOptions& options);
+  ~PairFinder();
+  PairFinder(const PairFinder&) = delete;
+  PairFinder& operator=(const PairFinder&) = delete;
+  NeighbourPairs find(std::size_t horizon) const;  ///< horizon >= options.horizon
+
+ private:
+  struct State;
+  RosensteinOptions options_;
+  std::size_t points_ = 0;  // M (eq. 17)
+  std::unique_ptr<State> state_;
+};
 
 /// The curve of given pairs (e.g. the same pairs with and without align_phase, one search).
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
