@@ -66,13 +66,15 @@ class TheilerNearestResultSet {
     // Equal distances go to the earlier point, whatever order the trees visit them in.
     if (squared_distance < best_ || (squared_distance == best_ && index < index_)) {
       best_ = squared_distance;
+      worst_ = std::nextafter(best_, std::numeric_limits<double>::infinity());
       index_ = static_cast<std::uint32_t>(index);
     }
     return true;
   }
   /// Just above the best distance: nanoflann offers a leaf's point only when it is strictly
   /// closer than this, and a point at the best distance must be offered for the tie rule.
-  double worstDist() const { return std::nextafter(best_, std::numeric_limits<double>::infinity()); }
+  /// (Kept, not computed per call: the search asks for it at every node it visits.)
+  double worstDist() const { return worst_; }
 
   std::uint32_t index() const { return index_; }
   double squared_distance() const { return best_; }
@@ -80,7 +82,7 @@ class TheilerNearestResultSet {
 
  private:
   std::size_t query_, theiler_, limit_, offset_ = 0;
-  double best_ = std::numeric_limits<double>::infinity();
+  double best_ = std::numeric_limits<double>::infinity(), worst_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
   std::size_t zero_hits_ = 0;
 };

@@ -45,6 +45,16 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
 
 std::size_t minimum_length(const RosensteinOptions& o) { return (o.dim - 1) * o.delay + o.horizon + o.theiler + 2; }
 
+namespace {
+void require_length(std::size_t n, const RosensteinOptions& o) {
+  if (n < minimum_length(o))
+    throw InputError("series too short: " + std::to_string(n) + " samples, but m = " + std::to_string(o.dim) +
+                     ", delay = " + std::to_string(o.delay) + ", horizon = " + std::to_string(o.horizon) +
+                     " and Theiler window = " + std::to_string(o.theiler) + " need at least " +
+                     std::to_string(minimum_length(o)) + " ((m-1)*delay + horizon + theiler + 2)");
+}
+}  // namespace
+
 struct PairFinder::State {
   Series scaled;
   std::unique_ptr<DelayEmbedding> embedding;  // the points admissible at the shortest horizon
@@ -56,11 +66,7 @@ PairFinder::PairFinder(const Series& series, const RosensteinOptions& options)
   options.validate();
   validate_series(series);
   const std::size_t n = series.size();
-  if (n < minimum_length(options))
-    throw InputError("series too short: " + std::to_string(n) + " samples, but m = " + std::to_string(options.dim) +
-                     ", delay = " + std::to_string(options.delay) + ", horizon = " + std::to_string(options.horizon) +
-                     " and Theiler window = " + std::to_string(options.theiler) + " need at least " +
-                     std::to_string(minimum_length(options)) + " ((m-1)*delay + horizon + theiler + 2)");
+  require_length(n, options);
   state_->scaled = scaled_to_unit_deviation(series);
   std::vector<std::span<const double>> channels;
   for (const auto& c : state_->scaled.channels) channels.emplace_back(c);
@@ -78,9 +84,7 @@ NeighbourPairs PairFinder::find(std::size_t horizon) const {
   if (horizon < options_.horizon) throw std::logic_error("PairFinder::find: a horizon shorter than the one it was built for");
   RosensteinOptions o = options_;
   o.horizon = horizon;
-  if (state_->scaled.size() < minimum_length(o))
-    throw InputError("series too short: " + std::to_string(state_->scaled.size()) + " samples for a horizon of " +
-                     std::to_string(horizon) + " (at least " + std::to_string(minimum_length(o)) + ")");
+  require_length(state_->scaled.size(), o);
   const std::size_t L = points_ - horizon;  // points whose trajectory can be followed for H steps
   NeighbourPairs pairs;
   pairs.references = strided_indices(L, options_.max_references);
