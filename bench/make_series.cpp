@@ -2,6 +2,7 @@
 // benchmark inputs are made by this program, not by hand).
 //   make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt] > file
 //   make_series lorenz N dt TRANSIENT > file   (Lorenz from (1, 1, 1) after TRANSIENT time units; default 50)
+//   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -11,7 +12,8 @@
 int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n"
-                         "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n");
+                         "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n"
+                         "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -19,6 +21,15 @@ int main(int argc, char** argv) {
   double dt = argc > 3 ? std::strtod(argv[3], nullptr) : 0.0;
   std::vector<double> x;
   using namespace mlce::reference;
+  if (name == "lorenz_xyz") {  // the three observables of one trajectory, one column each
+    dt = dt > 0 ? dt : 0.01;
+    std::vector<std::vector<double>> c;
+    for (std::size_t k = 0; k < 3; ++k) c.push_back(lorenz(n, dt, {1.0, 1.0, 1.0}, 50.0, k));
+    std::printf("# lorenz x, y, z from (1, 1, 1) after 50 time units, dt = %.17g, N = %zu\nt x y z\n", dt, n);
+    for (std::size_t i = 0; i < n; ++i)
+      std::printf("%.10g %.17g %.17g %.17g\n", dt * static_cast<double>(i), c[0][i], c[1][i], c[2][i]);
+    return 0;
+  }
   if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01, {1.0, 1.0, 1.0}, argc > 4 ? std::strtod(argv[4], nullptr) : 50.0);
   else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
   else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);

@@ -265,6 +265,69 @@ TEST_F(Cli, ConvergenceTableInEveryForm) {
   expect_one_line_error(run("convergence " + tiny + " --time-column 1 --column 2"), "series.txt: AMI needs at least 16 samples");
 }
 
+TEST_F(Cli, EachChannelInEveryForm) {
+  // Two decays in one file, lambda = -zeta w exactly: 0.05 and 0.15 x 2 pi (a channel that does not
+  // see the least damped mode reads another rate): each channel right, and they disagree.
+  const double dt = 0.01;
+  const auto a = mlce::reference::damped_oscillator(2000, dt, 0.05, 2 * M_PI);
+  const auto b = mlce::reference::damped_oscillator(2000, dt, 0.15, 2 * M_PI);
+  std::ostringstream text;
+  text.precision(17);
+  text << "t slow fast\n";
+  for (std::size_t i = 0; i < a.size(); ++i) text << dt * static_cast<double>(i) << " " << a[i] << " " << b[i] << "\n";
+  const auto f = write("two.txt", text.str()).string();
+  const auto csv = dir / "each.csv", png = dir / "each.png";
+  CliRun r = run("estimate " + f + " --time-column t --column slow --column fast --each --json --quiet --curve " +
+                 csv.string() + " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["channels"].size(), 2u);
+  EXPECT_EQ(j["channels"][0]["channel"], "slow");
+  EXPECT_EQ(j["channels"][1]["channel"], "fast");
+  EXPECT_NEAR(j["channels"][0]["lambda"].get<double>(), -0.05 * 2 * M_PI, 0.03 * 0.05 * 2 * M_PI);
+  EXPECT_NEAR(j["channels"][1]["lambda"].get<double>(), -0.15 * 2 * M_PI, 0.03 * 0.15 * 2 * M_PI);
+  EXPECT_FALSE(j["agree"].get<bool>());
+  EXPECT_TRUE(j["common_interval"].is_null());
+  EXPECT_NE(j["warnings"].dump().find("disagree"), std::string::npos) << j["warnings"];
+  EXPECT_EQ(j["file"], f);
+  // The curves, one channel after the other, as many rows as the two horizons hold.
+  const std::string curves = slurp(csv);
+  EXPECT_EQ(curves.substr(0, curves.find('\n')), "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line");
+  const auto rows = j["channels"][0]["horizon"].get<long>() + j["channels"][1]["horizon"].get<long>() + 2;
+  EXPECT_EQ(std::count(curves.begin(), curves.end(), '\n'), rows + 1);
+  EXPECT_NE(curves.find("\nfast,1,0,0,"), std::string::npos);
+  EXPECT_TRUE(fs::exists(png));
+  // The table for people says it too.
+  r = run("estimate " + f + " --time-column t --column slow --column fast --each --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("agreement       NO"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nslow "), std::string::npos) << r.out;
+  // Nothing to compare: one channel is a usage error.
+  expect_one_line_error(run("estimate " + f + " --time-column t --column slow --each"), "--each: give two or more", 2);
+}
+
+TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
+  // The second channel holds one period of a slow sine: too few mean periods to estimate. The
+  // table and the JSON still carry the first, and the exit status says the answer is incomplete.
+  const double dt = 0.01;
+  const auto a = mlce::reference::damped_oscillator(2000, dt, 0.05, 2 * M_PI);
+  std::ostringstream text;
+  text.precision(17);
+  for (std::size_t i = 0; i < a.size(); ++i)
+    text << dt * static_cast<double>(i) << " " << a[i] << " " << std::sin(2 * M_PI * 0.05 * dt * static_cast<double>(i)) << "\n";
+  const auto f = write("slow.txt", text.str()).string();
+  CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --json --quiet");
+  EXPECT_EQ(r.status, 1) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["estimated"], 1);
+  EXPECT_TRUE(j["channels"][0].contains("lambda"));
+  EXPECT_TRUE(j["channels"][1].contains("error"));
+  EXPECT_NE(j["channels"][1]["error"].get<std::string>().find("mean period"), std::string::npos) << j["channels"][1];
+  r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --quiet");
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.out.find("not estimated: "), std::string::npos) << r.out;
+}
+
 TEST_F(Cli, MissingFile) {
   expect_one_line_error(run("estimate " + (dir / "nope.txt").string()), "nope.txt: cannot open the file");
 }
@@ -338,7 +401,7 @@ TEST_F(Cli, NonUniformTime) {
 TEST_F(Cli, ConstantSeries) {
   std::string t;
   for (int i = 0; i < 200; ++i) t += "3.5\n";
-  expect_one_line_error(run("estimate " + write("c.txt", t).string()), "c.txt: channel 1 is constant");
+  expect_one_line_error(run("estimate " + write("c.txt", t).string()), "c.txt: column 1 is constant");
   // One sample is no history (it was reported as a constant series of 1 sample).
   expect_one_line_error(run("estimate " + write("one.txt", "3.5\n").string()),
                         "one.txt: the series has a single sample: expected a time history");

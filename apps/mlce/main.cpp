@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
@@ -104,12 +105,49 @@ ProgressCallback progress_printer(bool quiet) {
   };
 }
 
+/// What an estimate's JSON says of its input: the file, where the analysis starts, and the
+/// transient rule when --from auto decided it.
+void add_input(nlohmann::json& j, const cli::SeriesInput& in, const cli::LoadedSeries& loaded, double analysed_from) {
+  j["file"] = in.file;
+  j["from"] = analysed_from;
+  if (!loaded.transient_rule.empty()) j["transient_rule"] = loaded.transient_rule;
+}
+
+/// The same for people: the file line, and the window's line when --from auto moved its start.
+std::string input_lines(const cli::SeriesInput& in, const cli::LoadedSeries& loaded) {
+  std::string s = "file            " + in.file + "\n";
+  if (!loaded.transient_rule.empty())
+    s += fmt::format("window          from {:.6g} ({})\n", loaded.series.t0, loaded.transient_rule);
+  return s;
+}
+
+/// mlce estimate --each: every channel of the loaded series on its own, and the verdict.
+int estimate_each(const cli::SeriesInput& in, const cli::LoadedSeries& loaded, const MlceOptions& o, bool json,
+                  const std::string& curve_path, const std::string& plot_path) {
+  EachChannelOptions eo;
+  eo.estimate = o;
+  EachChannelResult r = cli::on_file(in, [&] { return estimate_each_channel(loaded.series, eo); });
+  r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  if (!curve_path.empty()) cli::write_file_atomically(curve_path, cli::each_channel_curves_csv(r));
+  if (!plot_path.empty()) cli::plot_each_channel_png(r, plot_path);
+  if (json) {
+    auto j = cli::to_json(r);
+    add_input(j, in, loaded, loaded.series.time(0));  // each channel's own skipped_start is in its entry
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << input_lines(in, loaded) << cli::to_text(r);
+  }
+  // Every channel is analysed or the run is a data error: a script must not take a table with a
+  // hole in it for the whole answer (the table and the verdict over the rest are printed above).
+  return r.estimated == r.channels.size() ? 0 : kExitData;
+}
+
 int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
               align = "auto";
   std::string curve_path, plot_path;
-  bool json = false, quiet = false, keep_start = false;
+  bool json = false, quiet = false, keep_start = false, each = false;
   po::options_description d("mlce estimate FILE [options]");
   d.add(series_options(in));
   po::options_description e("estimator");
@@ -125,9 +163,10 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
       ("seed", po::value<std::string>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
       ("keep-start", po::bool_switch(&keep_start), "analyse the series from its first sample (or --from) even when its start does not recur (by default such a start-up transient is left out, with a warning; a --from time keeps its start too)")
+      ("each", po::bool_switch(&each), "estimate every channel (two or more --channel/--column) on its own and say whether their 95 % intervals agree: the observables of one motion share its exponent")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
-      ("curve", po::value(&curve_path), "write the divergence curve as CSV")
-      ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot)")
+      ("curve", po::value(&curve_path), "write the divergence curve as CSV (--each: every channel's, one after the other)")
+      ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot; --each: every channel's)")
       ("quiet", po::bool_switch(&quiet), "no progress messages");
   d.add(e);
   const auto parsed = parse(args, d);
@@ -171,7 +210,11 @@ int cmd_estimate(const std::vector<std::string>& args) {
   // A start the user chose is kept; --from auto is a transient rule too, and both apply.
   o.skip_nonrecurrent_start = !keep_start && in.start_is_automatic();
 
+  if (each && in.channels.size() + in.columns.size() < 2)
+    throw po::error("--each: give two or more --channel or --column to estimate one by one");
+
   cli::LoadedSeries loaded = cli::load_series(in);
+  if (each) return estimate_each(in, loaded, o, json, curve_path, plot_path);
   MlceResult r = cli::on_file(in, [&] { return estimate_mlce(loaded.series, o); });
   const double analysed_from = loaded.series.time(r.skipped_start);
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
@@ -179,14 +222,10 @@ int cmd_estimate(const std::vector<std::string>& args) {
   if (!plot_path.empty()) cli::plot_curve_png(r, plot_path);
   if (json) {
     auto j = cli::to_json(r);
-    j["file"] = in.file;
-    j["from"] = analysed_from;
-    if (!loaded.transient_rule.empty()) j["transient_rule"] = loaded.transient_rule;
+    add_input(j, in, loaded, analysed_from);
     std::cout << j.dump() << "\n";
   } else {
-    std::cout << "file            " << in.file << "\n";
-    if (!loaded.transient_rule.empty())
-      std::cout << fmt::format("window          from {:.6g} ({})\n", loaded.series.t0, loaded.transient_rule);
+    std::cout << input_lines(in, loaded);
     if (r.skipped_start > 0)
       std::cout << fmt::format("window          from {:.6g} (the first {} samples do not recur: left out)\n",
                                analysed_from, r.skipped_start);

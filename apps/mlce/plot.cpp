@@ -92,6 +92,33 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   });
 }
 
+void plot_each_channel_png(const EachChannelResult& r, const std::string& png_path) {
+  const std::string time_unit = [&] {  // the channels share the series' time axis
+    for (const auto& c : r.channels)
+      if (c.result) return c.result->time_unit.empty() ? std::string("sample") : c.result->time_unit;
+    return std::string("sample");
+  }();
+  render_png(png_path, each_channel_curves_csv(r), [&](const std::string& png, const std::string& data) {
+    // Columns: 1 channel, 2 index, 3 step, 4 time, 5 mean_log_distance, 6 terms, 7 in_fit, 8 fit_line.
+    std::string terms;
+    for (std::size_t k = 0; k < r.channels.size(); ++k) {
+      const auto& c = r.channels[k];
+      if (!c.result) continue;
+      // The fit lines in black over the coloured curves (in a curve's own colour it hides in it).
+      terms += fmt::format("{}'{}' every ::1 using 4:($2 == {} ? $5 : 1/0) with lines lw 2 lc {} title '{}: {:.5g}', "
+                           "'' every ::1 using 4:($2 == {} && $7 > 0 ? $8 : 1/0) with lines lw 1.5 dt 2 lc rgb 'black' {}",
+                           terms.empty() ? "" : ", ", data, k, k + 1, quoted(c.name), c.result->lambda, k,
+                           terms.empty() ? "title 'least-squares fits'" : "notitle");
+    }
+    return fmt::format(
+        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
+        "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)> (channel standard deviations)'\n"
+        "set title 'Rosenstein divergence of each channel, lambda in 1/{}; {}'\nplot {}\n",
+        png, quoted(time_unit), quoted(time_unit),
+        r.estimated < 2 ? "one channel estimated" : r.agree ? "the channels agree" : "the channels do NOT agree", terms);
+  });
+}
+
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
                       const std::string& ylabel, const std::string& png_path,
                       const std::vector<std::pair<double, std::string>>& marks) {

@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
 
 namespace mlce::cli {
@@ -14,6 +15,8 @@ void render_png(const std::string& png_path, const std::string& csv,
                 const std::function<std::string(const std::string& png, const std::string& data)>& script);
 /// PNG of the divergence curve with the fit region and line.
 void plot_curve_png(const MlceResult& r, const std::string& png_path);
+/// PNG of every estimated channel's divergence curve with its fit line (mlce estimate --each).
+void plot_each_channel_png(const EachChannelResult& r, const std::string& png_path);
 /// Colour map of z over a regular (x, y) grid: csv "x,y,z" with a header line.
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -136,18 +137,22 @@ std::string fnn_csv(const FnnResult& r) {
   return s;
 }
 
+namespace {
+/// step,time,mean_log_distance,terms,in_fit,fit_line of curve step i (no line break).
+std::string curve_row(const MlceResult& r, std::size_t i) {
+  const bool in = i >= r.fit.first && i <= r.fit.last;
+  return fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}", i, r.dt * static_cast<double>(i), r.curve.mean_log_distance[i],
+                     r.curve.terms[i], in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
+}
+}  // namespace
+
 std::string curve_csv(const MlceResult& r) {
   // A phase-aligned curve is followed by the plain one (same pairs) in a last column.
   const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
   std::string s = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") +
                   (plain ? ",plain_mean_log_distance\n" : "\n");
-  const auto& y = r.curve.mean_log_distance;
-  for (std::size_t i = 0; i < y.size(); ++i) {
-    const bool in = i >= r.fit.first && i <= r.fit.last;
-    s += fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}", i, r.dt * static_cast<double>(i), y[i], r.curve.terms[i],
-                     in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
-    s += plain ? fmt::format(",{:.10g}\n", r.unaligned_curve[i]) : "\n";
-  }
+  for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
+    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}\n", r.unaligned_curve[i]) : "\n");
   return s;
 }
 
@@ -290,6 +295,75 @@ void write_file_atomically(const std::string& path, const std::string& content) 
   AtomicFile f(path);
   f.stream() << content;
   f.commit();
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+nlohmann::json to_json(const EachChannelResult& r) {
+  nlohmann::json channels = nlohmann::json::array();
+  for (const auto& c : r.channels) {
+    nlohmann::json j = c.result ? to_json(*c.result) : nlohmann::json{{"error", c.error}};
+    j["channel"] = c.name;
+    channels.push_back(std::move(j));
+  }
+  return {{"channels", channels},
+          {"estimated", r.estimated},
+          {"agree", r.agree},
+          {"gap", finite_or_null(r.gap)},
+          {"common_interval", std::isfinite(r.common_low) ? nlohmann::json{r.common_low, r.common_high} : nlohmann::json(nullptr)},
+          {"median_lambda", finite_or_null(r.median_lambda)},
+          {"tolerance", finite_or_null(r.tolerance_floor)},
+          {"warnings", r.warnings}};
+}
+
+std::string to_text(const EachChannelResult& r) {
+  const MlceResult* any = nullptr;
+  std::size_t width = 7;  // "channel"
+  for (const auto& c : r.channels) {
+    if (c.result && !any) any = &*c.result;
+    width = std::max(width, c.name.size());
+  }
+  const std::string u = rate_unit(*any);  // at least one channel was estimated (or it threw)
+  std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>5} {:>3} {:>7} {:>11} {:>6}\n", "channel", width,
+                              "lambda " + u, "95 % interval", "delay", "dim", "theiler", "fit", "R^2");
+  for (const auto& c : r.channels) {
+    if (!c.result) {
+      s += fmt::format("{:<{}}  not estimated: {}\n", c.name, width, c.error);
+      continue;
+    }
+    const MlceResult& e = *c.result;
+    s += fmt::format("{:<{}}  {:>12.6g}  {:>12.6g} .. {:<12.6g}  {:>5} {:>3} {:>7} {:>11} {:>6.4f}\n", c.name, width,
+                     e.lambda, e.ci95_low, e.ci95_high, e.delay, e.dim, e.theiler,
+                     fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2);
+  }
+  if (r.estimated < 2) s += "agreement       not judged: fewer than two channels were estimated\n";
+  else if (r.gap <= 0.0)
+    s += fmt::format("agreement       yes: the {} intervals share {:.6g} .. {:.6g} {} (median lambda {:.6g})\n", r.estimated,
+                     r.common_low, r.common_high, u, r.median_lambda);
+  else
+    s += fmt::format("agreement       {}: the intervals farthest apart are {:.3g} {} apart (resolution {:.3g}; median lambda {:.6g})\n",
+                     r.agree ? "yes, within the resolution" : "NO", r.gap, u, r.tolerance_floor, r.median_lambda);
+  for (const auto& c : r.channels)
+    if (c.result)
+      for (const auto& w : c.result->warnings) s += "warning: " + c.name + ": " + w + "\n";
+  for (const auto& w : r.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+std::string each_channel_curves_csv(const EachChannelResult& r) {
+  std::string s = "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line\n";
+  for (std::size_t k = 0; k < r.channels.size(); ++k) {
+    if (!r.channels[k].result) continue;
+    const MlceResult& e = *r.channels[k].result;
+    const std::string prefix = fmt::format("{},{},", csv_field(r.channels[k].name), k);
+    for (std::size_t i = 0; i < e.curve.mean_log_distance.size(); ++i) s += prefix + curve_row(e, i) + "\n";
+  }
+  return s;
 }
 
 }  // namespace mlce::cli

@@ -8,6 +8,7 @@
 #include "mlce/estimate.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
+#include "mlce/each_channel.hpp"
 
 namespace mlce::cli {
 
@@ -32,6 +33,16 @@ std::string to_text(const ConvergenceResult& r, const std::string& unit);
 /// samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings (empty estimate fields for a part
 /// that could not be estimated)
 std::string convergence_csv(const ConvergenceResult& r);
+/// Every channel estimated on its own (mlce estimate --each): each channel's estimate as to_json
+/// gives it (or its error), and the verdict.
+nlohmann::json to_json(const EachChannelResult& r);
+/// A table, a channel a row, then the verdict and the warnings.
+std::string to_text(const EachChannelResult& r);
+/// channel,index,step,time,mean_log_distance,terms,in_fit,fit_line: every estimated channel's
+/// curve_csv rows one after the other, `index` numbering the channels from 0.
+std::string each_channel_curves_csv(const EachChannelResult& r);
+/// A CSV field: quoted (with quotes doubled) when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text);
 /// separation,time,contour_<fraction>...,pairs
 std::string space_time_csv(const SpaceTimeResult& r, double dt);
 

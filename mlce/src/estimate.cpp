@@ -1,5 +1,7 @@
 #include "mlce/estimate.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -151,25 +153,20 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
   std::string drift_warning;
   if (const Drift d = linear_drift(series); d.share > kDriftShare) {
-    char text[480];
-    std::snprintf(text, sizeof text,
-                  "the series drifts: a straight line through time explains %.0f %% of channel %zu's variance (a "
-                  "quantity that keeps growing, such as a rotation angle or a position?); the exponent assumes a "
-                  "motion that comes back near its past states: analyse a stationary channel (a rate, a relative "
-                  "angle) or remove the drift first",
-                  100.0 * d.share, d.channel + 1);
-    drift_warning = text;
+    drift_warning = fmt::format(
+        "the series drifts: a straight line through time explains {:.0f} % of {}'s variance (a quantity that keeps "
+        "growing, such as a rotation angle or a position?); the exponent assumes a motion that comes back near its past "
+        "states: analyse a stationary channel (a rate, a relative angle) or remove the drift first",
+        100.0 * d.share, channel_name(series, d.channel));
     r.warnings.push_back(drift_warning);
   }
   if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
-    char text[480];
-    std::snprintf(text, sizeof text,
-                  "channel %zu jumps by %.6g between samples %zu and %zu (t = %.6g), and %zu time(s) in all, by a whole "
-                  "turn: an angle that wraps at +-%s; its delay vectors straddle the jumps and the exponent is "
-                  "meaningless: analyse a relative angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
-                  w.channel + 1, w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
-                  w.degrees ? "180 deg" : "pi");
-    r.warnings.push_back(text);
+    r.warnings.push_back(fmt::format(
+        "{} jumps by {:.6g} between samples {} and {} (t = {:.6g}), and {} time(s) in all, by a whole turn: an angle "
+        "that wraps at +-{}; its delay vectors straddle the jumps and the exponent is meaningless: analyse a relative "
+        "angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
+        channel_name(series, w.channel), w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
+        w.degrees ? "180 deg" : "pi"));
   }
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;

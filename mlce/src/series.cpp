@@ -188,6 +188,11 @@ Series make_series_with_step(std::vector<std::vector<double>> channels, double d
   return s;
 }
 
+std::string channel_name(const Series& series, std::size_t c) {
+  if (c < series.names.size() && !series.names[c].empty()) return series.names[c];
+  return "channel " + std::to_string(c + 1);
+}
+
 void validate_series(const Series& series) {
   check_lengths(series.channels, series.size());
   if (!(series.dt > 0.0) || !std::isnormal(series.dt))
@@ -199,7 +204,7 @@ void validate_series(const Series& series) {
     if (x.size() == 1) throw InputError("the series has a single sample: expected a time history");
     const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
     if (*lo == *hi)
-      throw InputError("channel " + std::to_string(c + 1) + " is constant (all " + std::to_string(x.size()) +
+      throw InputError(channel_name(series, c) + " is constant (all " + std::to_string(x.size()) +
                        " samples equal " + fmt_double(*lo) + "): no dynamics to analyse");
   }
 }

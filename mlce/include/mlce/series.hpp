@@ -43,6 +43,10 @@ struct Series {
   double time(std::size_t i) const { return t0 + dt * static_cast<double>(i); }
 };
 
+/// How messages name channel c (0-based): its name when the series has one (a column's header, a
+/// channel spec), else "channel c+1".
+std::string channel_name(const Series& series, std::size_t c);
+
 /// How a time column becomes a uniform sampling step.
 struct SamplingOptions {
   /// Largest accepted |t[i+1]-t[i]-dt| / dt, dt = (t_last - t_0)/(n-1). 1e-2 tolerates the

@@ -1,0 +1,105 @@
+#include "mlce/each_channel.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mlce {
+
+void EachChannelOptions::validate() const {
+  if (!(relative_tolerance >= 0.0) || !std::isfinite(relative_tolerance))
+    throw OptionError("each_channel.relative_tolerance: expected a finite number >= 0");
+  if (!(frequency_tolerance >= 0.0) || !std::isfinite(frequency_tolerance))
+    throw OptionError("each_channel.frequency_tolerance: expected a finite number >= 0");
+}
+
+namespace {
+
+Series one_channel(const Series& series, std::size_t c, const std::string& name) {
+  Series s;
+  s.dt = series.dt, s.t0 = series.t0, s.time_unit = series.time_unit;
+  s.channels.push_back(series.channels[c]);
+  s.names.push_back(name);
+  return s;
+}
+
+double median(std::vector<double> v) {
+  const std::size_t h = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
+  if (v.size() % 2 == 1) return v[h];
+  const double upper = v[h];
+  return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h)) + upper);
+}
+
+}  // namespace
+
+EachChannelResult estimate_each_channel(const Series& series, const EachChannelOptions& options) {
+  options.validate();
+  const std::size_t count = series.channel_count();
+  if (count < 2)
+    throw OptionError(fmt::format("estimate_each_channel: the series has {} channel(s); expected 2 or more", count));
+  EachChannelResult result;
+  std::string first_error;
+  for (std::size_t c = 0; c < count; ++c) {
+    ChannelEstimate ce;
+    ce.name = c < series.names.size() && !series.names[c].empty() ? series.names[c] : fmt::format("channel {}", c + 1);
+    MlceOptions o = options.estimate;
+    if (options.estimate.progress) {  // each stage as "<channel> (k of K): <stage>", the fraction of the channels done
+      o.progress = [&, c](std::string_view stage, double) {
+        options.estimate.progress(fmt::format("{} ({} of {}): {}", ce.name, c + 1, count, stage),
+                                  static_cast<double>(c) / static_cast<double>(count));
+      };
+    }
+    try {
+      ce.result = estimate_mlce(one_channel(series, c, ce.name), o);
+      ++result.estimated;
+    } catch (const InputError& e) {  // this channel cannot be estimated: recorded, the others go on
+      ce.error = e.what();
+      if (first_error.empty()) first_error = ce.name + ": " + e.what();
+    }
+    result.channels.push_back(std::move(ce));
+  }
+  if (result.estimated == 0) throw InputError("no channel could be estimated; " + first_error);
+
+  // The verdict: do the 95 % intervals share a part (up to the resolution of the estimates)?
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  const ChannelEstimate* highest_low = nullptr;
+  const ChannelEstimate* lowest_high = nullptr;
+  std::vector<double> lambdas;
+  double largest_frequency = 0.0;
+  for (const auto& ce : result.channels) {
+    if (!ce.result) continue;
+    const MlceResult& r = *ce.result;
+    lambdas.push_back(r.lambda);
+    largest_frequency = std::max(largest_frequency, r.mean_period.mean_frequency);
+    if (!highest_low || r.ci95_low > highest_low->result->ci95_low) highest_low = &ce;
+    if (!lowest_high || r.ci95_high < lowest_high->result->ci95_high) lowest_high = &ce;
+  }
+  result.median_lambda = median(lambdas);
+  result.gap = highest_low->result->ci95_low - lowest_high->result->ci95_high;
+  result.common_low = result.gap <= 0.0 ? highest_low->result->ci95_low : nan;
+  result.common_high = result.gap <= 0.0 ? lowest_high->result->ci95_high : nan;
+  result.tolerance_floor = std::max(options.relative_tolerance * std::abs(result.median_lambda),
+                                    options.frequency_tolerance * largest_frequency);
+  result.agree = result.estimated >= 2 && result.gap <= result.tolerance_floor;
+  for (const auto& ce : result.channels)
+    if (!ce.result) result.warnings.push_back(ce.name + " could not be estimated: " + ce.error);
+  if (result.estimated < 2) {
+    result.warnings.push_back("only one channel could be estimated: there is nothing to compare it with");
+  } else if (!result.agree) {
+    const MlceResult& a = *highest_low->result;
+    const MlceResult& b = *lowest_high->result;
+    result.warnings.push_back(fmt::format(
+        "the channels disagree: {} reads {:.6g} (95 % interval {:.6g} .. {:.6g}) and {} reads {:.6g} ({:.6g} .. {:.6g}), "
+        "{:.3g} apart, beyond the resolution {:.3g}; a channel that stands apart may carry a start-up transient, a noise "
+        "floor or too few periods of the motion, or, for a decay, not see the least damped mode",
+        highest_low->name, a.lambda, a.ci95_low, a.ci95_high, lowest_high->name, b.lambda, b.ci95_low, b.ci95_high,
+        result.gap, result.tolerance_floor));
+  }
+  if (options.estimate.progress) options.estimate.progress("done", 1.0);
+  return result;
+}
+
+}  // namespace mlce

@@ -1,0 +1,133 @@
+// Every channel estimated on its own, and the verdict on whether they agree: against the exact
+// exponents of damped oscillators (lambda = -zeta omega), and against estimate_mlce run on each
+// channel as a series of its own.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mlce/each_channel.hpp"
+#include "reference_systems.hpp"
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+/// Velocity of reference::damped_oscillator (x = 1, v = 0 at t = 0): v = -(omega^2 / omega_d)
+/// e^(-zeta omega t) sin(omega_d t), the same decay rate as the displacement.
+std::vector<double> damped_velocity(std::size_t n, double dt, double zeta, double omega) {
+  const double wd = omega * std::sqrt(1.0 - zeta * zeta);
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = dt * static_cast<double>(i);
+    v[i] = -omega * omega / wd * std::exp(-zeta * omega * t) * std::sin(wd * t);
+  }
+  return v;
+}
+
+mlce::Series two_channels(std::vector<double> a, std::vector<double> b, double dt) {
+  mlce::Series s = mlce::make_series_with_step({std::move(a), std::move(b)}, dt);
+  s.names = {"first", "second"};
+  return s;
+}
+
+}  // namespace
+
+TEST(EachChannel, DisplacementAndVelocityOfOneDecayShareItsExponent) {
+  const double dt = 0.01, zeta = 0.05, omega = kTwoPi;
+  const std::size_t n = 2000;
+  const auto x = mlce::reference::damped_oscillator(n, dt, zeta, omega);
+  const auto v = damped_velocity(n, dt, zeta, omega);
+  const mlce::EachChannelResult r = mlce::estimate_each_channel(two_channels(x, v, dt), {});
+  ASSERT_EQ(r.channels.size(), 2u);
+  EXPECT_EQ(r.estimated, 2u);
+  EXPECT_EQ(r.channels[0].name, "first");
+  EXPECT_EQ(r.channels[1].name, "second");
+  for (const auto& c : r.channels) {
+    ASSERT_TRUE(c.result) << c.name << ": " << c.error;
+    EXPECT_NEAR(c.result->lambda, -zeta * omega, 0.03 * zeta * omega) << c.name;
+  }
+  EXPECT_TRUE(r.agree) << r.gap << " " << r.tolerance_floor;
+  EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+  if (r.gap <= 0.0) {
+    EXPECT_LE(r.common_low, r.common_high);
+    for (const auto& c : r.channels) EXPECT_TRUE(c.result->ci95_low <= r.common_low && r.common_high <= c.result->ci95_high);
+  }
+  // Each channel's estimate is the one of a file that holds that channel only.
+  const mlce::MlceResult alone_x = mlce::estimate_mlce(mlce::make_series_with_step({x}, dt), {});
+  const mlce::MlceResult alone_v = mlce::estimate_mlce(mlce::make_series_with_step({v}, dt), {});
+  EXPECT_EQ(r.channels[0].result->lambda, alone_x.lambda);
+  EXPECT_EQ(r.channels[1].result->lambda, alone_v.lambda);
+  EXPECT_EQ(r.channels[1].result->delay, alone_v.delay);
+  EXPECT_EQ(r.channels[1].result->fit.first, alone_v.fit.first);
+}
+
+TEST(EachChannel, TwoDecaysAtDifferentRatesDisagreeAndTheWarningNamesThem) {
+  // Two motions in one file (a channel that does not see the least damped mode reads another rate).
+  const double dt = 0.01, omega = kTwoPi;
+  const std::size_t n = 2000;
+  const mlce::EachChannelResult r = mlce::estimate_each_channel(
+      two_channels(mlce::reference::damped_oscillator(n, dt, 0.05, omega),
+                   mlce::reference::damped_oscillator(n, dt, 0.15, omega), dt),
+      {});
+  ASSERT_EQ(r.estimated, 2u);
+  EXPECT_NEAR(r.channels[0].result->lambda, -0.05 * omega, 0.03 * 0.05 * omega);
+  EXPECT_NEAR(r.channels[1].result->lambda, -0.15 * omega, 0.03 * 0.15 * omega);
+  EXPECT_FALSE(r.agree);
+  EXPECT_GT(r.gap, r.tolerance_floor);
+  EXPECT_TRUE(std::isnan(r.common_low) && std::isnan(r.common_high));
+  EXPECT_NEAR(r.median_lambda, -0.10 * omega, 0.03 * 0.10 * omega);  // the mean of two
+  ASSERT_EQ(r.warnings.size(), 1u);
+  for (const char* word : {"disagree", "first", "second"})
+    EXPECT_NE(r.warnings[0].find(word), std::string::npos) << word << ": " << r.warnings[0];
+}
+
+TEST(EachChannel, AChannelThatCannotBeEstimatedIsRecordedAndTheOthersGoOn) {
+  const double dt = 0.01;
+  const std::size_t n = 2000;
+  const auto x = mlce::reference::damped_oscillator(n, dt, 0.05, kTwoPi);
+  const std::vector<double> constant(n, 3.0);
+  const mlce::EachChannelResult r = mlce::estimate_each_channel(two_channels(x, constant, dt), {});
+  EXPECT_EQ(r.estimated, 1u);
+  ASSERT_TRUE(r.channels[0].result);
+  EXPECT_FALSE(r.channels[1].result);
+  EXPECT_NE(r.channels[1].error.find("constant"), std::string::npos) << r.channels[1].error;
+  EXPECT_FALSE(r.agree);  // nothing to compare with
+  ASSERT_EQ(r.warnings.size(), 2u);
+  EXPECT_NE(r.warnings[0].find("second could not be estimated"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[1].find("only one channel"), std::string::npos) << r.warnings[1];
+  // No channel at all: the first one's error, as an input error.
+  try {
+    mlce::estimate_each_channel(two_channels(constant, constant, dt), {});
+    ADD_FAILURE() << "expected an InputError";
+  } catch (const mlce::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no channel could be estimated; first: "), std::string::npos) << e.what();
+  }
+  // One channel is not a comparison; bad tolerances are option errors.
+  EXPECT_THROW(mlce::estimate_each_channel(mlce::make_series_with_step({x}, dt), {}), mlce::OptionError);
+  mlce::EachChannelOptions bad;
+  bad.relative_tolerance = -1.0;
+  EXPECT_THROW(mlce::estimate_each_channel(two_channels(x, x, dt), bad), mlce::OptionError);
+}
+
+TEST(EachChannel, ProgressRunsOverAllChannelsAndNamesThem) {
+  const double dt = 0.01;
+  const auto x = mlce::reference::damped_oscillator(2000, dt, 0.05, kTwoPi);
+  mlce::EachChannelOptions o;
+  std::vector<std::pair<std::string, double>> seen;
+  o.estimate.progress = [&](std::string_view stage, double fraction) { seen.emplace_back(std::string(stage), fraction); };
+  mlce::estimate_each_channel(two_channels(x, damped_velocity(2000, dt, 0.05, kTwoPi), dt), o);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back().first, "done");
+  EXPECT_EQ(seen.back().second, 1.0);
+  bool first = false, second = false;
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    first = first || seen[k].first.rfind("first (1 of 2): ", 0) == 0;
+    second = second || seen[k].first.rfind("second (2 of 2): ", 0) == 0;
+    EXPECT_GE(seen[k].second, 0.0);
+    EXPECT_LE(seen[k].second, 1.0);
+    if (k > 0) {
+      EXPECT_GE(seen[k].second, seen[k - 1].second) << seen[k].first;
+    }
+  }
+  EXPECT_TRUE(first && second);
+}
