@@ -92,6 +92,7 @@ TEST(EachChannel, AChannelThatCannotBeEstimatedIsRecordedAndTheOthersGoOn) {
   EXPECT_FALSE(r.channels[1].result);
   EXPECT_NE(r.channels[1].error.find("constant"), std::string::npos) << r.channels[1].error;
   EXPECT_FALSE(r.agree);  // nothing to compare with
+  EXPECT_TRUE(std::isnan(r.gap) && std::isnan(r.common_low) && std::isnan(r.common_high));
   ASSERT_EQ(r.warnings.size(), 2u);
   EXPECT_NE(r.warnings[0].find("second could not be estimated"), std::string::npos) << r.warnings[0];
   EXPECT_NE(r.warnings[1].find("only one channel"), std::string::npos) << r.warnings[1];

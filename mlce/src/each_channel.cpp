@@ -78,7 +78,8 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
     if (!lowest_high || r.ci95_high < lowest_high->result->ci95_high) lowest_high = &ce;
   }
   result.median_lambda = median(lambdas);
-  result.gap = highest_low->result->ci95_low - lowest_high->result->ci95_high;
+  // One channel's interval is no common part of several: with one estimate, gap and common part are NaN.
+  result.gap = result.estimated >= 2 ? highest_low->result->ci95_low - lowest_high->result->ci95_high : nan;
   result.common_low = result.gap <= 0.0 ? highest_low->result->ci95_low : nan;
   result.common_high = result.gap <= 0.0 ? lowest_high->result->ci95_high : nan;
   result.tolerance_floor = std::max(options.relative_tolerance * std::abs(result.median_lambda),

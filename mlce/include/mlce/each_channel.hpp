@@ -39,7 +39,7 @@ struct EachChannelResult {
   std::size_t estimated = 0;              ///< channels with a result
   /// max over the estimated channels of ci95_low minus min of ci95_high, per time unit: <= 0 when
   /// every interval holds [max low, min high] (then common_low/high), > 0 the distance between the
-  /// two intervals farthest apart.
+  /// two intervals farthest apart; NaN when fewer than two channels were estimated.
   double gap = 0.0;
   double common_low = 0.0, common_high = 0.0;  ///< the common part of the intervals; NaN when gap > 0
   double median_lambda = 0.0;                  ///< over the estimated channels, per time unit
