@@ -29,10 +29,14 @@
 // and section 3 on 256 series (seed 7), with the intervals' coverage, the Henon series outside 2 %
 // listed with their own exponents:
 //   build/finite_time_spread maps
+// and one Lorenz x series (N = 10^4, dt = 0.01; the series `build/make_series lorenz 10000 0.01 T X Y Z`
+// writes): the automatic estimate, the plain curve's and the own exponent of that trajectory:
+//   build/finite_time_spread lorenz X Y Z T
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -355,6 +359,19 @@ int main(int argc, char** argv) {
     observable_study(lorenz_x, 1, "Lorenz y");
     observable_study(lorenz_x, 2, "Lorenz z");
     observable_study(roessler_x, 1, "Roessler y");
+    return 0;
+  }
+  if (argc == 6 && std::string(argv[1]) == "lorenz") {
+    const State x0{std::strtod(argv[2], nullptr), std::strtod(argv[3], nullptr), std::strtod(argv[4], nullptr)};
+    System sys = lorenz_x;
+    sys.transient = std::strtod(argv[5], nullptr);
+    const std::size_t n = 10000;
+    const auto x = mlce::reference::lorenz_x(n, sys.dt, x0, sys.transient);  // = make_series lorenz n dt T X Y Z
+    const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), {});
+    std::printf("Lorenz x from (%g, %g, %g) after %g time units, N = %zu: automatic %.4f (%.3f x lambda_1, fit %zu..%zu, "
+                "plain curve %.3f x), own exponent %.3f x lambda_1\n",
+                x0[0], x0[1], x0[2], sys.transient, n, r.lambda, r.lambda / sys.lambda, r.fit.first, r.fit.last,
+                r.unaligned_lambda / sys.lambda, own_exponent(sys, x0, n, 10) / sys.lambda);
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "maps") {

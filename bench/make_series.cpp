@@ -2,6 +2,7 @@
 // benchmark inputs are made by this program, not by hand).
 //   make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt] > file
 //   make_series lorenz N dt TRANSIENT > file   (Lorenz from (1, 1, 1) after TRANSIENT time units; default 50)
+//   make_series lorenz N dt TRANSIENT X Y Z    (from (X, Y, Z) instead)
 //   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,7 @@ int main(int argc, char** argv) {
   if (argc < 3) {
     std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n"
                          "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n"
+                         "       make_series lorenz N dt TRANSIENT X Y Z   (from (X, Y, Z))\n"
                          "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n");
     return 2;
   }
@@ -30,8 +32,12 @@ int main(int argc, char** argv) {
       std::printf("%.10g %.17g %.17g %.17g\n", dt * static_cast<double>(i), c[0][i], c[1][i], c[2][i]);
     return 0;
   }
-  if (name == "lorenz") x = lorenz_x(n, dt = dt > 0 ? dt : 0.01, {1.0, 1.0, 1.0}, argc > 4 ? std::strtod(argv[4], nullptr) : 50.0);
-  else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
+  if (name == "lorenz") {
+    const std::array<double, 3> start = argc > 7 ? std::array<double, 3>{std::strtod(argv[5], nullptr), std::strtod(argv[6], nullptr),
+                                                                         std::strtod(argv[7], nullptr)}
+                                                 : std::array<double, 3>{1.0, 1.0, 1.0};
+    x = lorenz_x(n, dt = dt > 0 ? dt : 0.01, start, argc > 4 ? std::strtod(argv[4], nullptr) : 50.0);
+  } else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
   else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);
   else if (name == "oscillator") x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, 0.05, 2.0 * M_PI);
