@@ -333,7 +333,7 @@ std::string to_text(const EachChannelResult& r) {
                               "lambda " + u, "95 % interval", "delay", "dim", "theiler", "fit", "R^2");
   for (const auto& c : r.channels) {
     if (!c.result) {
-      s += fmt::format("{:<{}}  not estimated: {}\n", c.name, width, c.error);
+      s += fmt::format("{:<{}}  not estimated (why: the warning below)\n", c.name, width);
       continue;
     }
     const MlceResult& e = *c.result;
