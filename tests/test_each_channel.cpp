@@ -46,11 +46,11 @@ TEST(EachChannel, DisplacementAndVelocityOfOneDecayShareItsExponent) {
     ASSERT_TRUE(c.result) << c.name << ": " << c.error;
     EXPECT_NEAR(c.result->lambda, -zeta * omega, 0.03 * zeta * omega) << c.name;
   }
-  EXPECT_TRUE(r.agree) << r.gap << " " << r.tolerance_floor;
+  EXPECT_TRUE(r.verdict.agree) << r.verdict.gap << " " << r.verdict.tolerance_floor;
   EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
-  if (r.gap <= 0.0) {
-    EXPECT_LE(r.common_low, r.common_high);
-    for (const auto& c : r.channels) EXPECT_TRUE(c.result->ci95_low <= r.common_low && r.common_high <= c.result->ci95_high);
+  if (r.verdict.gap <= 0.0) {
+    EXPECT_LE(r.verdict.common_low, r.verdict.common_high);
+    for (const auto& c : r.channels) EXPECT_TRUE(c.result->ci95_low <= r.verdict.common_low && r.verdict.common_high <= c.result->ci95_high);
   }
   // Each channel's estimate is the one of a file that holds that channel only.
   const mlce::MlceResult alone_x = mlce::estimate_mlce(mlce::make_series_with_step({x}, dt), {});
@@ -72,10 +72,10 @@ TEST(EachChannel, TwoDecaysAtDifferentRatesDisagreeAndTheWarningNamesThem) {
   ASSERT_EQ(r.estimated, 2u);
   EXPECT_NEAR(r.channels[0].result->lambda, -0.05 * omega, 0.03 * 0.05 * omega);
   EXPECT_NEAR(r.channels[1].result->lambda, -0.15 * omega, 0.03 * 0.15 * omega);
-  EXPECT_FALSE(r.agree);
-  EXPECT_GT(r.gap, r.tolerance_floor);
-  EXPECT_TRUE(std::isnan(r.common_low) && std::isnan(r.common_high));
-  EXPECT_NEAR(r.median_lambda, -0.10 * omega, 0.03 * 0.10 * omega);  // the mean of two
+  EXPECT_FALSE(r.verdict.agree);
+  EXPECT_GT(r.verdict.gap, r.verdict.tolerance_floor);
+  EXPECT_TRUE(std::isnan(r.verdict.common_low) && std::isnan(r.verdict.common_high));
+  EXPECT_NEAR(r.verdict.median_lambda, -0.10 * omega, 0.03 * 0.10 * omega);  // the mean of two
   ASSERT_EQ(r.warnings.size(), 1u);
   for (const char* word : {"disagree", "first", "second"})
     EXPECT_NE(r.warnings[0].find(word), std::string::npos) << word << ": " << r.warnings[0];
@@ -91,8 +91,8 @@ TEST(EachChannel, AChannelThatCannotBeEstimatedIsRecordedAndTheOthersGoOn) {
   ASSERT_TRUE(r.channels[0].result);
   EXPECT_FALSE(r.channels[1].result);
   EXPECT_NE(r.channels[1].error.find("constant"), std::string::npos) << r.channels[1].error;
-  EXPECT_FALSE(r.agree);  // nothing to compare with
-  EXPECT_TRUE(std::isnan(r.gap) && std::isnan(r.common_low) && std::isnan(r.common_high));
+  EXPECT_FALSE(r.verdict.agree);  // nothing to compare with
+  EXPECT_TRUE(std::isnan(r.verdict.gap) && std::isnan(r.verdict.common_low) && std::isnan(r.verdict.common_high));
   ASSERT_EQ(r.warnings.size(), 2u);
   EXPECT_NE(r.warnings[0].find("second could not be estimated"), std::string::npos) << r.warnings[0];
   EXPECT_NE(r.warnings[1].find("only one channel"), std::string::npos) << r.warnings[1];
@@ -131,4 +131,41 @@ TEST(EachChannel, ProgressRunsOverAllChannelsAndNamesThem) {
     }
   }
   EXPECT_TRUE(first && second);
+}
+
+TEST(EachChannel, AgreementIsJudgedAtTheEstimatesResolution) {
+  // Intervals built by hand, the verdict worked out by hand.
+  auto estimate = [](double lambda, double half_width, double mean_frequency) {
+    mlce::MlceResult r;
+    r.lambda = lambda, r.ci95_low = lambda - half_width, r.ci95_high = lambda + half_width;
+    r.mean_period.mean_frequency = mean_frequency;
+    return r;
+  };
+  // A limit cycle read through two channels: 0 resolved to 1 % of the mean frequency (1 Hz: 0.01
+  // 1/s), so narrow intervals 5e-5 apart are one exponent even though they do not overlap.
+  const auto a = estimate(-2e-5, 1e-6, 1.0), b = estimate(3e-5, 1e-6, 1.0);
+  mlce::Agreement v = mlce::judge_agreement({&a, &b});
+  EXPECT_NEAR(v.gap, 5e-5 - 2e-6, 1e-12);
+  EXPECT_DOUBLE_EQ(v.tolerance_floor, 0.01);
+  EXPECT_TRUE(v.agree);
+  EXPECT_TRUE(std::isnan(v.common_low));
+  EXPECT_EQ(v.highest_low, 1u);
+  EXPECT_EQ(v.lowest_high, 0u);
+  // 0.31 +- 0.01 against 0.35 +- 0.01, no frequency term: 0.02 apart, beyond 5 % of the median 0.33.
+  const auto c = estimate(0.31, 0.01, 0.0), d = estimate(0.35, 0.01, 0.0);
+  v = mlce::judge_agreement({&c, &d});
+  EXPECT_NEAR(v.gap, 0.02, 1e-12);
+  EXPECT_NEAR(v.tolerance_floor, 0.05 * 0.33, 1e-12);
+  EXPECT_FALSE(v.agree);
+  // Three that overlap: the common part is [max low, min high], the median the middle one.
+  const auto e = estimate(0.30, 0.05, 0.0), f = estimate(0.33, 0.05, 0.0), g = estimate(0.32, 0.04, 0.0);
+  v = mlce::judge_agreement({&e, &f, &g});
+  EXPECT_TRUE(v.agree);
+  EXPECT_NEAR(v.common_low, 0.28, 1e-12);
+  EXPECT_NEAR(v.common_high, 0.35, 1e-12);
+  EXPECT_DOUBLE_EQ(v.median_lambda, 0.32);
+  // One estimate is no comparison.
+  v = mlce::judge_agreement({&e});
+  EXPECT_FALSE(v.agree);
+  EXPECT_TRUE(std::isnan(v.gap));
 }

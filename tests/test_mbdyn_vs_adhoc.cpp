@@ -78,6 +78,7 @@ TEST_F(MbdynVsAdHoc, IsotropicRunDecaysAtTheSlowestEigenvalueFromBothSources) {
     EXPECT_LT(std::abs(a - b), 0.1 * std::abs(b)) << ch;        // issue 6: within 10 % of each other
     EXPECT_LT(std::abs(a - slowest), 0.05 * std::abs(slowest)) << ch;  // and of the eigenvalue
     EXPECT_TRUE(m["intervals_overlap"].get<bool>()) << ch;
+    EXPECT_TRUE(m["agreement"]["agree"].get<bool>()) << ch;  // overlapping intervals agree at any resolution
   }
 }
 
@@ -111,6 +112,7 @@ TEST_F(MbdynVsAdHoc, FailedDamperRunLimitCycleRangeAndBoundedDivergence) {
       EXPECT_EQ(b["curve_end"], "bounded divergence") << ch;
       EXPECT_LT(std::abs(m["difference"].get<double>()), 0.05) << ch;
       EXPECT_TRUE(m["intervals_overlap"].get<bool>()) << ch;
+      EXPECT_TRUE(m["agreement"]["agree"].get<bool>()) << ch;
       if (ch == "rel:13:4:z") {
         EXPECT_TRUE(contains_zero(a)) << a.dump();
         EXPECT_TRUE(contains_zero(b)) << b.dump();

@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "mlce/compare.hpp"
+#include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
 #include "plot.hpp"
 #include "report.hpp"
@@ -79,10 +80,13 @@ MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, cons
   return p;
 }
 
-/// The two estimates agree when their 95 % intervals overlap.
+/// Strictly: the two 95 % intervals overlap.
 bool intervals_overlap(const MlceResult& a, const MlceResult& b) {
   return a.ci95_low <= b.ci95_high && b.ci95_low <= a.ci95_high;
 }
+
+/// The verdict of mlce estimate --each (and the resolution of mlce convergence) on the two runs.
+Agreement agreement(const MlcePair& e) { return judge_agreement({&e.a, &e.b}); }
 
 nlohmann::json mlce_json(const MlceResult& r) {
   return {{"lambda", r.lambda}, {"ci95", {r.ci95_low, r.ci95_high}}, {"curve_end", to_string(r.fit.end)},
@@ -188,7 +192,8 @@ int cmd_compare(const std::vector<std::string>& args) {
         j["channels"].back()["mlce"] = {{"window", {e.from, e.to}}, {"window_rule", e.window_rule},
                                         {"a", mlce_json(e.a)}, {"b", mlce_json(e.b)},
                                         {"difference", e.b.lambda - e.a.lambda},
-                                        {"intervals_overlap", intervals_overlap(e.a, e.b)}};
+                                        {"intervals_overlap", intervals_overlap(e.a, e.b)},
+                                        {"agreement", to_json(agreement(e))}};
       }
     }
     j["warnings"] = warnings;
@@ -211,7 +216,7 @@ int cmd_compare(const std::vector<std::string>& args) {
         const auto& e = exponents[c];
         auto cell = [](const MlceResult& r) { return fmt::format("{:.5g} [{:.4g}, {:.4g}]", r.lambda, r.ci95_low, r.ci95_high); };
         std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}\n", channels[c], e.from, e.to,
-                                 cell(e.a), cell(e.b), e.b.lambda - e.a.lambda, intervals_overlap(e.a, e.b) ? "yes" : "NO");
+                                 cell(e.a), cell(e.b), e.b.lambda - e.a.lambda, agreement(e).agree ? "yes" : "NO");
       }
       for (std::size_t c = 0; c < exponents.size(); ++c)
         std::cout << fmt::format("# {}: window: {}; curve end A: {}, B: {}\n", channels[c], exponents[c].window_rule,

@@ -304,6 +304,23 @@ std::string csv_field(const std::string& text) {
   return q + "\"";
 }
 
+nlohmann::json to_json(const Agreement& a) {
+  return {{"agree", a.agree},
+          {"gap", finite_or_null(a.gap)},
+          {"common_interval", std::isfinite(a.common_low) ? nlohmann::json{a.common_low, a.common_high} : nlohmann::json(nullptr)},
+          {"median_lambda", finite_or_null(a.median_lambda)},
+          {"tolerance", finite_or_null(a.tolerance_floor)}};
+}
+
+std::string agreement_text(const Agreement& a, std::size_t estimates, const std::string& rate_unit) {
+  if (estimates < 2) return "not judged: fewer than two estimates";
+  if (a.gap <= 0.0)
+    return fmt::format("yes: the {} intervals share {:.6g} .. {:.6g} {} (median lambda {:.6g})", estimates, a.common_low,
+                       a.common_high, rate_unit, a.median_lambda);
+  return fmt::format("{}: the intervals farthest apart are {:.3g} {} apart (resolution {:.3g}; median lambda {:.6g})",
+                     a.agree ? "yes, within the resolution" : "NO", a.gap, rate_unit, a.tolerance_floor, a.median_lambda);
+}
+
 nlohmann::json to_json(const EachChannelResult& r) {
   nlohmann::json channels = nlohmann::json::array();
   for (const auto& c : r.channels) {
@@ -311,14 +328,11 @@ nlohmann::json to_json(const EachChannelResult& r) {
     j["channel"] = c.name;
     channels.push_back(std::move(j));
   }
-  return {{"channels", channels},
-          {"estimated", r.estimated},
-          {"agree", r.agree},
-          {"gap", finite_or_null(r.gap)},
-          {"common_interval", std::isfinite(r.common_low) ? nlohmann::json{r.common_low, r.common_high} : nlohmann::json(nullptr)},
-          {"median_lambda", finite_or_null(r.median_lambda)},
-          {"tolerance", finite_or_null(r.tolerance_floor)},
-          {"warnings", r.warnings}};
+  nlohmann::json j = to_json(r.verdict);
+  j["channels"] = channels;
+  j["estimated"] = r.estimated;
+  j["warnings"] = r.warnings;
+  return j;
 }
 
 std::string to_text(const EachChannelResult& r) {
@@ -341,13 +355,7 @@ std::string to_text(const EachChannelResult& r) {
                      e.lambda, e.ci95_low, e.ci95_high, e.delay, e.dim, e.theiler,
                      fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2);
   }
-  if (r.estimated < 2) s += "agreement       not judged: fewer than two channels were estimated\n";
-  else if (r.gap <= 0.0)
-    s += fmt::format("agreement       yes: the {} intervals share {:.6g} .. {:.6g} {} (median lambda {:.6g})\n", r.estimated,
-                     r.common_low, r.common_high, u, r.median_lambda);
-  else
-    s += fmt::format("agreement       {}: the intervals farthest apart are {:.3g} {} apart (resolution {:.3g}; median lambda {:.6g})\n",
-                     r.agree ? "yes, within the resolution" : "NO", r.gap, u, r.tolerance_floor, r.median_lambda);
+  s += "agreement       " + agreement_text(r.verdict, r.estimated, u) + "\n";
   for (const auto& c : r.channels)
     if (c.result)
       for (const auto& w : c.result->warnings) s += "warning: " + c.name + ": " + w + "\n";

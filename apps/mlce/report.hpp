@@ -33,6 +33,10 @@ std::string to_text(const ConvergenceResult& r, const std::string& unit);
 /// samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings (empty estimate fields for a part
 /// that could not be estimated)
 std::string convergence_csv(const ConvergenceResult& r);
+/// Whether estimates agree: agree, gap, common_interval ([low, high] or null), median_lambda, tolerance.
+nlohmann::json to_json(const Agreement& a);
+/// The same as one line for people ("yes: the 3 intervals share ...", "NO: ... apart ...").
+std::string agreement_text(const Agreement& a, std::size_t estimates, const std::string& rate_unit);
 /// Every channel estimated on its own (mlce estimate --each): each channel's estimate as to_json
 /// gives it (or its error), and the verdict.
 nlohmann::json to_json(const EachChannelResult& r);

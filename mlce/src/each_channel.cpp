@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace mlce {
 
@@ -35,6 +36,30 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
+Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, double relative_tolerance,
+                          double frequency_tolerance) {
+  if (estimates.empty()) throw std::logic_error("judge_agreement: no estimate");
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  Agreement a;
+  std::vector<double> lambdas;
+  double largest_frequency = 0.0;
+  for (std::size_t k = 0; k < estimates.size(); ++k) {
+    const MlceResult& r = *estimates[k];
+    lambdas.push_back(r.lambda);
+    largest_frequency = std::max(largest_frequency, r.mean_period.mean_frequency);
+    if (r.ci95_low > estimates[a.highest_low]->ci95_low) a.highest_low = k;
+    if (r.ci95_high < estimates[a.lowest_high]->ci95_high) a.lowest_high = k;
+  }
+  a.median_lambda = median(lambdas);
+  // One interval is no common part of several: with one estimate, gap and common part are NaN.
+  a.gap = estimates.size() >= 2 ? estimates[a.highest_low]->ci95_low - estimates[a.lowest_high]->ci95_high : nan;
+  a.common_low = a.gap <= 0.0 ? estimates[a.highest_low]->ci95_low : nan;
+  a.common_high = a.gap <= 0.0 ? estimates[a.lowest_high]->ci95_high : nan;
+  a.tolerance_floor = std::max(relative_tolerance * std::abs(a.median_lambda), frequency_tolerance * largest_frequency);
+  a.agree = estimates.size() >= 2 && a.gap <= a.tolerance_floor;
+  return a;
+}
+
 EachChannelResult estimate_each_channel(const Series& series, const EachChannelOptions& options) {
   options.validate();
   const std::size_t count = series.channel_count();
@@ -64,40 +89,25 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
   if (result.estimated == 0) throw InputError("no channel could be estimated; " + first_error);
 
   // The verdict: do the 95 % intervals share a part (up to the resolution of the estimates)?
-  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-  const ChannelEstimate* highest_low = nullptr;
-  const ChannelEstimate* lowest_high = nullptr;
-  std::vector<double> lambdas;
-  double largest_frequency = 0.0;
-  for (const auto& ce : result.channels) {
-    if (!ce.result) continue;
-    const MlceResult& r = *ce.result;
-    lambdas.push_back(r.lambda);
-    largest_frequency = std::max(largest_frequency, r.mean_period.mean_frequency);
-    if (!highest_low || r.ci95_low > highest_low->result->ci95_low) highest_low = &ce;
-    if (!lowest_high || r.ci95_high < lowest_high->result->ci95_high) lowest_high = &ce;
-  }
-  result.median_lambda = median(lambdas);
-  // One channel's interval is no common part of several: with one estimate, gap and common part are NaN.
-  result.gap = result.estimated >= 2 ? highest_low->result->ci95_low - lowest_high->result->ci95_high : nan;
-  result.common_low = result.gap <= 0.0 ? highest_low->result->ci95_low : nan;
-  result.common_high = result.gap <= 0.0 ? lowest_high->result->ci95_high : nan;
-  result.tolerance_floor = std::max(options.relative_tolerance * std::abs(result.median_lambda),
-                                    options.frequency_tolerance * largest_frequency);
-  result.agree = result.estimated >= 2 && result.gap <= result.tolerance_floor;
+  std::vector<const MlceResult*> estimates;
+  std::vector<const ChannelEstimate*> of;
+  for (const auto& ce : result.channels)
+    if (ce.result) estimates.push_back(&*ce.result), of.push_back(&ce);
+  result.verdict = judge_agreement(estimates, options.relative_tolerance, options.frequency_tolerance);
+  const Agreement& v = result.verdict;
   for (const auto& ce : result.channels)
     if (!ce.result) result.warnings.push_back(ce.name + " could not be estimated: " + ce.error);
   if (result.estimated < 2) {
     result.warnings.push_back("only one channel could be estimated: there is nothing to compare it with");
-  } else if (!result.agree) {
-    const MlceResult& a = *highest_low->result;
-    const MlceResult& b = *lowest_high->result;
+  } else if (!v.agree) {
+    const MlceResult& a = *estimates[v.highest_low];
+    const MlceResult& b = *estimates[v.lowest_high];
     result.warnings.push_back(fmt::format(
         "the channels disagree: {} reads {:.6g} (95 % interval {:.6g} .. {:.6g}) and {} reads {:.6g} ({:.6g} .. {:.6g}), "
         "{:.3g} apart, beyond the resolution {:.3g}; a channel that stands apart may carry a start-up transient, a noise "
         "floor or too few periods of the motion, or, for a decay, not see the least damped mode",
-        highest_low->name, a.lambda, a.ci95_low, a.ci95_high, lowest_high->name, b.lambda, b.ci95_low, b.ci95_high,
-        result.gap, result.tolerance_floor));
+        of[v.highest_low]->name, a.lambda, a.ci95_low, a.ci95_high, of[v.lowest_high]->name, b.lambda, b.ci95_low,
+        b.ci95_high, v.gap, v.tolerance_floor));
   }
   if (options.estimate.progress) options.estimate.progress("done", 1.0);
   return result;

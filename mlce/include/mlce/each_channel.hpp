@@ -28,6 +28,22 @@ struct EachChannelOptions {
   void validate() const;
 };
 
+/// Whether several estimates of one exponent agree (the channels of a run, or one channel of two
+/// runs: mlce compare --mlce): the gap between the two 95 % intervals farthest apart, max(low) -
+/// min(high), is at most max(relative_tolerance x |median lambda|, frequency_tolerance x the
+/// largest mean frequency), per time unit.
+struct Agreement {
+  double gap = 0.0;  ///< <= 0: every interval holds [common_low, common_high]; NaN with fewer than 2 estimates
+  double common_low = 0.0, common_high = 0.0;  ///< NaN when gap > 0 (or is NaN)
+  double median_lambda = 0.0;
+  double tolerance_floor = 0.0;
+  bool agree = false;         ///< gap <= tolerance_floor, over at least two estimates
+  std::size_t highest_low = 0, lowest_high = 0;  ///< indices of the two intervals farthest apart
+};
+/// `estimates` must not be empty.
+Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, double relative_tolerance = 0.05,
+                          double frequency_tolerance = 0.01);
+
 struct ChannelEstimate {
   std::string name;                  ///< the series' channel name ("channel K" when it has none)
   std::optional<MlceResult> result;  ///< nullopt: `error` says why (a channel too short, constant, ...)
@@ -37,15 +53,10 @@ struct ChannelEstimate {
 struct EachChannelResult {
   std::vector<ChannelEstimate> channels;  ///< in the series' order
   std::size_t estimated = 0;              ///< channels with a result
-  /// max over the estimated channels of ci95_low minus min of ci95_high, per time unit: <= 0 when
-  /// every interval holds [max low, min high] (then common_low/high), > 0 the distance between the
-  /// two intervals farthest apart; NaN when fewer than two channels were estimated.
-  double gap = 0.0;
-  double common_low = 0.0, common_high = 0.0;  ///< the common part of the intervals; NaN when gap > 0
-  double median_lambda = 0.0;                  ///< over the estimated channels, per time unit
-  double tolerance_floor = 0.0;                ///< the verdict's resolution (EachChannelOptions)
-  bool agree = false;                          ///< gap <= tolerance_floor, over at least two channels
-  std::vector<std::string> warnings;           ///< the verdict's (each channel's own are in its result)
+  /// Over the estimated channels (indices into them, not into `channels`), with the options'
+  /// tolerances; gap and common part NaN when fewer than two were estimated.
+  Agreement verdict;
+  std::vector<std::string> warnings;  ///< the verdict's (each channel's own are in its result)
 };
 
 /// Throws OptionError on bad options and InputError when no channel can be estimated (the first
