@@ -29,6 +29,9 @@
 // and section 3 on 256 series (seed 7), with the intervals' coverage, the Henon series outside 2 %
 // listed with their own exponents:
 //   build/finite_time_spread maps
+// and the verdict of `mlce estimate --each` on channels of one trajectory (Lorenz x, y, z; Roessler
+// x, y; 32 series each, the starts of the observables), with the median over the channels:
+//   build/finite_time_spread channels
 // and one Lorenz x series (N = 10^4, dt = 0.01; the series `build/make_series lorenz 10000 0.01 T X Y Z`
 // writes): the automatic estimate, the plain curve's and the own exponent of that trajectory:
 //   build/finite_time_spread lorenz X Y Z T
@@ -41,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
 #include "mlce/numerics.hpp"
 #include "reference_systems.hpp"
@@ -300,6 +304,57 @@ void observable_study(const System& sys, std::size_t component, const char* labe
   automatic.print("automatic");
 }
 
+std::string fmt_series(int k) { return " #" + std::to_string(k) + ":"; }
+
+/// Several observables of one trajectory share lambda_1: how often does the verdict of
+/// `mlce estimate --each` (estimate_each_channel) say they disagree, on 32 series (seed 1, the
+/// starts of observable_study) whose channels are components of the same run? Each disagreement is
+/// listed with its channels' estimates. Also the median over the channels as an estimate of lambda_1.
+void channels_study(const System& sys, const std::vector<std::size_t>& components, const char* label) {
+  constexpr std::size_t n = 10000;
+  const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  Tally median, first;
+  int agree = 0, not_judged = 0;
+  std::string disagreements;
+  for (int k = 0; k < 32; ++k) {
+    const State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+    std::vector<std::vector<double>> channels;
+    for (const std::size_t c : components)
+      channels.push_back(mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps, c));
+    mlce::Series series = mlce::make_series_with_step(std::move(channels), sys.dt);
+    for (const std::size_t c : components) series.names.push_back(std::string(1, "xyz"[c]));
+    const auto r = mlce::estimate_each_channel(series, {});
+    if (r.estimated < 2) {
+      ++not_judged;
+      continue;
+    }
+    const double own = own_exponent(sys, x0, n, substeps) / sys.lambda;
+    median.add(r.verdict.median_lambda / sys.lambda, own);
+    if (r.channels[0].result) first.add(r.channels[0].result->lambda / sys.lambda, own);
+    if (r.verdict.agree) {
+      ++agree;
+      continue;
+    }
+    disagreements += fmt_series(k + 1);
+    for (const auto& c : r.channels)
+      if (c.result) {
+        char item[96];
+        std::snprintf(item, sizeof item, " %s %.3f [%.3f, %.3f]", c.name.c_str(), c.result->lambda / sys.lambda,
+                      c.result->ci95_low / sys.lambda, c.result->ci95_high / sys.lambda);
+        disagreements += item;
+      }
+    disagreements += ";";
+  }
+  std::printf("%s: 32 series (N = 10^4, dt = %g), every channel on its own (estimate --each):\n", label, sys.dt);
+  std::printf("  the verdict says they agree on %d of 32 (not judged: %d)\n", agree, not_judged);
+  std::printf("  disagreements (lambda / %.4f, 95 %% interval):%s\n", sys.lambda,
+              disagreements.empty() ? " none" : disagreements.c_str());
+  median.print("median of the channels");
+  first.print((std::string(1, "xyz"[components[0]]) + " alone").c_str());
+}
+
 /// Maps (issue 2: Henon x and logistic r = 4 within 2 % at N = 10^4): series from random
 /// initial states after 1000 (Henon) or 100 (logistic) iterations, every parameter automatic,
 /// beside the finite-time exponent of the very trajectory each samples (reference::
@@ -372,6 +427,11 @@ int main(int argc, char** argv) {
                 "plain curve %.3f x), own exponent %.3f x lambda_1\n",
                 x0[0], x0[1], x0[2], sys.transient, n, r.lambda, r.lambda / sys.lambda, r.fit.first, r.fit.last,
                 r.unaligned_lambda / sys.lambda, own_exponent(sys, x0, n, 10) / sys.lambda);
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "channels") {
+    channels_study(lorenz_x, {0, 1, 2}, "Lorenz x, y, z");
+    channels_study(roessler_x, {0, 1}, "Roessler x, y");
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "maps") {
