@@ -33,6 +33,10 @@ ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end
 
 }  // namespace
 
+double exponent_resolution(double lambda, double mean_frequency, double relative_tolerance, double frequency_tolerance) {
+  return std::max(relative_tolerance * std::abs(lambda), frequency_tolerance * mean_frequency);
+}
+
 ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOptions& options) {
   options.validate();
   const std::size_t n = series.size();
@@ -66,8 +70,8 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
 
   // Verdict over the parts k >= parts/2 (at least half the run, up to rounding).
   const double half_width = 0.5 * (whole.ci95_high - whole.ci95_low);
-  result.tolerance_floor = std::max(options.relative_tolerance * std::abs(whole.lambda),
-                                    options.frequency_tolerance * whole.mean_period.mean_frequency);
+  result.tolerance_floor = exponent_resolution(whole.lambda, whole.mean_period.mean_frequency,
+                                               options.relative_tolerance, options.frequency_tolerance);
   result.converged = true;
   for (std::size_t k = 1; k <= options.parts; ++k) {  // points[k - 1] is the first k/parts
     const auto& p = result.points[k - 1];

@@ -55,7 +55,7 @@ Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, doubl
   a.gap = estimates.size() >= 2 ? estimates[a.highest_low]->ci95_low - estimates[a.lowest_high]->ci95_high : nan;
   a.common_low = a.gap <= 0.0 ? estimates[a.highest_low]->ci95_low : nan;
   a.common_high = a.gap <= 0.0 ? estimates[a.lowest_high]->ci95_high : nan;
-  a.tolerance_floor = std::max(relative_tolerance * std::abs(a.median_lambda), frequency_tolerance * largest_frequency);
+  a.tolerance_floor = exponent_resolution(a.median_lambda, largest_frequency, relative_tolerance, frequency_tolerance);
   a.agree = estimates.size() >= 2 && a.gap <= a.tolerance_floor;
   return a;
 }

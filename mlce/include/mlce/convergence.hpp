@@ -49,6 +49,11 @@ struct ConvergenceResult {
   std::vector<std::string> warnings;     ///< the whole run's estimate's, then the verdict's
 };
 
+/// How finely an exponent near `lambda` is resolved, per time unit: max(relative_tolerance x
+/// |lambda|, frequency_tolerance x mean_frequency). Two estimates closer than this are one exponent
+/// (the verdicts of estimate_convergence and of estimate_each_channel / judge_agreement).
+double exponent_resolution(double lambda, double mean_frequency, double relative_tolerance, double frequency_tolerance);
+
 /// Throws what estimate_mlce throws on the whole series; parts too short are recorded, not thrown.
 ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOptions& options);
 

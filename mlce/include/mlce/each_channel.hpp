@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/convergence.hpp"
 #include "mlce/estimate.hpp"
 
 namespace mlce {
