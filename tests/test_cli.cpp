@@ -318,6 +318,9 @@ TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   const auto f = write("slow.txt", text.str()).string();
   CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --json --quiet");
   EXPECT_EQ(r.status, 1) << r.err;
+  // One line on stderr naming the file and the channel, as for any data error.
+  EXPECT_NE(r.err.find("slow.txt: 1 of 2 channels could not be estimated (column 3)"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["estimated"], 1);
   EXPECT_TRUE(j["channels"][0].contains("lambda"));

@@ -1,5 +1,6 @@
 // mlce: the analyst's command line. It only wires the reader and the estimators together.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -138,8 +139,15 @@ int estimate_each(const cli::SeriesInput& in, const cli::LoadedSeries& loaded, c
     std::cout << input_lines(in, loaded) << cli::to_text(r);
   }
   // Every channel is analysed or the run is a data error: a script must not take a table with a
-  // hole in it for the whole answer (the table and the verdict over the rest are printed above).
-  return r.estimated == r.channels.size() ? 0 : kExitData;
+  // hole in it for the whole answer (the table and the verdict over the rest are printed above),
+  // and stderr says so in one line, as for any other data error.
+  if (r.estimated == r.channels.size()) return 0;
+  std::vector<std::string> missing;
+  for (const auto& c : r.channels)
+    if (!c.result) missing.push_back(c.name);
+  std::fprintf(stderr, "mlce estimate: error: %s: %zu of %zu channels could not be estimated (%s); the others are above\n",
+               in.file.c_str(), missing.size(), r.channels.size(), fmt::format("{}", fmt::join(missing, ", ")).c_str());
+  return kExitData;
 }
 
 int cmd_estimate(const std::vector<std::string>& args) {
