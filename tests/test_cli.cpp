@@ -17,13 +17,20 @@ namespace {
 
 class Cli : public mlce::testing::CliFixture {
  protected:
-  std::string series_file(const std::vector<double>& x, double dt) {
+  /// A column file `name`: the header line, then time (step dt) and one column per channel, at 17 digits.
+  std::string columns_file(const std::string& name, const std::string& header, double dt,
+                           const std::vector<std::vector<double>>& channels) {
     std::ostringstream s;
     s.precision(17);
-    s << "# time value\n";
-    for (std::size_t i = 0; i < x.size(); ++i) s << dt * static_cast<double>(i) << " " << x[i] << "\n";
-    return write("series.txt", s.str()).string();
+    s << header << "\n";
+    for (std::size_t i = 0; i < channels.front().size(); ++i) {
+      s << dt * static_cast<double>(i);
+      for (const auto& c : channels) s << " " << c[i];
+      s << "\n";
+    }
+    return write(name, s.str()).string();
   }
+  std::string series_file(const std::vector<double>& x, double dt) { return columns_file("series.txt", "# time value", dt, {x}); }
 };
 
 using mlce::testing::CliRun;
@@ -271,11 +278,7 @@ TEST_F(Cli, EachChannelInEveryForm) {
   const double dt = 0.01;
   const auto a = mlce::reference::damped_oscillator(2000, dt, 0.05, 2 * M_PI);
   const auto b = mlce::reference::damped_oscillator(2000, dt, 0.15, 2 * M_PI);
-  std::ostringstream text;
-  text.precision(17);
-  text << "t slow fast\n";
-  for (std::size_t i = 0; i < a.size(); ++i) text << dt * static_cast<double>(i) << " " << a[i] << " " << b[i] << "\n";
-  const auto f = write("two.txt", text.str()).string();
+  const auto f = columns_file("two.txt", "t slow fast", dt, {a, b});
   const auto csv = dir / "each.csv", png = dir / "each.png";
   CliRun r = run("estimate " + f + " --time-column t --column slow --column fast --each --json --quiet --curve " +
                  csv.string() + " --plot " + png.string());
@@ -311,11 +314,9 @@ TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   // table and the JSON still carry the first, and the exit status says the answer is incomplete.
   const double dt = 0.01;
   const auto a = mlce::reference::damped_oscillator(2000, dt, 0.05, 2 * M_PI);
-  std::ostringstream text;
-  text.precision(17);
-  for (std::size_t i = 0; i < a.size(); ++i)
-    text << dt * static_cast<double>(i) << " " << a[i] << " " << std::sin(2 * M_PI * 0.05 * dt * static_cast<double>(i)) << "\n";
-  const auto f = write("slow.txt", text.str()).string();
+  std::vector<double> slow(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) slow[i] = std::sin(2 * M_PI * 0.05 * dt * static_cast<double>(i));
+  const auto f = columns_file("slow.txt", "# time fast slow", dt, {a, slow});
   CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --json --quiet");
   EXPECT_EQ(r.status, 1) << r.err;
   // One line on stderr naming the file and the channel, as for any data error.
