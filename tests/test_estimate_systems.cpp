@@ -72,14 +72,14 @@ TEST(EstimateSystems, LorenzWithinFivePercentOnMostSeries) {
   const auto q = ratios_over_initial_states(
       [](std::array<double, 3> x0) { x0[2] += 20.0; return reference::lorenz_x(10000, 0.01, x0); }, 0.01, 0.9056, 16);
   std::printf("Lorenz lambda / 0.9056 on 16 series: %s\n", listed(q).c_str());
-  EXPECT_GE(count_within(q, 0.05), 10) << listed(q);
-  EXPECT_GE(count_within(q, 0.10), 14) << listed(q);
+  EXPECT_GE(count_within(q, 0.05), 12) << listed(q);
+  EXPECT_GE(count_within(q, 0.10), 15) << listed(q);
   EXPECT_NEAR(median(q), 1.0, 0.03) << listed(q);
 }
 
 TEST(EstimateSystems, LorenzCanonicalSeries) {
   const auto r = run(reference::lorenz_x(10000, 0.01), 0.01);
-  EXPECT_NEAR(r.lambda, 0.9056, 0.12 * 0.9056) << r.fit.rule;
+  EXPECT_NEAR(r.lambda, 0.9056, 0.06 * 0.9056) << r.fit.rule;
   EXPECT_EQ(r.dim, 3u);
   EXPECT_GT(r.r2, 0.98);
   expect_clean(r);
@@ -93,6 +93,20 @@ TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {
   const auto r = run(reference::lorenz(10000, 0.01, {2.6510216876562538, -0.72118025867994362, 0.52584013447027067}, 50.0, 1), 0.01);
   EXPECT_NEAR(r.lambda, 0.9056, 0.10 * 0.9056) << r.fit.rule;
   EXPECT_GT(r.fit.first, 60u) << r.fit.rule;
+}
+
+// Two Lorenz x series whose linear region was fitted over less than one and a half mean periods
+// (bench/finite_time_spread "starts": mt19937(3), 23rd start, and (1), 30th): 88..216 and 90..258,
+// 0.76 and 0.97 periods, read 1.235 and 1.138 lambda_1 (own exponents 0.945 and 0.986). The
+// oscillation the curve carries at the mean period takes over so short a slope; over 1.5 periods
+// (FitOptions::min_periods) they are within 5 %.
+TEST(EstimateSystems, LorenzWhoseLinearRegionIsShortIsFittedOverOneAndAHalfPeriods) {
+  for (const std::array<double, 3> x0 : {std::array<double, 3>{-1.1864183185693871, 1.8421360499821722, 0.36100992934238035},
+                                         std::array<double, 3>{-2.9299848326973059, -0.011345582553034639, 0.8524159776877166}}) {
+    const auto r = run(reference::lorenz_x(10000, 0.01, x0), 0.01);
+    EXPECT_NEAR(r.lambda, 0.9056, 0.05 * 0.9056) << r.fit.rule;
+    EXPECT_GE(2 * (r.fit.last - r.fit.first), 3 * r.theiler) << r.fit.rule;  // theiler = the mean period here
+  }
 }
 
 // Two Lorenz x series whose curves flatten from the start-up to the plateau with no straight

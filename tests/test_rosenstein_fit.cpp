@@ -157,6 +157,34 @@ TEST(Fit, SlowTailBeforeThePlateauIsTheBendNotTheLinearRegion) {
   EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
+TEST(Fit, RegionOfASaturatingCurveSpansOneAndAHalfPeriodsButNotTheBend) {
+  // The pieces of data/lorenz_x.txt's curve (period 171 samples; lambda_1 = 0.00906 per sample):
+  // start-up 0..85, then 0.0100 over 196 steps (1.15 periods), 0.0061, the bend at 0.0026 and the
+  // plateau. The 196 steps alone read 1.107 lambda_1 on the real curve, whose oscillation at the
+  // mean period rides on them; the region now spans 1.5 periods (to step 86 + 257) and stops
+  // before the bend (FitOptions::min_periods).
+  const auto y = piecewise(-4.4, {{86, 0.0208}, {196, 0.0100}, {169, 0.0061}, {151, 0.0026}, {767, 0.0}});
+  FitOptions o;
+  o.period = 171;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
+  EXPECT_GE(r.first, 80u) << r.rule;
+  EXPECT_LE(r.first, 90u) << r.rule;
+  EXPECT_GE(r.last - r.first, 256u) << r.rule;
+  EXPECT_LT(r.last, 451u) << r.rule;
+  EXPECT_NE(r.rule.find("extended to 1.5 periods"), std::string::npos) << r.rule;
+  o.min_periods = 0.0;  // off: the 196 steps alone
+  const FitResult off = fit_divergence(synthetic(y), o);
+  EXPECT_LE(off.last, 282u) << off.rule;
+  EXPECT_NEAR(off.slope, 0.0100, 2e-4) << off.rule;
+  o.min_periods = 3.0;  // never into the plateau, however many periods are asked for
+  const FitResult three = fit_divergence(synthetic(y), o);
+  EXPECT_LT(three.last, three.end_index) << three.rule;
+  EXPECT_GT(three.last, r.last) << three.rule;
+  o.min_periods = -1.0;
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+}
+
 TEST(Fit, ConcaveGrowthIsFittedFromTheStartUpNotOnItsFlattestPiece) {
   // The curve of a Lorenz x series of N = 10^4 (period 172 samples; lambda_1 = 0.009056 per sample)
   // that flattens from its start-up to the plateau with no straight stretch: start-up 0..86 at

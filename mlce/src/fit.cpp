@@ -182,10 +182,12 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // (a short series' curve has no straight stretch, and its slow tail can be longer than its
   // linear part: Lorenz x at N = 5000 read 0.40 lambda_1 on such a tail). Not for a decay: its
   // slowest piece is the least negative exponent, the one wanted.
+  std::size_t bend_start = stop + 1;  // where the bend into the plateau starts
   if (options.bend_ratio > 0.0 && r.end == CurveEnd::saturation) {
     double steepest = 0.0;
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       if (steepest > 0.0 && candidates[k].slope < options.bend_ratio * steepest) {
+        bend_start = candidates[k].a;
         candidates.resize(k);  // k >= 1: the piece that set `steepest` stays
         break;
       }
@@ -235,13 +237,23 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
     r.last = r.first + 3 * (r.last - r.first) / 4;
     ++trimmed;
   }
+  // At least min_periods periods of a curve that saturates, never into the bend: a shorter region's
+  // slope is the phase of the curve's oscillation as much as growth (FitOptions::min_periods).
+  std::size_t extended = 0;
+  if (r.end == CurveEnd::saturation && options.min_periods > 0.0) {
+    const auto span = static_cast<std::size_t>(std::ceil(options.min_periods * static_cast<double>(options.period)));
+    const std::size_t last = std::min(bend_start - 1, r.first + span);
+    if (last > r.last) r.last = extended = last;
+  }
   rule << "; ";
   describe(rule, "before the end", inner);
   rule << (skip ? "; start-up transient skipped" : "") << (first_step_skipped ? "; slow first step skipped" : "")
        << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
                            : "; fitted the piece of largest |slope| x length");
   if (joined) rule << ", joined with the steeper pieces after the start-up (concave growth)";
-  if (trimmed) rule << "; its end trimmed " << trimmed << "x to " << r.last << " (second half flatter than " << options.straightness << " x the first)";
+  if (trimmed) rule << "; its end trimmed " << trimmed << "x (second half flatter than " << options.straightness << " x the first)";
+  if (extended) rule << "; extended to " << options.min_periods << " periods";
+  if (trimmed || extended) rule << ": fitted to step " << r.last;
   if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
 }
 
@@ -266,6 +278,7 @@ void FitOptions::validate() const {
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");
+  if (!(min_periods >= 0.0 && min_periods <= 100.0)) throw OptionError("fit.min_periods: expected [0, 100] (0 = off)");
   if (std::isinf(signal_rate)) throw OptionError("fit.signal_rate: expected a finite rate or NaN (unknown)");
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
 }
