@@ -183,6 +183,16 @@ TEST(Fit, RegionOfASaturatingCurveSpansOneAndAHalfPeriodsButNotTheBend) {
   EXPECT_GT(three.last, r.last) << three.rule;
   o.min_periods = -1.0;
   EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+  // The same curve lifted by measurement noise (its first step jumps by 0.5, 50 x the slope): the
+  // noise floor flattens the curve's start, and a longer region would read lower; not extended.
+  auto noisy = y;
+  for (std::size_t i = 1; i < noisy.size(); ++i) noisy[i] += 0.5;
+  ASSERT_TRUE(first_step_jumps(noisy, 0.0100));
+  ASSERT_FALSE(first_step_jumps(y, 0.0100));
+  o.min_periods = 1.5;
+  const FitResult lifted = fit_divergence(synthetic(noisy), o);
+  EXPECT_LE(lifted.last, 282u) << lifted.rule;
+  EXPECT_EQ(lifted.rule.find("extended"), std::string::npos) << lifted.rule;
 }
 
 TEST(Fit, ConcaveGrowthIsFittedFromTheStartUpNotOnItsFlattestPiece) {

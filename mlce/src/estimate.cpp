@@ -69,8 +69,8 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // 3 inoperative: 0.31 and 0.25, then level).
   const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
   if (const auto& y = r.curve.mean_log_distance; measures_rate && y.size() > 2) {
-    const double jump = y[1] - y[0];
-    if (jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(r.fit.slope)) {
+    if (first_step_jumps(y, r.fit.slope)) {
+      const double jump = y[1] - y[0];
       const std::size_t n = r.dim * channels;
       r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * boost::math::digamma(0.5 * static_cast<double>(n)));
       char text[400];

@@ -237,10 +237,12 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
     r.last = r.first + 3 * (r.last - r.first) / 4;
     ++trimmed;
   }
-  // At least min_periods periods of a curve that saturates, never into the bend: a shorter region's
-  // slope is the phase of the curve's oscillation as much as growth (FitOptions::min_periods).
+  // At least min_periods periods of a curve that saturates, never into the bend, and not on a
+  // curve lifted by measurement noise: a shorter region's slope is the phase of the curve's
+  // oscillation as much as growth (FitOptions::min_periods).
   std::size_t extended = 0;
-  if (r.end == CurveEnd::saturation && options.min_periods > 0.0) {
+  if (r.end == CurveEnd::saturation && options.min_periods > 0.0 &&
+      !first_step_jumps(y, fit_line(y.data(), r.first, r.last).slope)) {
     const auto span = static_cast<std::size_t>(std::ceil(options.min_periods * static_cast<double>(options.period)));
     const std::size_t last = std::min(bend_start - 1, r.first + span);
     if (last > r.last) r.last = extended = last;
@@ -258,6 +260,12 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
 }
 
 }  // namespace
+
+bool first_step_jumps(const std::vector<double>& y, double slope_per_step) {
+  if (y.size() < 2) return false;
+  const double jump = y[1] - y[0];
+  return jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(slope_per_step);
+}
 
 const char* to_string(CurveEnd end) {
   switch (end) {

@@ -32,19 +32,11 @@ inline constexpr std::size_t kMinFlowPeriod = 8;
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
 inline constexpr double kMinMeanPeriods = 2.0;
-/// A divergence curve that grows into a plateau or decays into a floor, and whose first step rises
-/// by at least kNoiseJump (natural log) and by at least kNoiseJumpRatio x its fitted slope per step,
-/// is flagged as dominated by measurement noise, with an estimate of the noise level
-/// (estimate.cpp). Deterministic curves rise at about their slope in their first step (up to 6x
-/// where the start-up is quick); noise of 1 % makes it 60x. Limit cycles (flat or bounded curves)
-/// are not judged: their slope is ~0.
-inline constexpr double kNoiseJump = 0.25;
 /// A curve averaged over fewer neighbour pairs than this is flagged: with the default 16 batches
 /// (RosensteinOptions::batches) each batch mean then holds fewer than 10 pairs, so the batch means
 /// are far from normal and the 95 % interval is not to be trusted (at 1 pair the interval is the
 /// formal least-squares one and says nothing about the curve's own noise).
 inline constexpr std::size_t kFewPairs = 160;
-inline constexpr double kNoiseJumpRatio = 10.0;
 
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
