@@ -32,6 +32,9 @@
 // and the verdict of `mlce estimate --each` on channels of one trajectory (Lorenz x, y, z; Roessler
 // x, y; 32 series each, the starts of the observables), with the median over the channels:
 //   build/finite_time_spread channels
+// and 100 consecutive stretches of 10^4 samples of one Lorenz x run, with the fit rule's 1.5-period
+// minimum on and off:
+//   build/finite_time_spread segments
 // and one Lorenz x series (N = 10^4, dt = 0.01; the series `build/make_series lorenz 10000 0.01 T X Y Z`
 // writes): the automatic estimate, the plain curve's and the own exponent of that trajectory:
 //   build/finite_time_spread lorenz X Y Z T
@@ -355,6 +358,24 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   first.print((std::string(1, "xyz"[components[0]]) + " alone").c_str());
 }
 
+/// Consecutive stretches of one long run: Lorenz x from (1, 1, 1) after 50
+/// time units, 10^6 samples cut into 100 series of 10^4, each estimated on its own; the fit rule's
+/// 1.5-period minimum (FitOptions::min_periods) on and off.
+void segments_study() {
+  constexpr std::size_t n = 10000, count = 100;
+  const auto all = mlce::reference::lorenz_x(n * count, 0.01);
+  for (const double min_periods : {1.5, 0.0}) {
+    mlce::MlceOptions options;
+    options.fit.min_periods = min_periods;
+    Tally automatic;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::vector<double> x(all.begin() + static_cast<std::ptrdiff_t>(k * n), all.begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
+      automatic.add(mlce::estimate_mlce(mlce::make_series_with_step({x}, 0.01), options).lambda / 0.9056);
+    }
+    automatic.print(min_periods > 0 ? "automatic" : "min_periods 0 (before)");
+  }
+}
+
 /// Maps (issue 2: Henon x and logistic r = 4 within 2 % at N = 10^4): series from random
 /// initial states after 1000 (Henon) or 100 (logistic) iterations, every parameter automatic,
 /// beside the finite-time exponent of the very trajectory each samples (reference::
@@ -432,6 +453,11 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "channels") {
     channels_study(lorenz_x, {0, 1, 2}, "Lorenz x, y, z");
     channels_study(roessler_x, {0, 1}, "Roessler x, y");
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "segments") {
+    std::printf("Lorenz x: 100 consecutive series of 10^4 samples from one run (dt = 0.01), automatic / 0.9056:\n");
+    segments_study();
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "maps") {
