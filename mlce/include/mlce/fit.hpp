@@ -61,9 +61,10 @@ struct FitOptions {
   /// (`period`) when the curve reaches that far before the plateau. A flow's curve oscillates at
   /// the signal's mean frequency (the pairs' separation breathes with the orbit), and a slope over
   /// less than about one and a half of its periods takes the phase of that oscillation for growth:
-  /// Lorenz x read 1.11..1.24 lambda_1 on regions of 0.8 periods. 1.5 (`build/fit_end_rules`,
-  /// Lorenz x at N = 10^4: 98 -> 107 of 128 seeded series within 5 %, 25 -> 30 of 35 from typed
-  /// starts; Roessler x unchanged, its regions being longer). Not when the curve's first step
+  /// Lorenz x read 1.11..1.24 lambda_1 on regions of 0.7..1.0 periods. 1.5 (`build/fit_end_rules`,
+  /// Lorenz x at N = 10^4: 98 -> 107 of 128 seeded series within 5 %, 25 -> 28 of 35 from typed
+  /// starts; `build/finite_time_spread segments`: 72 -> 78 of 100; Roessler x unchanged, its
+  /// regions being longer; 1.2..1.6 do about as well). Not when the curve's first step
   /// jumps as measurement noise makes it (first_step_jumps): the noise floor lifts the curve's
   /// start and a longer region reads lower (Lorenz x with 1 % noise, 32 series: mean 0.927 ->
   /// 0.912 lambda_1 extended). 0 = off.
