@@ -309,6 +309,30 @@ TEST_F(Cli, EachChannelInEveryForm) {
   expect_one_line_error(run("estimate " + f + " --time-column t --column slow --each"), "--each: give two or more", 2);
 }
 
+TEST_F(Cli, EachChannelTableSaysWhereEveryChannelStarts) {
+  // Two Lorenz x runs side by side, from (1, 1, 1): "raw" keeps its spiral out of C- (its first 648
+  // samples do not recur and are left out: test_recurrence), "settled" starts after 50 time units.
+  // The table's "from" column gives each channel's first analysed time, t0 + skipped samples x dt.
+  const double dt = 0.01;
+  const auto raw = mlce::reference::lorenz_x(10000, dt, {1, 1, 1}, 0.0);
+  const auto settled = mlce::reference::lorenz_x(10000, dt);
+  const auto f = columns_file("runs.txt", "t raw settled", dt, {raw, settled});
+  const CliRun r = run("estimate " + f + " --time-column t --column raw --column settled --each --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto header = r.out.find("channel ");
+  ASSERT_NE(header, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("from", header), std::string::npos) << r.out;
+  auto row = [&](const std::string& name) {
+    const auto at = r.out.find("\n" + name + " ");
+    return at == std::string::npos ? std::string() : r.out.substr(at + 1, r.out.find('\n', at + 1) - at - 1);
+  };
+  EXPECT_NE(row("raw").find(" 6.48 "), std::string::npos) << r.out;
+  EXPECT_NE(row("settled").find("        0 "), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(run("estimate " + f + " --time-column t --column raw --column settled --each --json --quiet").out);
+  EXPECT_EQ(j["channels"][0]["skipped_start"], 648) << j["channels"][0]["warnings"];
+  EXPECT_EQ(j["channels"][1]["skipped_start"], 0);
+}
+
 TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   // The second channel holds one period of a slow sine: too few mean periods to estimate. The
   // table and the JSON still carry the first, and the exit status says the answer is incomplete.

@@ -136,7 +136,7 @@ int estimate_each(const cli::SeriesInput& in, const cli::LoadedSeries& loaded, c
     add_input(j, in, loaded, loaded.series.time(0));  // each channel's own skipped_start is in its entry
     std::cout << j.dump() << "\n";
   } else {
-    std::cout << input_lines(in, loaded) << cli::to_text(r);
+    std::cout << input_lines(in, loaded) << cli::to_text(r, loaded.series.t0);
   }
   // Every channel is analysed or the run is a data error: a script must not take a table with a
   // hole in it for the whole answer (the table and the verdict over the rest are printed above),

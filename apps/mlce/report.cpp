@@ -335,7 +335,7 @@ nlohmann::json to_json(const EachChannelResult& r) {
   return j;
 }
 
-std::string to_text(const EachChannelResult& r) {
+std::string to_text(const EachChannelResult& r, double t0) {
   const MlceResult* any = nullptr;
   std::size_t width = 7;  // "channel"
   for (const auto& c : r.channels) {
@@ -343,16 +343,17 @@ std::string to_text(const EachChannelResult& r) {
     width = std::max(width, c.name.size());
   }
   const std::string u = rate_unit(*any);  // at least one channel was estimated (or it threw)
-  std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>5} {:>3} {:>7} {:>11} {:>6}\n", "channel", width,
-                              "lambda " + u, "95 % interval", "delay", "dim", "theiler", "fit", "R^2");
+  std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>10} {:>5} {:>3} {:>7} {:>11} {:>6}\n", "channel", width,
+                              "lambda " + u, "95 % interval", "from", "delay", "dim", "theiler", "fit", "R^2");
   for (const auto& c : r.channels) {
     if (!c.result) {
       s += fmt::format("{:<{}}  not estimated (why: the warning below)\n", c.name, width);
       continue;
     }
     const MlceResult& e = *c.result;
-    s += fmt::format("{:<{}}  {:>12.6g}  {:>12.6g} .. {:<12.6g}  {:>5} {:>3} {:>7} {:>11} {:>6.4f}\n", c.name, width,
-                     e.lambda, e.ci95_low, e.ci95_high, e.delay, e.dim, e.theiler,
+    const double from = t0 + static_cast<double>(e.skipped_start) * e.dt;
+    s += fmt::format("{:<{}}  {:>12.6g}  {:>12.6g} .. {:<12.6g}  {:>10.6g} {:>5} {:>3} {:>7} {:>11} {:>6.4f}\n", c.name,
+                     width, e.lambda, e.ci95_low, e.ci95_high, from, e.delay, e.dim, e.theiler,
                      fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2);
   }
   s += "agreement       " + agreement_text(r.verdict, r.estimated, u) + "\n";

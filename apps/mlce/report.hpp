@@ -40,8 +40,10 @@ std::string agreement_text(const Agreement& a, std::size_t estimates, const std:
 /// Every channel estimated on its own (mlce estimate --each): each channel's estimate as to_json
 /// gives it (or its error), and the verdict.
 nlohmann::json to_json(const EachChannelResult& r);
-/// A table, a channel a row, then the verdict and the warnings.
-std::string to_text(const EachChannelResult& r);
+/// A table, a channel a row, then the verdict and the warnings. `from`: where each channel's
+/// analysed samples start, in time units (t0, the time of the series' first sample, plus the
+/// samples left out because they do not recur, which differ from channel to channel).
+std::string to_text(const EachChannelResult& r, double t0);
 /// channel,index,step,time,mean_log_distance,terms,in_fit,fit_line: every estimated channel's
 /// curve_csv rows one after the other, `index` numbering the channels from 0.
 std::string each_channel_curves_csv(const EachChannelResult& r);
