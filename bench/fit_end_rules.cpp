@@ -10,7 +10,8 @@
 // Rules that end where the curve is a given distance below the attractor's scale
 // (DivergenceCurve::attractor_log_distance) or a given rise above the region's start, tuned on
 // Lorenz, end before Roessler's linear region has begun; a fixed number of mean periods after the
-// start is the best on Lorenz and no better on Roessler. None is kept.
+// start is the best on Lorenz and no better on Roessler. None is kept. The rule's own minimum length
+// (FitOptions::min_periods) at 0 (the rule before it), 1.2 and 1.6 periods beside its 1.5.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -34,7 +35,10 @@ struct Curve {
   std::size_t first, last, mean_period;
   double attractor, lambda;  // attractor scale (log units); the automatic estimate, per sample
   bool named;                // from a start users type (Lorenz), not a seeded random start
+  std::vector<double> other_minimum;  // the automatic estimate with FitOptions::min_periods = kOtherMinimum[k]
 };
+
+constexpr double kOtherMinimum[] = {0.0, 1.2, 1.6};  // 0: the rule before the minimum
 
 using EndRule = std::function<std::size_t(const Curve&)>;
 
@@ -47,7 +51,8 @@ std::size_t first_reaching(const Curve& c, double level) {
 
 struct Rule {
   std::string name;
-  EndRule end;  // empty: the automatic estimate
+  EndRule end;            // empty: the automatic estimate
+  int other_minimum = -1;  // with no end: the automatic estimate with kOtherMinimum[this]
 };
 
 void evaluate(const char* system, const std::vector<Curve>& curves, double lambda_per_sample, const std::vector<Rule>& rules) {
@@ -56,7 +61,9 @@ void evaluate(const char* system, const std::vector<Curve>& curves, double lambd
     int within5[2] = {0, 0}, within10[2] = {0, 0}, count[2] = {0, 0};
     double sum[2] = {0, 0}, err2[2] = {0, 0};
     for (const auto& c : curves) {
-      const double slope = rule.end ? mlce::fit_line(c.y.data(), c.first, std::min(rule.end(c), c.y.size() - 1)).slope : c.lambda;
+      const double slope = rule.end                  ? mlce::fit_line(c.y.data(), c.first, std::min(rule.end(c), c.y.size() - 1)).slope
+                           : rule.other_minimum >= 0 ? c.other_minimum[static_cast<std::size_t>(rule.other_minimum)]
+                                                     : c.lambda;
       const double q = slope / lambda_per_sample;
       const int g = c.named;
       ++count[g], sum[g] += q, err2[g] += (q - 1) * (q - 1);
@@ -72,13 +79,22 @@ void evaluate(const char* system, const std::vector<Curve>& curves, double lambd
 }
 
 Curve curve_of(const std::vector<double>& x, double dt, bool named) {
-  const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, dt), {});
-  return {r.curve.mean_log_distance, r.fit.first, r.fit.last, r.theiler, r.curve.attractor_log_distance,
-          r.lambda_per_sample, named};
+  const auto series = mlce::make_series_with_step({x}, dt);
+  const auto r = mlce::estimate_mlce(series, {});
+  Curve c{r.curve.mean_log_distance, r.fit.first, r.fit.last, r.theiler, r.curve.attractor_log_distance,
+          r.lambda_per_sample, named, {}};
+  for (const double minimum : kOtherMinimum) {
+    mlce::MlceOptions o;
+    o.fit.min_periods = minimum;
+    c.other_minimum.push_back(mlce::estimate_mlce(series, o).lambda_per_sample);
+  }
+  return c;
 }
 
 std::vector<Rule> rules() {
-  std::vector<Rule> out{{"automatic (fit.hpp)", {}}};
+  std::vector<Rule> out{{"automatic (fit.hpp, min_periods 1.5)", {}}};
+  for (int k = 0; k < 3; ++k)
+    out.push_back({"automatic, min_periods " + std::to_string(kOtherMinimum[k]).substr(0, 3) + (k == 0 ? " (before)" : ""), {}, k});
   for (double g : {0.8, 1.0, 1.2, 1.4})
     out.push_back({"end " + std::to_string(g).substr(0, 3) + " below the attractor scale",
                    [g](const Curve& c) { return first_reaching(c, c.attractor - g); }});
