@@ -64,10 +64,10 @@ struct FitOptions {
   /// Lorenz x read 1.11..1.24 lambda_1 on regions of 0.7..1.0 periods. 1.5 (`build/fit_end_rules`,
   /// Lorenz x at N = 10^4: 98 -> 107 of 128 seeded series within 5 %, 25 -> 28 of 35 from typed
   /// starts; `build/finite_time_spread segments`: 72 -> 78 of 100; Roessler x unchanged, its
-  /// regions being longer; 1.2..1.6 do about as well). Not when the curve's first step
+  /// regions being longer; 1.2 and 1.6 do about as well). Not when the curve's first step
   /// jumps as measurement noise makes it (first_step_jumps): the noise floor lifts the curve's
-  /// start and a longer region reads lower (Lorenz x with 1 % noise, 32 series: mean 0.927 ->
-  /// 0.912 lambda_1 extended). 0 = off.
+  /// start and a longer region reads lower still (`build/finite_time_spread noise`: with 1 % and
+  /// 3 % noise the same estimates with the minimum on and off). 0 = off.
   double min_periods = 1.5;
   /// Rate at which the analysed signal's own amplitude changes, per sample (envelope_rate; NaN =
   /// unknown). A curve that falls into a floor while the signal decays less than persist_share x
