@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -56,6 +57,21 @@ TEST(LineFit, UnequallySpacedPointsOnAKnownLine) {
   EXPECT_NEAR(a.slope, b.slope, 1e-15);
   EXPECT_NEAR(a.intercept, b.intercept, 1e-14);
   EXPECT_NEAR(a.slope, 0.16, 1e-12);  // sum dx dy / sum dx^2 = 1.6 / 10 by hand
+}
+
+TEST(Median, MatchesTheSortedMiddleOnOddAndEvenSizes) {
+  // Brute force: sort a copy and take the middle (the mean of the middle two for an even size;
+  // upper_median: the element of rank size/2). Ties and negative values included.
+  std::uint64_t state = 11;
+  for (std::size_t n : {1u, 2u, 3u, 4u, 7u, 10u, 101u}) {
+    std::vector<double> v(n);
+    for (auto& x : v) x = std::floor(20.0 * uniform01(state)) - 10.0;  // integers: ties likely
+    auto sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    const double middle = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+    EXPECT_EQ(median(v), middle) << n;
+    EXPECT_EQ(upper_median(v), sorted[n / 2]) << n;
+  }
 }
 
 TEST(Fit, TransientLinearPlateauRecoversTheSlope) {

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "mlce/numerics.hpp"
+
 namespace mlce {
 
 void EachChannelOptions::validate() const {
@@ -24,14 +26,6 @@ Series one_channel(const Series& series, std::size_t c, const std::string& name)
   s.channels.push_back(series.channels[c]);
   s.names.push_back(name);
   return s;
-}
-
-double median(std::vector<double> v) {
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h), v.end());
-  if (v.size() % 2 == 1) return v[h];
-  const double upper = v[h];
-  return 0.5 * (*std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(h)) + upper);
 }
 
 }  // namespace
@@ -69,7 +63,7 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
   std::string first_error;
   for (std::size_t c = 0; c < count; ++c) {
     ChannelEstimate ce;
-    ce.name = c < series.names.size() && !series.names[c].empty() ? series.names[c] : fmt::format("channel {}", c + 1);
+    ce.name = channel_name(series, c);
     MlceOptions o = options.estimate;
     if (options.estimate.progress) {  // each stage as "<channel> (k of K): <stage>", the fraction of the channels done
       o.progress = [&, c](std::string_view stage, double) {

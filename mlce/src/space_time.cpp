@@ -8,6 +8,7 @@
 #include "mlce/embedding.hpp"
 #include "mlce/mean_period.hpp"
 #include "mlce/neighbours.hpp"
+#include "mlce/numerics.hpp"
 #include "mlce/transient.hpp"
 
 namespace mlce {
@@ -22,13 +23,6 @@ std::string shortest(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.6g", v);
   return text;
-}
-
-/// Median of a copy (the plateau of the lowest contour).
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
 }
 
 }  // namespace
@@ -112,7 +106,7 @@ SpaceTimeResult space_time_separation(const Series& series, const SpaceTimeOptio
   // Decorrelation of the lowest contour (Provenzale et al.: the time after which the contours stop
   // rising, aside from oscillations).
   const auto& low = r.contour.front();
-  r.plateau = median(std::vector<double>(low.begin() + static_cast<std::ptrdiff_t>(S / 2), low.end()));
+  r.plateau = upper_median(std::vector<double>(low.begin() + static_cast<std::ptrdiff_t>(S / 2), low.end()));
   const auto reached = std::find_if(low.begin(), low.end(),
                                     [&](double c) { return c >= options.decorrelation_level * r.plateau; });
   r.decorrelation = r.separation[static_cast<std::size_t>(reached - low.begin())];  // the median is reached

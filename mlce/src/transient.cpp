@@ -22,11 +22,6 @@ void TransientOptions::validate() const {
 }
 
 namespace {
-/// The element of rank size/2 (the median for odd sizes, the upper one for even sizes); v non-empty.
-double upper_median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 /// Per window of `count` consecutive windows of `w` samples: the sum over channels of the squared
 /// deviations, each channel divided by its peak |x| first (squares of 1e300 would overflow; the

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace mlce {
 
@@ -48,6 +49,12 @@ inline std::uint64_t splitmix64(std::uint64_t& state) {
 }
 /// Uniform in [0, 1) from the top 53 bits of splitmix64.
 inline double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
+
+/// The element of rank size/2 of v (the median for odd sizes, the upper of the middle two for even
+/// sizes); v non-empty, taken by value (nth_element reorders it).
+double upper_median(std::vector<double> v);
+/// The median of v (the mean of the middle two for even sizes); v non-empty.
+double median(std::vector<double> v);
 
 /// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom.
 double student_t95(std::size_t dof);
