@@ -37,6 +37,11 @@
 //   build/finite_time_spread segments
 // and 32 Lorenz x series with 0, 1 and 3 % measurement noise, the minimum on and off:
 //   build/finite_time_spread noise
+// and, on the 128 series of `starts`, the embedding and the Theiler window set otherwise than the
+// automatic rules set them (m = 4 or 5 with the automatic delay, or with the delay shortened so
+// that the window (m - 1) J stays the automatic one; the Theiler window 0.5, 2 and 4 mean periods):
+// does any fixed alternative read closer to lambda_1? (2.5 minutes)
+//   build/finite_time_spread embedding
 // and one Lorenz x series (N = 10^4, dt = 0.01; the series `build/make_series lorenz 10000 0.01 T X Y Z`
 // writes): the automatic estimate, the plain curve's and the own exponent of that trajectory:
 //   build/finite_time_spread lorenz X Y Z T
@@ -289,6 +294,52 @@ void starts_study(const System& sys) {
   std::printf("  fitted from the start-up's end (concave growth):%s\n", joined.empty() ? " none" : joined.c_str());
 }
 
+/// The 128 series of starts_study with the embedding or the Theiler window set by hand, each variant
+/// derived from the automatic choice of the same series (its delay J, dimension m0, mean period).
+void embedding_study(const System& sys) {
+  constexpr std::size_t n = 10000;
+  const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
+  struct Variant {
+    const char* label;
+    std::size_t dim;        // 0 = automatic
+    double window_kept;     // > 0: delay = round(automatic (m0 - 1) J / (dim - 1)), the window kept
+    double theiler_factor;  // 0 = automatic
+  };
+  const std::vector<Variant> variants{{"automatic", 0, 0, 0},
+                                      {"m = 4, automatic delay", 4, 0, 0},
+                                      {"m = 5, automatic delay", 5, 0, 0},
+                                      {"m = 4, window (m - 1) J kept", 4, 1, 0},
+                                      {"m = 5, window (m - 1) J kept", 5, 1, 0},
+                                      {"Theiler 0.5 mean periods", 0, 0, 0.5},
+                                      {"Theiler 2 mean periods", 0, 0, 2},
+                                      {"Theiler 4 mean periods", 0, 0, 4}};
+  std::vector<Tally> tallies(variants.size());
+  for (unsigned seed = 1; seed <= 4; ++seed) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    for (int k = 0; k < 32; ++k) {
+      const State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+      const auto series = mlce::make_series_with_step({mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps)}, sys.dt);
+      const auto automatic = mlce::estimate_mlce(series, {});
+      for (std::size_t v = 0; v < variants.size(); ++v) {
+        const Variant& var = variants[v];
+        mlce::MlceOptions o;
+        if (var.dim > 0) o.dim = var.dim;
+        if (var.window_kept > 0)
+          o.delay = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(
+                                                 static_cast<double>((automatic.dim - 1) * automatic.delay) / static_cast<double>(var.dim - 1))));
+        if (var.theiler_factor > 0)
+          o.theiler = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(var.theiler_factor * static_cast<double>(automatic.theiler))));
+        const auto r = v == 0 ? automatic : mlce::estimate_mlce(series, o);
+        tallies[v].add(r.lambda / sys.lambda);
+      }
+    }
+    std::fprintf(stderr, "%s: seed %u of 4 done\n", sys.name, seed);
+  }
+  std::printf("%s: 128 series (N = 10^4, dt = %g, the starts of `starts`), / %.4f:\n", sys.name, sys.dt, sys.lambda);
+  for (std::size_t v = 0; v < variants.size(); ++v) tallies[v].print(variants[v].label);
+}
+
 /// Other observables of the same flows (an MBDyn analyst does not choose which channel is
 /// chaotic): 32 series each (seed 1, the starts of starts_study) of component `component`, with
 /// the own exponents of the same trajectories and the intervals' coverage.
@@ -457,15 +508,21 @@ void map_study(int series, unsigned seed) {
 int main(int argc, char** argv) {
   const System roessler_x{"Roessler x", 0.0714, 0.1, 0.01, 500.0, 0, 100, roessler_rhs, roessler_tangent_rhs, {0, 0, 0}, {1, 1, 0}};
   const System lorenz_x{"Lorenz x", 0.9056, 0.01, 0.001, 50.0, 80, 300, lorenz_rhs, lorenz_tangent_rhs, {0, 0, 20}, {1, 1, 1}};
+  System lorenz_plain = lorenz_x;  // the starts of `starts` and `embedding`: z near 0, not shifted by 20
+  lorenz_plain.start_offset = {0, 0, 0};
   if (argc > 1 && std::string(argv[1]) == "lengths") {
     length_study(lorenz_x, {5000, 10000, 20000, 50000, 100000});
     length_study(roessler_x, {5000, 10000, 20000, 50000, 100000});
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "starts") {
-    const System lorenz_plain{"Lorenz x", 0.9056, 0.01, 0.001, 50.0, 80, 300, lorenz_rhs, lorenz_tangent_rhs, {0, 0, 0}, {1, 1, 1}};
     starts_study(lorenz_plain);
     starts_study(roessler_x);
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "embedding") {
+    embedding_study(lorenz_plain);
+    embedding_study(roessler_x);
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "observables") {
