@@ -274,8 +274,14 @@ void starts_study(const System& sys) {
         keep.skip_nonrecurrent_start = false;
         const double kept = mlce::estimate_mlce(mlce::make_series_with_step({x}, sys.dt), keep).lambda / sys.lambda;
         char item[160];
-        std::snprintf(item, sizeof item, " seed %u #%d: first %zu samples (windows score %.2f), %.3f (kept: %.3f);", seed,
-                      k + 1, r.skipped_start, r.recurrence.ratio.front(), q, kept);
+        std::snprintf(item, sizeof item, " seed %u #%d: first %zu samples (windows score %.2f", seed, k + 1, r.skipped_start,
+                      r.recurrence.ratio.front());
+        skipped += item;
+        if (r.recurrence.by_distance) {  // recurrence.hpp's distance test decided
+          skipped += "; left out by distance, ratios";
+          for (double ratio : r.recurrence.distance_ratio) std::snprintf(item, sizeof item, " %.2f", ratio), skipped += item;
+        }
+        std::snprintf(item, sizeof item, "), %.3f (kept: %.3f);", q, kept);
         skipped += item;
       }
       if (std::abs(q - 1) > 0.10) {

@@ -100,7 +100,8 @@ void solver_tolerances() {
   constexpr double lambda = 0.9056, dt = 0.01;
   constexpr std::size_t n = 10000;
   std::printf("4. Lorenz x (N = 10^4, dt = 0.01) from an adaptive Dormand-Prince solver's dense output, 32 random "
-              "starts, lambda / %.4f:\n   rtol   atol   discarded   within 5 %% / 10 %%   range          rms error\n", lambda);
+              "starts, lambda / %.4f:\n   rtol   atol   discarded   within 5 %% / 10 %%   range          rms error   start-up left out (by "
+              "distance)\n", lambda);
   struct Tolerance { double rtol, atol; };
   for (const Tolerance tol : {Tolerance{1e-3, 1e-6}, Tolerance{1e-6, 1e-9}, Tolerance{1e-9, 1e-12}}) {
     for (const double transient : {50.0, 0.0}) {
@@ -108,6 +109,7 @@ void solver_tolerances() {
       std::uniform_real_distribution<double> u(-3.0, 3.0);
       std::vector<double> ratios;
       std::string misses;
+      int left_out = 0, by_distance = 0;
       for (int k = 0; k < 32; ++k) {
         State x{u(gen), u(gen), 0.0};
         x[2] = std::abs(u(gen)) / 3;
@@ -122,12 +124,14 @@ void solver_tolerances() {
         if (transient > 0.0) xs.erase(xs.begin());
         const auto r = mlce::estimate_mlce(mlce::make_series_with_step({xs}, dt), {});
         ratios.push_back(r.lambda / lambda);
+        left_out += r.skipped_start > 0, by_distance += r.recurrence.by_distance;
         if (transient == 0.0 && std::abs(ratios.back() - 1) > 0.05) {  // why: its start, and without it
           const std::vector<double> later(xs.begin() + 1000, xs.end());  // = --from 10
           char item[200];
-          std::snprintf(item, sizeof item, " #%d: %.3f (start-up windows score %.2f, %.2f; %zu samples left out; from t = 10: %.3f);",
+          std::snprintf(item, sizeof item, " #%d: %.3f (start-up windows score %.2f, %.2f; %zu samples left out%s; from t = 10: %.3f);",
                         k + 1, ratios.back(), r.recurrence.ratio.size() > 0 ? r.recurrence.ratio[0] : 0.0,
                         r.recurrence.ratio.size() > 1 ? r.recurrence.ratio[1] : 0.0, r.skipped_start,
+                        r.recurrence.by_distance ? " by distance" : "",
                         mlce::estimate_mlce(mlce::make_series_with_step({later}, dt), {}).lambda / lambda);
           misses += item;
         }
@@ -137,9 +141,10 @@ void solver_tolerances() {
       };
       double err2 = 0;
       for (double q : ratios) err2 += (q - 1) * (q - 1);
-      std::printf("   %-6g %-6g %-11g %2td / %2td            %.3f..%.3f    %.3f\n", tol.rtol, tol.atol, transient, within(0.05),
-                  within(0.10), *std::min_element(ratios.begin(), ratios.end()),
-                  *std::max_element(ratios.begin(), ratios.end()), std::sqrt(err2 / static_cast<double>(ratios.size())));
+      std::printf("   %-6g %-6g %-11g %2td / %2td            %.3f..%.3f    %.3f       %2d (%d)\n", tol.rtol, tol.atol, transient,
+                  within(0.05), within(0.10), *std::min_element(ratios.begin(), ratios.end()),
+                  *std::max_element(ratios.begin(), ratios.end()), std::sqrt(err2 / static_cast<double>(ratios.size())),
+                  left_out, by_distance);
       if (!misses.empty()) std::printf("      outside 5 %%:%s\n", misses.c_str());
     }
   }

@@ -572,6 +572,31 @@ TEST_F(Cli, StartThatDoesNotRecurIsLeftOutUnlessKept) {
   EXPECT_EQ(automatic["skipped_start"].get<std::size_t>(), skipped);
 }
 
+TEST_F(Cli, StartUpLeftOutByDistanceSaysSoInTheJson) {
+  // Lorenz x from a start near the origin whose scores see one low window only (test
+  // Recurrence.LorenzStartUpOfOneLowWindowIsLeftOutByDistance): the JSON carries the distance test's
+  // ratios, says it decided, and the warning names the typical distance. (1, 1, 1)'s start-up is cut
+  // by the scores, and the distance test does not run.
+  const auto f = series_file(
+      mlce::reference::lorenz_x(10000, 0.01, {-0.86080969832381982, 1.5167301025649813, 0.76268365812864669}, 0.0), 0.01);
+  const auto j = nlohmann::json::parse(run("estimate " + f + " --column 2 --time-column 1 --quiet --json").out);
+  const auto& rec = j["start_recurrence"];
+  ASSERT_TRUE(rec.contains("distance_ratios")) << rec;
+  EXPECT_TRUE(rec["decided_by_distance"].get<bool>());
+  const auto ratios = rec["distance_ratios"].get<std::vector<double>>();
+  const auto window = rec["window"].get<std::size_t>(), skipped = j["skipped_start"].get<std::size_t>();
+  ASSERT_EQ(ratios.size(), skipped / window + 1);
+  EXPECT_EQ(skipped % window, 0u);
+  EXPECT_LT(ratios.back(), 3.0);
+  for (std::size_t w = 0; w + 1 < ratios.size(); ++w) EXPECT_GE(ratios[w], 3.0) << w;
+  EXPECT_NE(j["warnings"].dump().find("typical distance"), std::string::npos) << j["warnings"];
+  const auto spiral = nlohmann::json::parse(
+      run("estimate " + series_file(mlce::reference::lorenz_x(10000, 0.01, {1.0, 1.0, 1.0}, 0.0), 0.01) +
+          " --column 2 --time-column 1 --quiet --json")
+          .out);
+  EXPECT_FALSE(spiral["start_recurrence"].contains("distance_ratios")) << spiral["start_recurrence"];
+}
+
 TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const auto csv = dir / "curve.csv";
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());

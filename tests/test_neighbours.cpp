@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
+#include <utility>
 
 #include "mlce/neighbours.hpp"
 #include "reference_systems.hpp"
@@ -111,4 +114,28 @@ TEST(Neighbours, AnIndexSearchedUpToALimitIsAnIndexOverThosePointsOnly) {
     EXPECT_EQ(limited.distance, alone.distance) << "split " << split;
     for (const auto j : limited.neighbour) EXPECT_LT(j, L);
   }
+}
+
+// The distance test of recurrence.hpp asks how near a part of the series comes to another part:
+// the kd-tree over the points [first, first + count) against the brute force over the same points.
+TEST(Neighbours, DistancesToARangeMatchBruteForce) {
+  const auto x = reference::lorenz_x(3000);
+  const std::size_t dim = 3, delay = 17, M = DelayEmbedding::max_points(x.size(), dim, delay);
+  const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < M; i += 13) q.push_back(static_cast<std::uint32_t>(i));
+  for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{M / 2, M - M / 2}, {0, M}, {100, 1}}) {
+    const auto fast = distances_to_range(emb, q, first, count);
+    ASSERT_EQ(fast.size(), q.size());
+    for (std::size_t k = 0; k < q.size(); ++k) {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t j = first; j < first + count; ++j) best = std::min(best, emb.squared_distance(q[k], j));
+      EXPECT_EQ(fast[k], std::sqrt(best)) << "query " << q[k] << ", points from " << first;
+      if (q[k] >= first && q[k] < first + count) {
+        EXPECT_EQ(fast[k], 0.0);  // no Theiler window: itself
+      }
+    }
+  }
+  EXPECT_THROW(distances_to_range(emb, q, M - 10, 11), OptionError);
+  EXPECT_THROW(distances_to_range(emb, q, 0, 0), OptionError);
 }

@@ -93,6 +93,57 @@ TEST(Recurrence, WindowsWhereTheMotionJoinsTheAttractorAreKept) {
   EXPECT_EQ(scored({0.1, 0.9}).start, 0u);           // one low window: a dip, not told from a start-up
 }
 
+TEST(Recurrence, OneLowWindowFarFromTheRestIsAStartUpOneNearItADip) {
+  // The pairs of hand_made_pairs with one self-neighbouring window (score 0, then ~1: the scores
+  // alone keep it), and the series' values, embedded in one dimension, deciding by distance. The
+  // second half is uniform in [0, 1); the first window lies at 100 (never visited again: ratio
+  // ~10^6, left out), or in [0, 1) as everything else (a dip: ratio ~1, kept), or the whole first
+  // half lies at 100 (a drift: the first half's typical distance to the second is as large, the
+  // ratio ~1, kept). A first window that scores as recurring is not judged by distance at all.
+  const std::size_t A = 5000, theiler = 50, L = 200;
+  auto series = [&](std::size_t far_points) {
+    std::mt19937_64 gen(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<double> x(A);
+    for (std::size_t i = 0; i < A; ++i) x[i] = (i < far_points ? 100.0 : 0.0) + u(gen);
+    return x;
+  };
+  RecurrenceOptions o;
+  o.window = L;
+  const auto pairs = hand_made_pairs(A, theiler, L, 5);
+  const auto start_up = series(L), dip = series(0), drift = series(A / 2);
+  const DelayEmbedding start_up_points({std::span<const double>(start_up)}, 1, 1, A), dip_points({std::span<const double>(dip)}, 1, 1, A),
+      drift_points({std::span<const double>(drift)}, 1, 1, A);
+  EXPECT_EQ(recurrent_start(pairs, A, o).start, 0u);  // the scores alone: one low window, kept
+
+  const auto cut = recurrent_start(pairs, A, o, &start_up_points);
+  EXPECT_EQ(cut.ratio.front(), 0.0);
+  ASSERT_EQ(cut.distance_ratio.size(), 2u);  // the far window, then the first near one
+  EXPECT_GT(cut.distance_ratio[0], 1e4);
+  EXPECT_LT(cut.distance_ratio[1], 3.0);
+  EXPECT_GT(cut.distance_ratio[1], 0.3);
+  EXPECT_TRUE(cut.by_distance);
+  EXPECT_EQ(cut.start, L);
+
+  const auto kept = recurrent_start(pairs, A, o, &dip_points);
+  ASSERT_EQ(kept.distance_ratio.size(), 1u);
+  EXPECT_LT(kept.distance_ratio[0], 3.0);
+  EXPECT_FALSE(kept.by_distance);
+  EXPECT_EQ(kept.start, 0u);
+
+  const auto drifting = recurrent_start(pairs, A, o, &drift_points);
+  ASSERT_EQ(drifting.distance_ratio.size(), 1u);
+  EXPECT_NEAR(drifting.distance_ratio[0], 1.0, 0.1);
+  EXPECT_EQ(drifting.start, 0u);
+
+  const auto on_attractor = recurrent_start(hand_made_pairs(A, theiler, 0, 5), A, o, &start_up_points);
+  EXPECT_TRUE(on_attractor.distance_ratio.empty());
+  EXPECT_EQ(on_attractor.start, 0u);
+
+  o.far = 1.0;
+  EXPECT_THROW(recurrent_start(pairs, A, o, &start_up_points), OptionError);
+}
+
 TEST(Recurrence, DefaultWindowAndTooFewReferences) {
   // Default window: max(2 x Theiler, A / 50). Strided references: 10 per window of 200 are too
   // few to judge, and nothing is judged or cut.
@@ -136,4 +187,36 @@ TEST(Recurrence, LorenzStartUpSpiralIsLeftOut) {
   EXPECT_FALSE(r.recurrence.ratio.empty());
   EXPECT_LT(r.recurrence.ratio.front(), RecurrenceOptions{}.transient);
   EXPECT_NE(r.warnings.front().find("do not recur"), std::string::npos) << r.warnings.front();
+}
+
+// Lorenz from a random start near the origin (mt19937 seed 1's 29th start of `finite_time_spread
+// starts`), nothing discarded: its first window scores 0.35 and the next 0.00, then it recurs, so
+// the scores see one low window only and keep the start (as a dip would be kept). Its first four
+// windows come no nearer to the second half than 5 typical distances, and are left out; the
+// estimate is then within 5 % of lambda_1, nearer than with the start kept or than the scores alone.
+TEST(Recurrence, LorenzStartUpOfOneLowWindowIsLeftOutByDistance) {
+  const auto x = reference::lorenz_x(10000, 0.01, {-0.86080969832381982, 1.5167301025649813, 0.76268365812864669}, 0.0);
+  const auto series = make_series_with_step({x}, 0.01);
+  const MlceResult r = estimate_mlce(series, {});
+  MlceOptions keep, scores_only;
+  keep.skip_nonrecurrent_start = false;
+  scores_only.recurrence.far = 1e12;  // no window is that far: the distance test cuts nothing
+  const MlceResult kept = estimate_mlce(series, keep), by_scores = estimate_mlce(series, scores_only);
+  std::printf("Lorenz x from a start near the origin: %zu samples left out (ratios", r.skipped_start);
+  for (double ratio : r.recurrence.distance_ratio) std::printf(" %.2f", ratio);
+  std::printf("), lambda %.4f (kept: %.4f, scores only: %.4f)\n", r.lambda, kept.lambda, by_scores.lambda);
+  EXPECT_EQ(by_scores.skipped_start, 0u);
+  ASSERT_GE(r.recurrence.ratio.size(), 2u);
+  EXPECT_LT(r.recurrence.ratio[0], RecurrenceOptions{}.first_below);
+  EXPECT_TRUE(r.recurrence.by_distance);
+  EXPECT_GT(r.skipped_start, 0u);
+  EXPECT_LE(r.skipped_start, 2000u);
+  EXPECT_EQ(r.skipped_start % r.recurrence.window, 0u);
+  const std::size_t far_windows = r.skipped_start / r.recurrence.window;
+  ASSERT_EQ(r.recurrence.distance_ratio.size(), far_windows + 1);
+  for (std::size_t w = 0; w < far_windows; ++w) EXPECT_GE(r.recurrence.distance_ratio[w], RecurrenceOptions{}.far);
+  EXPECT_LT(r.recurrence.distance_ratio.back(), RecurrenceOptions{}.far);
+  EXPECT_NEAR(r.lambda, 0.9056, 0.05 * 0.9056) << r.fit.rule;
+  EXPECT_LT(std::abs(r.lambda - 0.9056), std::abs(kept.lambda - 0.9056));
+  EXPECT_NE(r.warnings.front().find("typical distance"), std::string::npos) << r.warnings.front();
 }

@@ -57,8 +57,14 @@ nlohmann::json to_json(const MlceResult& r) {
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
   j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
   // The recurrence test's windows (recurrence.hpp), when it ran: their length and scores.
-  if (!r.recurrence.ratio.empty())
+  if (!r.recurrence.ratio.empty()) {
     j["start_recurrence"] = {{"window", r.recurrence.window}, {"scores", r.recurrence.ratio}};
+    // The distance test's ratios (recurrence.hpp, RecurrenceOptions::far), when it ran.
+    if (!r.recurrence.distance_ratio.empty()) {
+      j["start_recurrence"]["distance_ratios"] = r.recurrence.distance_ratio;
+      j["start_recurrence"]["decided_by_distance"] = r.recurrence.by_distance;
+    }
+  }
   j["noise_level"] = finite_or_null(r.noise_level);  // of the signal's standard deviation
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;

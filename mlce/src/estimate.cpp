@@ -218,7 +218,9 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   const bool judge_start = options.skip_nonrecurrent_start && persisting;
   auto estimate_without_start = [&](const NeighbourPairs& first_pairs) -> std::optional<MlceResult> {
     const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - first_pairs.horizon;
-    RecurrenceResult rec = recurrent_start(first_pairs, admissible, options.recurrence);
+    std::vector<std::span<const double>> channels(series.channels.begin(), series.channels.end());
+    const DelayEmbedding embedding(std::move(channels), r.dim, r.delay, admissible);
+    RecurrenceResult rec = recurrent_start(first_pairs, admissible, options.recurrence, &embedding);
     if (rec.start == 0) {
       r.recurrence = std::move(rec);
       return std::nullopt;
@@ -241,11 +243,19 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
       return std::nullopt;
     }
     char text[400];
-    std::snprintf(text, sizeof text,
-                  "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
-                  "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
-                  "%.2f, 1 on the attractor; --keep-start keeps them)",
-                  rec.start, rest.t0, rec.ratio.front());
+    if (rec.by_distance)
+      std::snprintf(text, sizeof text,
+                    "the first %zu samples (to t = %.6g) do not recur: the series' second half comes no nearer to them "
+                    "than %.3g times its typical distance (a start-up transient, not the attractor); analysed from there "
+                    "(the start's first window scores %.2f, 1 on the attractor; --keep-start keeps them)",
+                    rec.start, rest.t0,
+                    *std::min_element(rec.distance_ratio.begin(), rec.distance_ratio.end() - 1), rec.ratio.front());
+    else
+      std::snprintf(text, sizeof text,
+                    "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
+                    "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
+                    "%.2f, 1 on the attractor; --keep-start keeps them)",
+                    rec.start, rest.t0, rec.ratio.front());
     // The input's warnings once; the drift is judged again on the rest, which is what is analysed.
     std::vector<std::string> warnings;
     for (std::size_t w = 0; w < input_warnings; ++w)

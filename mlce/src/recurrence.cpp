@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "mlce/neighbours.hpp"
 #include "mlce/numerics.hpp"
 
 namespace mlce {
@@ -9,9 +10,44 @@ namespace mlce {
 void RecurrenceOptions::validate() const {
   if (!(transient > 0.0 && transient <= first_below && first_below <= recurrent && recurrent <= 1.0))
     throw OptionError("recurrence: expected 0 < transient <= first_below <= recurrent <= 1");
+  if (!(far > 1.0)) throw OptionError("recurrence.far: expected > 1 (a ratio to the typical distance)");
+  if (typical_points == 0) throw OptionError("recurrence.typical_points: expected >= 1");
 }
 
-RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options) {
+namespace {
+
+/// The distance test of RecurrenceOptions::far on windows [w W, (w + 1) W), w < windows.
+void judge_by_distance(const DelayEmbedding& embedding, std::size_t admissible, std::size_t windows,
+                       const RecurrenceOptions& options, RecurrenceResult& r) {
+  const std::size_t A = std::min(admissible, embedding.size()), half = A / 2;
+  if (half == 0 || windows == 0) return;
+  const auto typical_distances = distances_to_range(embedding, strided_indices(half, options.typical_points), half, A - half);
+  const double typical = median(typical_distances);
+  if (!(typical > 0.0)) return;  // repeated points: no scale to compare with
+  std::size_t far_windows = 0;
+  bool joins = false;  // a window comes near the second half: the motion has joined what recurs
+  for (std::size_t w = 0; w < windows && (w + 1) * r.window <= half; ++w) {
+    std::vector<std::uint32_t> points(r.window);
+    for (std::size_t i = 0; i < r.window; ++i) points[i] = static_cast<std::uint32_t>(w * r.window + i);
+    const double ratio = median(distances_to_range(embedding, points, half, A - half)) / typical;
+    r.distance_ratio.push_back(ratio);
+    if (ratio < options.far) {
+      joins = true;
+      break;
+    }
+    ++far_windows;
+  }
+  // Every window judged far: no window joins what recurs, nothing to tell a start-up by, and nothing
+  // is cut (as with the scores). Only possible when the windows cover less than half of the first
+  // half: the typical distance is the first half's median. A drift moves that median with it, and
+  // its windows score ~1.
+  if (joins && far_windows > 0) r.start = far_windows * r.window, r.by_distance = true;
+}
+
+}  // namespace
+
+RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options,
+                                 const DelayEmbedding* embedding) {
   options.validate();
   RecurrenceResult r;
   const std::size_t A = admissible, theiler = pairs.theiler;
@@ -38,6 +74,8 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
       joined = true, r.start = transient_windows >= options.min_windows ? last_transient_end : 0;
     if (!joined && ratio < options.transient) last_transient_end = end, ++transient_windows;
   }
+  if (embedding != nullptr && r.start == 0 && !r.ratio.empty() && r.ratio.front() < options.first_below)
+    judge_by_distance(*embedding, A, r.ratio.size(), options, r);
   return r;
 }
 

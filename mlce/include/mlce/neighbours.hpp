@@ -65,6 +65,13 @@ class NeighbourIndex {
 NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
                                         const NeighbourOptions& options);
 
+/// Distance from each query point (an index into `embedding`) to the nearest of the embedding's
+/// points [first, first + count): exact, no Theiler window (a query inside the range finds itself,
+/// at 0). Does a part of the series come near another part again? (recurrence.hpp's distance
+/// test). Runs the queries on all cores; the result does not depend on the thread count.
+std::vector<double> distances_to_range(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
+                                       std::size_t first, std::size_t count, std::size_t leaf_size = 10);
+
 /// `max_count` indices evenly spread over [0, count) (all of them when max_count is 0 or >= count).
 std::vector<std::uint32_t> strided_indices(std::size_t count, std::size_t max_count);
 

@@ -31,6 +31,18 @@ struct RecurrenceOptions {
   std::size_t min_windows = 2;
   /// Windows with fewer reference points (after striding) are not judged.
   std::size_t min_references = 20;
+  /// The distance test (recurrent_start given the embedding) tells a start-up that lasts one
+  /// window, which the scores alone keep (min_windows), from a window that dips. It runs when the
+  /// first window scores below `first_below` and the scores cut nothing. A window's distance ratio:
+  /// the median over its points of the distance to the nearest point of the series' second half
+  /// (admissible points [A/2, A)), over the same median over points of the first half. About 1 on
+  /// an attractor, also in a window whose neighbours are its own (Lorenz's spiral excursions about
+  /// C+- score ~0 there, and their points pass near later turns); 3-16 on Lorenz's start-up spiral
+  /// from near the origin, which the motion never comes near again. The windows from the start
+  /// whose ratio is at least `far` are left out.
+  double far = 3.0;
+  /// First-half points (evenly strided) whose median distance to the second half is the typical one.
+  std::size_t typical_points = 2000;
   void validate() const;
 };
 
@@ -41,6 +53,10 @@ struct RecurrenceResult {
   std::size_t start = 0;
   std::size_t window = 0;      ///< window length used, samples
   std::vector<double> ratio;   ///< per window, from the start, over the series' first half
+  /// The distance test's ratios (options.far), from the start up to the first window below `far`,
+  /// when the test ran; `by_distance` when it decided `start`.
+  std::vector<double> distance_ratio;
+  bool by_distance = false;
 };
 
 /// The rule: consecutive windows from sample 0, while a window ends (with the Theiler window
@@ -52,7 +68,10 @@ struct RecurrenceResult {
 /// `recurrent`, when at least `min_windows` windows score below `transient` before it: a window in between is where the motion joins the attractor, and is kept; a low
 /// window after the first recurrent one is an excursion the series visits once, not a start.
 /// `admissible` = number of candidate points of the neighbour search (DelayEmbedding::max_points -
-/// horizon).
-RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options);
+/// horizon). With `embedding` (its first `admissible` points those of the search), a series that
+/// does not start on the attractor but whose scores cut nothing is judged by the distance test
+/// (RecurrenceOptions::far): its leading windows that stay far from the second half are left out.
+RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options,
+                                 const DelayEmbedding* embedding = nullptr);
 
 }  // namespace mlce
