@@ -3,7 +3,9 @@
 // lies on the attractor, which the rest of the series visits again. A start-up transient (Lorenz
 // from (1, 1, 1) spirals out of the fixed point C- for its first ~10 time units) is visited once:
 // its points find their nearest neighbours only among themselves, on the spiral's neighbouring
-// turns, which separate slowly, and the curve reads low (0.855 instead of 0.906).
+// turns, which separate slowly, and the curve reads low (0.855 instead of 0.906). A start-up as
+// short as one window is told from a window that dips by distance: the motion never comes near the
+// start-up again, while a dip lies among points it visits again (RecurrenceOptions::far).
 #include <cstddef>
 #include <vector>
 
