@@ -16,12 +16,15 @@ void RecurrenceOptions::validate() const {
 
 namespace {
 
-/// The distance test of RecurrenceOptions::far on windows [w W, (w + 1) W), w < windows.
-void judge_by_distance(const DelayEmbedding& embedding, std::size_t admissible, std::size_t windows,
+/// The distance test of RecurrenceOptions::far on windows [w W, (w + 1) W), w < windows. The
+/// typical distance is measured from points at least a Theiler window before the second half, as
+/// every judged window lies (a point just before it would find its own continuation).
+void judge_by_distance(const DelayEmbedding& embedding, std::size_t admissible, std::size_t theiler, std::size_t windows,
                        const RecurrenceOptions& options, RecurrenceResult& r) {
   const std::size_t A = std::min(admissible, embedding.size()), half = A / 2;
-  if (half == 0 || windows == 0) return;
-  const auto typical_distances = distances_to_range(embedding, strided_indices(half, options.typical_points), half, A - half);
+  if (half <= theiler || windows == 0) return;
+  const auto typical_distances =
+      distances_to_range(embedding, strided_indices(half - theiler, options.typical_points), half, A - half);
   const double typical = median(typical_distances);
   if (!(typical > 0.0)) return;  // repeated points: no scale to compare with
   std::size_t far_windows = 0;
@@ -40,7 +43,7 @@ void judge_by_distance(const DelayEmbedding& embedding, std::size_t admissible, 
   // Every window judged far: no window joins what recurs, nothing to tell a start-up by, and nothing
   // is cut (as with the scores). Only possible when the windows cover less than half of the first
   // half: the typical distance is the first half's median. A drift moves that median with it, and
-  // its windows score ~1.
+  // its windows' ratios stay ~1.
   if (joins && far_windows > 0) r.start = far_windows * r.window, r.by_distance = true;
 }
 
@@ -75,7 +78,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
     if (!joined && ratio < options.transient) last_transient_end = end, ++transient_windows;
   }
   if (embedding != nullptr && r.start == 0 && !r.ratio.empty() && r.ratio.front() < options.first_below)
-    judge_by_distance(*embedding, A, r.ratio.size(), options, r);
+    judge_by_distance(*embedding, A, theiler, r.ratio.size(), options, r);
   return r;
 }
 

@@ -37,7 +37,8 @@ struct RecurrenceOptions {
   /// window, which the scores alone keep (min_windows), from a window that dips. It runs when the
   /// first window scores below `first_below` and the scores cut nothing. A window's distance ratio:
   /// the median over its points of the distance to the nearest point of the series' second half
-  /// (admissible points [A/2, A)), over the same median over points of the first half. About 1 on
+  /// (admissible points [A/2, A)), over the same median over points of the first half (up to a
+  /// Theiler window before the second). About 1 on
   /// an attractor, also in a window whose neighbours are its own (Lorenz's spiral excursions about
   /// C+- score ~0 there, and their points pass near later turns); 3-16 on Lorenz's start-up spiral
   /// from near the origin, which the motion never comes near again. The windows from the start
