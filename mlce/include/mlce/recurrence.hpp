@@ -40,8 +40,9 @@ struct RecurrenceOptions {
   /// (admissible points [A/2, A)), over the same median over points of the first half (up to a
   /// Theiler window before the second). About 1 on
   /// an attractor, also in a window whose neighbours are its own (Lorenz's spiral excursions about
-  /// C+- score ~0 there, and their points pass near later turns); 3-16 on Lorenz's start-up spiral
-  /// from near the origin, which the motion never comes near again. The windows from the start
+  /// C+- score ~0 there, and their points pass near later turns); 4.7-10 over the first four windows
+  /// of Lorenz's start-up spiral from near the origin (test_recurrence), which the motion never
+  /// comes near again. The windows from the start
   /// whose ratio is at least `far` are left out.
   double far = 3.0;
   /// First-half points (evenly strided) whose median distance to the second half is the typical one.
