@@ -461,6 +461,46 @@ TEST(MbdynNetcdf, CorruptedHeaderCountIsOneErrorNotAMinuteOfAllocation) {
   fs::remove(path.string() + ".patched.nc");
 }
 
+TEST(MbdynNetcdf, HeaderThatWouldCrashLibnetcdfIsOneError) {
+  // libnetcdf 4.9's nc_open sizes a variable of a type beyond the classic ones (here 12, NC_STRING)
+  // as 0 bytes, and its size check (NC_check_vlen) divides by that size: SIGFPE, a crash of the
+  // whole program (fuzz_netcdf found it). A classic file with dimensions "time" (unlimited) and
+  // "vec3" (3) and one variable "cube" of type double (6) over (vec3, vec3, vec3), its type made 12:
+  // one error naming the byte. A dimension id made the record dimension's (not allowed after the
+  // first) is libnetcdf's own error.
+  const fs::path path = fs::temp_directory_path() / ("mlce_vlen_" + std::to_string(::getpid()) + ".nc");
+  {
+    int id = 0, time_dim = 0, vec3 = 0, v = 0;
+    ASSERT_EQ(nc_create(path.c_str(), NC_CLOBBER, &id), NC_NOERR);
+    ASSERT_EQ(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim), NC_NOERR);
+    ASSERT_EQ(nc_def_dim(id, "vec3", 3, &vec3), NC_NOERR);
+    const int dims[3] = {vec3, vec3, vec3};
+    ASSERT_EQ(nc_def_var(id, "cube", NC_DOUBLE, 3, dims, &v), NC_NOERR);
+    ASSERT_EQ(nc_close(id), NC_NOERR);
+  }
+  // magic, numrecs, the two dimensions (8..39), no global attributes (40..47), NC_VARIABLE and
+  // the count (48..55), then "cube": name length and name (56..63), rank at 64, dimension ids at
+  // 68, 72, 76, no attributes (80..87), type at 88.
+  const std::string bytes = bytes_of(path);
+  ASSERT_EQ(bytes.substr(64, 16), std::string("\0\0\0\x03\0\0\0\x01\0\0\0\x01\0\0\0\x01", 16));
+  ASSERT_EQ(bytes.substr(88, 4), std::string("\0\0\0\x06", 4));
+  const auto patched = [&](std::size_t at, char value) {
+    std::string b = bytes;
+    b[at + 3] = value;
+    const fs::path p = path.string() + ".patched.nc";
+    std::ofstream(p, std::ios::binary) << b;
+    return p.string();
+  };
+  EXPECT_NE(read_error_of([&] { describe_mbdyn_netcdf(patched(72, 0)); }).find("NC_UNLIMITED in the wrong index"),
+            std::string::npos);
+  EXPECT_EQ(read_error_of([&] { describe_mbdyn_netcdf(patched(88, 12)); }),
+            path.string() + ".patched.nc: corrupt NetCDF header at byte 88: variable type 12");
+  // The file as written passes the header walk and nc_open; it is no MBDyn output, which is said next.
+  EXPECT_NE(read_error_of([&] { describe_mbdyn_netcdf(path.string()); }).find("no variable 'time'"), std::string::npos);
+  fs::remove(path);
+  fs::remove(path.string() + ".patched.nc");
+}
+
 TEST(MbdynNetcdf, RecordNeverWrittenIsAnErrorNotAHugeNumber) {
   const fs::path path = fs::temp_directory_path() / ("mlce_fill_" + std::to_string(::getpid()) + ".nc");
   write_node_x_records(path, {2.0, 2.0, kUnwritten});  // record 2 left unwritten

@@ -92,7 +92,12 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
     for (std::uint64_t k = 0; k < rank; ++k)
       if (count() >= dims) throw corrupt("a variable's dimension id beyond the " + std::to_string(dims) + " dimensions", count_at);
     attributes();
-    word(4), word(wide ? 8 : 4), word(version == 1 ? 4 : 8);  // type, vsize, begin
+    // A classic file holds types 1-6 (CDF-5: 1-11). libnetcdf 4.9 takes others, sizes them 0, and
+    // its size check (NC_check_vlen) then divides by that 0: SIGFPE inside nc_open (type 12,
+    // NC_STRING, found by fuzz_netcdf).
+    const std::uint64_t type = word(4);
+    if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("variable type " + std::to_string(type), pos - 4);
+    word(wide ? 8 : 4), word(version == 1 ? 4 : 8);  // vsize, begin
   }
   return size;
 }
