@@ -125,7 +125,7 @@ TEST(Neighbours, DistancesToARangeMatchBruteForce) {
   std::vector<std::uint32_t> q;
   for (std::size_t i = 0; i < M; i += 13) q.push_back(static_cast<std::uint32_t>(i));
   for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{M / 2, M - M / 2}, {0, M}, {100, 1}}) {
-    const auto fast = distances_to_range(emb, q, first, count);
+    const auto fast = RangeIndex(emb, first, count).distances(q);
     ASSERT_EQ(fast.size(), q.size());
     for (std::size_t k = 0; k < q.size(); ++k) {
       double best = std::numeric_limits<double>::infinity();
@@ -136,6 +136,6 @@ TEST(Neighbours, DistancesToARangeMatchBruteForce) {
       }
     }
   }
-  EXPECT_THROW(distances_to_range(emb, q, M - 10, 11), OptionError);
-  EXPECT_THROW(distances_to_range(emb, q, 0, 0), OptionError);
+  EXPECT_THROW(RangeIndex(emb, M - 10, 11), OptionError);
+  EXPECT_THROW(RangeIndex(emb, 0, 0), OptionError);
 }

@@ -179,29 +179,41 @@ NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const s
   return NeighbourIndex(embedding, options).nearest(queries, embedding.size());
 }
 
-std::vector<double> distances_to_range(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
-                                       std::size_t first, std::size_t count, std::size_t leaf_size) {
+struct RangeIndex::Tree {
+  Tree(const DelayEmbedding& embedding, std::size_t first, std::size_t count, std::size_t leaf_size)
+      : range(embedding, first, count),
+        tree(embedding.dimension(), range, nanoflann::KDTreeSingleIndexAdaptorParams(leaf_size)) {}
+  EmbeddingRange range;  // before the tree, which keeps a reference to it
+  KdTree tree;
+};
+
+RangeIndex::RangeIndex(const DelayEmbedding& embedding, std::size_t first, std::size_t count, std::size_t leaf_size)
+    : embedding_(&embedding) {
   if (first > embedding.size() || count > embedding.size() - first)
-    throw OptionError("distances_to_range: points [" + std::to_string(first) + ", " + std::to_string(first + count) +
+    throw OptionError("RangeIndex: points [" + std::to_string(first) + ", " + std::to_string(first + count) +
                       ") outside the embedding's " + std::to_string(embedding.size()));
-  if (count == 0) throw OptionError("distances_to_range: no points to measure against");
-  if (leaf_size == 0) throw OptionError("distances_to_range: leaf size must be positive");
-  const EmbeddingRange range(embedding, first, count);
-  const KdTree tree(embedding.dimension(), range, nanoflann::KDTreeSingleIndexAdaptorParams(leaf_size));
+  if (count == 0) throw OptionError("RangeIndex: no points to measure against");
+  if (leaf_size == 0) throw OptionError("RangeIndex: leaf size must be positive");
+  tree_ = std::make_unique<Tree>(embedding, first, count, leaf_size);
+}
+
+RangeIndex::~RangeIndex() = default;
+
+std::vector<double> RangeIndex::distances(const std::vector<std::uint32_t>& queries) const {
   std::vector<double> out(queries.size());
-  const std::size_t D = embedding.dimension();
+  const std::size_t D = embedding_->dimension();
   const auto nq = static_cast<std::ptrdiff_t>(queries.size());
 #pragma omp parallel
   {
     std::vector<double> q(D);
 #pragma omp for schedule(dynamic, 512)
     for (std::ptrdiff_t k = 0; k < nq; ++k) {
-      embedding.point(queries[static_cast<std::size_t>(k)], q.data());
+      embedding_->point(queries[static_cast<std::size_t>(k)], q.data());
       std::uint32_t index = 0;
       double squared = 0.0;
       nanoflann::KNNResultSet<double, std::uint32_t> set(1);
       set.init(&index, &squared);
-      tree.findNeighbors(set, q.data(), nanoflann::SearchParams(32));
+      tree_->tree.findNeighbors(set, q.data(), nanoflann::SearchParams(32));
       out[static_cast<std::size_t>(k)] = std::sqrt(squared);
     }
   }

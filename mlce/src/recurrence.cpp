@@ -23,16 +23,15 @@ void judge_by_distance(const DelayEmbedding& embedding, std::size_t admissible, 
                        const RecurrenceOptions& options, RecurrenceResult& r) {
   const std::size_t A = std::min(admissible, embedding.size()), half = A / 2;
   if (half <= theiler || windows == 0) return;
-  const auto typical_distances =
-      distances_to_range(embedding, strided_indices(half - theiler, options.typical_points), half, A - half);
-  const double typical = median(typical_distances);
+  const RangeIndex second_half(embedding, half, A - half);  // one tree for every window asked
+  const double typical = median(second_half.distances(strided_indices(half - theiler, options.typical_points)));
   if (!(typical > 0.0)) return;  // repeated points: no scale to compare with
   std::size_t far_windows = 0;
   bool joins = false;  // a window comes near the second half: the motion has joined what recurs
   for (std::size_t w = 0; w < windows && (w + 1) * r.window <= half; ++w) {
     std::vector<std::uint32_t> points(r.window);
     for (std::size_t i = 0; i < r.window; ++i) points[i] = static_cast<std::uint32_t>(w * r.window + i);
-    const double ratio = median(distances_to_range(embedding, points, half, A - half)) / typical;
+    const double ratio = median(second_half.distances(points)) / typical;
     r.distance_ratio.push_back(ratio);
     if (ratio < options.far) {
       joins = true;

@@ -65,12 +65,25 @@ class NeighbourIndex {
 NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
                                         const NeighbourOptions& options);
 
-/// Distance from each query point (an index into `embedding`) to the nearest of the embedding's
-/// points [first, first + count): exact, no Theiler window (a query inside the range finds itself,
-/// at 0). Does a part of the series come near another part again? (recurrence.hpp's distance
-/// test). Runs the queries on all cores; the result does not depend on the thread count.
-std::vector<double> distances_to_range(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,
-                                       std::size_t first, std::size_t count, std::size_t leaf_size = 10);
+/// The kd-tree over an embedding's points [first, first + count) (the embedding must outlive it),
+/// built once and asked many times: the distance from query points (indices into the embedding)
+/// to their nearest point of that range, exact, no Theiler window (a query inside the range finds
+/// itself, at 0). Does a part of the series come near another part again? (recurrence.hpp's
+/// distance test).
+class RangeIndex {
+ public:
+  RangeIndex(const DelayEmbedding& embedding, std::size_t first, std::size_t count, std::size_t leaf_size = 10);
+  ~RangeIndex();
+  RangeIndex(const RangeIndex&) = delete;
+  RangeIndex& operator=(const RangeIndex&) = delete;
+  /// Runs the queries on all cores; the result does not depend on the thread count.
+  std::vector<double> distances(const std::vector<std::uint32_t>& queries) const;
+
+ private:
+  struct Tree;
+  const DelayEmbedding* embedding_;
+  std::unique_ptr<Tree> tree_;
+};
 
 /// `max_count` indices evenly spread over [0, count) (all of them when max_count is 0 or >= count).
 std::vector<std::uint32_t> strided_indices(std::size_t count, std::size_t max_count);
