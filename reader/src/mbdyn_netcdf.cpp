@@ -71,14 +71,21 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
     fits(n, min_bytes, what);
     return n;
   };
+  // A classic file holds types 1-6 (CDF-5: 1-11). libnetcdf 4.9 takes a variable of another type,
+  // sizes it 0, and its size check (NC_check_vlen) then divides by that 0: SIGFPE inside nc_open
+  // (type 12, NC_STRING, found by fuzz_netcdf).
+  auto type = [&](const char* of) {
+    const std::uint64_t t = word(4);
+    if (t == 0 || t > (wide ? 11u : 6u)) throw corrupt(std::string(of) + " type " + std::to_string(t), pos - 4);
+    return t;
+  };
   auto attributes = [&] {
     for (std::uint64_t a = list(0x0C, 12, "attributes"); a > 0; --a) {
       name();
       static constexpr std::uint64_t kBytes[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};  // by nc_type
-      const std::uint64_t type = word(4), n = count();
-      if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("attribute type " + std::to_string(type), count_at - 4);
-      fits(n, kBytes[type], "attribute values");
-      skip((n * kBytes[type] + 3) / 4 * 4);
+      const std::uint64_t t = type("attribute"), n = count();
+      fits(n, kBytes[t], "attribute values");
+      skip((n * kBytes[t] + 3) / 4 * 4);
     }
   };
   word(wide ? 8 : 4);  // numrecs (the reader caps it by the file size)
@@ -92,11 +99,7 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
     for (std::uint64_t k = 0; k < rank; ++k)
       if (count() >= dims) throw corrupt("a variable's dimension id beyond the " + std::to_string(dims) + " dimensions", count_at);
     attributes();
-    // A classic file holds types 1-6 (CDF-5: 1-11). libnetcdf 4.9 takes others, sizes them 0, and
-    // its size check (NC_check_vlen) then divides by that 0: SIGFPE inside nc_open (type 12,
-    // NC_STRING, found by fuzz_netcdf).
-    const std::uint64_t type = word(4);
-    if (type == 0 || type > (wide ? 11u : 6u)) throw corrupt("variable type " + std::to_string(type), pos - 4);
+    type("variable");
     word(wide ? 8 : 4), word(version == 1 ? 4 : 8);  // vsize, begin
   }
   return size;
