@@ -242,20 +242,16 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
       r.recurrence = std::move(rec);
       return std::nullopt;
     }
-    char text[400];
-    if (rec.by_distance)
-      std::snprintf(text, sizeof text,
-                    "the first %zu samples (to t = %.6g) do not recur: the series' second half comes no nearer to them "
-                    "than %.3g times its typical distance (a start-up transient, not the attractor); analysed from there "
-                    "(the start's first window scores %.2f, 1 on the attractor; --keep-start keeps them)",
-                    rec.start, rest.t0,
-                    *std::min_element(rec.distance_ratio.begin(), rec.distance_ratio.end() - 1), rec.ratio.front());
-    else
-      std::snprintf(text, sizeof text,
-                    "the first %zu samples (to t = %.6g) do not recur: their nearest neighbours lie among themselves "
-                    "(a start-up transient, not the attractor); analysed from there (the start's first window scores "
-                    "%.2f, 1 on the attractor; --keep-start keeps them)",
-                    rec.start, rest.t0, rec.ratio.front());
+    // Why: the scores' reason (neighbours among themselves) or the distance test's.
+    const std::string why =
+        rec.by_distance
+            ? fmt::format("the series' second half comes no nearer to them than {:.3g} times its typical distance",
+                          *std::min_element(rec.distance_ratio.begin(), rec.distance_ratio.end() - 1))
+            : std::string("their nearest neighbours lie among themselves");
+    const std::string text = fmt::format(
+        "the first {} samples (to t = {:.6g}) do not recur: {} (a start-up transient, not the attractor); analysed "
+        "from there (the start's first window scores {:.2f}, 1 on the attractor; --keep-start keeps them)",
+        rec.start, rest.t0, why, rec.ratio.front());
     // The input's warnings once; the drift is judged again on the rest, which is what is analysed.
     std::vector<std::string> warnings;
     for (std::size_t w = 0; w < input_warnings; ++w)
