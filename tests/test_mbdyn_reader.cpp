@@ -174,6 +174,101 @@ TEST(MbdynNetcdf, SameChannelsAsTheTextSetToPrintedPrecision) {
   EXPECT_TRUE(rel.warnings.empty());  // the .log beside the file gives the initial configuration
 }
 
+/// `from` rewritten in another on-disk format (NC_NETCDF4: HDF5 underneath, what MBDyn builds
+/// against netCDF-4 may write): every dimension, attribute and variable with its values.
+void copy_netcdf(const std::string& from, const fs::path& to, int format) {
+  int in = 0, out = 0, ndims = 0, nvars = 0, ngatts = 0, unlimited = -1;
+  ASSERT_EQ(nc_open(from.c_str(), NC_NOWRITE, &in), NC_NOERR);
+  ASSERT_EQ(nc_create(to.c_str(), NC_CLOBBER | format, &out), NC_NOERR);
+  ASSERT_EQ(nc_inq(in, &ndims, &nvars, &ngatts, &unlimited), NC_NOERR);
+  for (int d = 0; d < ndims; ++d) {
+    char name[NC_MAX_NAME + 1];
+    std::size_t len = 0;
+    int id = 0;
+    ASSERT_EQ(nc_inq_dim(in, d, name, &len), NC_NOERR);
+    ASSERT_EQ(nc_def_dim(out, name, d == unlimited ? NC_UNLIMITED : len, &id), NC_NOERR);
+    ASSERT_EQ(id, d);
+  }
+  for (int a = 0; a < ngatts; ++a) {
+    char name[NC_MAX_NAME + 1];
+    ASSERT_EQ(nc_inq_attname(in, NC_GLOBAL, a, name), NC_NOERR);
+    ASSERT_EQ(nc_copy_att(in, NC_GLOBAL, name, out, NC_GLOBAL), NC_NOERR);
+  }
+  for (int v = 0; v < nvars; ++v) {
+    char name[NC_MAX_NAME + 1];
+    nc_type type{};
+    int vdims = 0, natts = 0, id = 0, dimids[NC_MAX_VAR_DIMS];
+    ASSERT_EQ(nc_inq_var(in, v, name, &type, &vdims, dimids, &natts), NC_NOERR);
+    ASSERT_EQ(nc_def_var(out, name, type, vdims, dimids, &id), NC_NOERR);
+    for (int a = 0; a < natts; ++a) {
+      char att[NC_MAX_NAME + 1];
+      ASSERT_EQ(nc_inq_attname(in, v, a, att), NC_NOERR);
+      ASSERT_EQ(nc_copy_att(in, v, att, out, id), NC_NOERR);
+    }
+  }
+  ASSERT_EQ(nc_enddef(out), NC_NOERR);
+  for (int v = 0; v < nvars; ++v) {
+    nc_type type{};
+    int vdims = 0, dimids[NC_MAX_VAR_DIMS];
+    ASSERT_EQ(nc_inq_var(in, v, nullptr, &type, &vdims, dimids, nullptr), NC_NOERR);
+    std::size_t size = 0, count = 1;
+    ASSERT_EQ(nc_inq_type(in, type, nullptr, &size), NC_NOERR);
+    for (int d = 0; d < vdims; ++d) {
+      std::size_t len = 0;
+      ASSERT_EQ(nc_inq_dimlen(in, dimids[d], &len), NC_NOERR);
+      count *= len;
+    }
+    if (count == 0) continue;
+    std::vector<unsigned char> values(count * size);
+    ASSERT_EQ(nc_get_var(in, v, values.data()), NC_NOERR);
+    if (vdims > 0 && dimids[0] == unlimited) {  // a record variable takes its extent from the records written
+      std::vector<std::size_t> start(static_cast<std::size_t>(vdims), 0), shape(static_cast<std::size_t>(vdims));
+      for (int d = 0; d < vdims; ++d) ASSERT_EQ(nc_inq_dimlen(in, dimids[d], &shape[static_cast<std::size_t>(d)]), NC_NOERR);
+      ASSERT_EQ(nc_put_vara(out, v, start.data(), shape.data(), values.data()), NC_NOERR);
+    } else {
+      ASSERT_EQ(nc_put_var(out, v, values.data()), NC_NOERR);
+    }
+  }
+  ASSERT_EQ(nc_close(out), NC_NOERR);
+  ASSERT_EQ(nc_close(in), NC_NOERR);
+}
+
+TEST(MbdynNetcdf, Netcdf4HdfFileReadsLikeTheClassicOne) {
+  // The reader's own header walk covers the classic formats; a netCDF-4 (HDF5) file goes to
+  // libnetcdf directly and must give the same channels, bit for bit.
+  const fs::path nc4 = fs::path(::testing::TempDir()) / "iso_200rpm_nc4.nc";
+  copy_netcdf(kIso + ".nc", nc4, NC_NETCDF4);
+  fs::copy_file(kIso + ".log", fs::path(nc4).replace_extension(".log"), fs::copy_options::overwrite_existing);  // rel: reads it
+  if (HasFatalFailure()) return;
+  {
+    std::ifstream f(nc4, std::ios::binary);
+    char magic[4] = {};
+    f.read(magic, 4);
+    ASSERT_EQ(std::string(magic + 1, 3), "HDF");
+  }
+  const auto spec = specs({"joint:33:14", "node:2:x", "node:13:r3", "node:3:vy", "ine:11:3", "rel:13:4:z"});
+  const auto classic = read_mbdyn_netcdf(kIso + ".nc", spec);
+  const auto hdf = read_mbdyn_netcdf(nc4.string(), spec);
+  ASSERT_EQ(hdf.time, classic.time);
+  ASSERT_EQ(hdf.values.size(), classic.values.size());
+  for (std::size_t c = 0; c < spec.size(); ++c) EXPECT_EQ(hdf.values[c], classic.values[c]) << spec[c].text;
+  EXPECT_EQ(hdf.warnings, classic.warnings);
+  EXPECT_EQ(default_registry().for_path(nc4.string()).name(), "mbdyn-netcdf");
+  // Cut short, it is one error naming the file (HDF5 keeps metadata at both ends: no partial read).
+  const fs::path cut = fs::path(::testing::TempDir()) / "iso_200rpm_nc4_cut.nc";
+  {
+    const auto bytes = bytes_of(nc4);
+    std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  try {
+    read_mbdyn_netcdf(cut.string(), spec);
+    FAIL() << "a netCDF-4 file cut in half was read";
+  } catch (const ReadError& e) {
+    EXPECT_NE(std::string(e.what()).find(cut.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("netCDF-4 (HDF5) file, cut short or corrupt"), std::string::npos) << e.what();
+  }
+}
+
 TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {
   const auto& reg = default_registry();
   EXPECT_EQ(reg.for_path(kIso).name(), "mbdyn-text");

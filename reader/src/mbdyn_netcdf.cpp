@@ -111,7 +111,14 @@ class NcFile {
     // A record holds at least its 8-byte time: a corrupted record count must not size a vector.
     if (const auto size = check_classic_header(path)) max_records_ = *size / 8;
     const int rc = nc_open(path.c_str(), NC_NOWRITE, &id_);
-    if (rc != NC_NOERR) throw ReadError(path + ": cannot open as NetCDF (" + nc_strerror(rc) + ")");
+    if (rc != NC_NOERR) {
+      // A netCDF-4 file is HDF5 underneath, which keeps metadata at both ends: cut short it does not open at all.
+      char magic[4] = {};
+      std::ifstream(path, std::ios::binary).read(magic, 4);
+      const bool hdf5 = std::string(magic + 1, 3) == "HDF";
+      throw ReadError(path + ": cannot open as NetCDF (" + nc_strerror(rc) + ")" +
+                      (hdf5 ? ": a netCDF-4 (HDF5) file, cut short or corrupt" : ""));
+    }
   }
   ~NcFile() { nc_close(id_); }
   NcFile(const NcFile&) = delete;
