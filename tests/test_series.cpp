@@ -238,6 +238,21 @@ TEST(Transient, DecayIntoTheNoiseFloorEndsWhereTheFloorStarts) {
   EXPECT_EQ(detect_transient(make_series_with_step({lc}, 0.01), o).floor_index, 0u);
 }
 
+TEST(Transient, LastWindowAboveTheFloorLevelEndsNoFloor) {
+  // The decay of the previous test, 20003 samples (100 windows of 200 and 3 over), with a late
+  // kick in its last window: the last quarter's median is still far below the peak, but the series
+  // does not end on a floor. The rule once reported a floor "from sample 20000" and cut the 3
+  // samples past the windows (the iso_200rpm run's rel:11:4:z: 1 sample).
+  std::vector<double> x;
+  for (int i = 0; i < 20003; ++i) {
+    const double t = 0.01 * i;
+    x.push_back(std::exp(-t) * std::sin(2 * M_PI * t) + 1e-12 * std::sin(7.3 * i) + (i >= 19850 ? 1e-7 * std::sin(3.1 * i) : 0.0));
+  }
+  EXPECT_EQ(detect_floor(make_series_with_step({x}, 0.01), 1e-6), 0u);
+  x.resize(19800);  // without the kick it ends on its floor, found as before
+  EXPECT_GT(detect_floor(make_series_with_step({x}, 0.01), 1e-6), 0u);
+}
+
 TEST(Transient, PureDecayIsNotCut) {
   std::vector<double> x;
   for (int i = 0; i < 20000; ++i) x.push_back(std::exp(-0.02 * i * 0.01) * std::sin(2 * M_PI * 0.01 * i));

@@ -60,6 +60,9 @@ std::size_t detect_floor(const Series& s, double floor_ratio) {
   if (!(level < floor_ratio * peak)) return 0;
   std::size_t k = windows;
   while (k > 0 && rms[k - 1] <= 10.0 * level) --k;
+  // A last window above that level ends no floor: a cut there would leave out only the samples
+  // past the 100 windows (the iso_200rpm run's rel:11:4:z: "floor from sample 4000", 1 sample).
+  if (k == windows) return 0;
   return k * w;
 }
 
