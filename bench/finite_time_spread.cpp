@@ -42,6 +42,11 @@
 // that the window (m - 1) J stays the automatic one; the Theiler window 0.5, 2 and 4 mean periods):
 // does any fixed alternative read closer to lambda_1? (2.5 minutes)
 //   build/finite_time_spread embedding
+// and the sampling step: the same 32 Lorenz x trajectories (the starts of `starts`, seed 1) over 100
+// and 500 time units sampled at dt = 0.01, 0.02, 0.05, 0.1, and Roessler x over 1000 time units at
+// dt = 0.05 ... 0.3, with the delays and dimensions the rules chose (does the estimate depend on
+// how finely the solver wrote its output?):
+//   build/finite_time_spread sampling
 // and one Lorenz x series (N = 10^4, dt = 0.01; the series `build/make_series lorenz 10000 0.01 T X Y Z`
 // writes): the automatic estimate, the plain curve's and the own exponent of that trajectory:
 //   build/finite_time_spread lorenz X Y Z T
@@ -509,6 +514,38 @@ void map_study(int series, unsigned seed) {
   logistic_own.print("logistic, own exponent");
 }
 
+/// One system over `duration` time units at each sampling step (section "sampling" of the header):
+/// the same 32 trajectories (seed 1, the starts of starts_study) at every step.
+void sampling_study(const System& sys, double duration, const std::vector<double>& steps, double tight) {
+  std::printf("%s over %g time units, 32 series (seed 1), automatic / %.4f:\n", sys.name, duration, sys.lambda);
+  for (double dt : steps) {
+    const std::size_t n = static_cast<std::size_t>(std::lround(duration / dt));
+    const auto substeps = static_cast<std::size_t>(std::max<long>(1, std::lround(dt / sys.h)));
+    Tally automatic;
+    automatic.tight = tight, automatic.loose = 2 * tight;
+    std::vector<int> delays(64, 0), dims(16, 0);
+    std::mt19937 gen(1);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    for (int k = 0; k < 32; ++k) {
+      const State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+      const auto x = mlce::reference::sample_flow<3>(sys.flow, x0, dt, n, sys.transient, substeps);
+      const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, dt), {});
+      automatic.add(r.lambda / sys.lambda);
+      ++delays[std::min<std::size_t>(r.delay, 63)], ++dims[std::min<std::size_t>(r.dim, 15)];
+    }
+    char label[64];
+    std::snprintf(label, sizeof label, "dt = %g (N = %zu)", dt, n);
+    automatic.print(label);
+    std::printf("  %-30s delays", "");
+    for (std::size_t d = 0; d < delays.size(); ++d)
+      if (delays[d]) std::printf(" %zu x%d", d, delays[d]);
+    std::printf(", dimensions");
+    for (std::size_t d = 0; d < dims.size(); ++d)
+      if (dims[d]) std::printf(" %zu x%d", d, dims[d]);
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -563,6 +600,12 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "noise") {
     std::printf("Lorenz x, 32 series (N = 10^4, dt = 0.01) with measurement noise, automatic / 0.9056:\n");
     noise_study();
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "sampling") {
+    sampling_study(lorenz_plain, 100.0, {0.01, 0.02, 0.05, 0.1}, 0.05);
+    sampling_study(lorenz_plain, 500.0, {0.01, 0.02, 0.05, 0.1}, 0.05);
+    sampling_study(roessler_x, 1000.0, {0.05, 0.1, 0.2, 0.3}, 0.10);
     return 0;
   }
   if (argc > 1 && std::string(argv[1]) == "maps") {

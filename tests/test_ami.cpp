@@ -142,6 +142,40 @@ TEST(Ami, LargestDelayBeyondHalfTheSeriesIsClampedAndSaid) {
   EXPECT_TRUE(estimate_delay_ami(make_series_with_step({x}, 1.0), o).warnings.empty());
 }
 
+TEST(Ami, CoarselySampledLorenzKeepsItsFirstMinimumInTimeUnits) {
+  // The first minimum is a property of the signal (~0.16-0.2 time units for Lorenz x), not of its
+  // sampling. At dt = 0.05 and 0.1 the curve loses half of I(0) in one lag, and the 3-lag moving
+  // average smoothed the minimum at 0.2 time units into a monotone decline: delays of 12 and 6
+  // samples (0.6 time units, the half-loop) were taken, FNN then asked for m = 5 and the MLCE read
+  // 0.90 lambda_1 at dt = 0.1. Same trajectories (500 time units) at four sampling steps.
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int k = 0; k < 8; ++k) {
+    const std::array<double, 3> x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+    for (double dt : {0.01, 0.02, 0.05, 0.1}) {
+      const auto x = reference::sample_flow<3>(reference::lorenz_rhs, x0, dt, static_cast<std::size_t>(500 / dt), 50.0,
+                                               static_cast<std::size_t>(std::lround(dt / 0.001)));
+      const auto r = estimate_delay_ami(make_series_with_step({x}, dt), {});
+      const double lag = static_cast<double>(r.delay) * dt;
+      EXPECT_EQ(r.rule, DelayRule::first_minimum) << k << " dt " << dt;
+      EXPECT_GE(lag, 0.15 - 1e-9) << k << " dt " << dt;
+      EXPECT_LE(lag, 0.25 + 1e-9) << k << " dt " << dt;
+    }
+  }
+}
+
+TEST(Ami, SmoothedSineIsNotFooledByItsRawZigzag) {
+  // A finely sampled sine zigzags with the bins at small lags (a raw local minimum at lag 2 for 126
+  // samples per period); it loses only a quarter of I(0) at lag 1, so only the smoothed curve is searched.
+  std::vector<double> x(10000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.05 * static_cast<double>(i));
+  const auto r = estimate_delay_ami(make_series_with_step({x}, 0.05), {});
+  ASSERT_GT(r.ami[1], 0.6 * r.ami[0]);
+  EXPECT_LT(r.ami[2], r.ami[1]);
+  EXPECT_GT(r.ami[3], r.ami[2]);  // the zigzag
+  EXPECT_GT(r.delay, 10u);
+}
+
 TEST(Ami, RejectsBadOptions) {
   AmiOptions o;
   o.smoothing = 2;
@@ -151,5 +185,8 @@ TEST(Ami, RejectsBadOptions) {
   EXPECT_THROW(o.validate(), OptionError);
   o = {};
   o.floor_zone = -1.0;
+  EXPECT_THROW(o.validate(), OptionError);
+  o = {};
+  o.coarse_first_lag = 0.0;
   EXPECT_THROW(o.validate(), OptionError);
 }

@@ -9,13 +9,16 @@
 namespace mlce {
 namespace {
 
-std::vector<std::uint16_t> bin_indices(const std::vector<double>& x, std::size_t bins) {
+/// Equal-width bins over the range; `shift` moves every edge by that fraction of a width (the
+/// first and last bins then hold the ends: `bins` + 1 bins when shift > 0).
+std::vector<std::uint16_t> bin_indices(const std::vector<double>& x, std::size_t bins, double shift = 0.0) {
   const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
   const double width = (*hi - *lo) / static_cast<double>(bins);
+  const std::size_t last = shift > 0.0 ? bins : bins - 1;
   std::vector<std::uint16_t> b(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
-    auto k = static_cast<std::size_t>((x[i] - *lo) / width);
-    b[i] = static_cast<std::uint16_t>(std::min(k, bins - 1));
+    auto k = static_cast<std::size_t>((x[i] - *lo) / width + shift);
+    b[i] = static_cast<std::uint16_t>(std::min(k, last));
   }
   return b;
 }
@@ -113,6 +116,48 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     if (local_minimum && candidate == 0) candidate = t - 1;
     if (local_minimum && shoulder == 0 && r.smoothed[t - 1] >= o.floor_zone * r.floor) shoulder = t - 1;
   }
+  // A coarsely sampled flow falls most of the way within its first lags, and the moving average,
+  // which then spans a third or more of the way to the first minimum, smooths a minimum at lag 2..6
+  // into a monotone decline (Lorenz x at dt = 0.1: I = 2.48, 0.95, 0.75, 0.78, 0.64, ... nats; the
+  // smoothed curve's first minimum is at 6, where FNN needs m = 5 and the embedding window spans
+  // 2.4 time units). A curve that loses more than coarse_first_lag of I(0) at its first lag may be
+  // such a curve: its lags 1..2 x smoothing are searched unsmoothed too. A finely sampled one is
+  // not, since its raw values zigzag with the bins at small lags (a sine of 126 samples per period:
+  // I = 2.57, 1.95, 1.75, 1.77, 1.59, ...), which is what the smoothing is for; and a coarse curve
+  // may zigzag too, which the shifted bins below tell from a minimum of the signal.
+  if (h > 0 && r.ami.size() > 1 && r.ami[1] < (1.0 - o.coarse_first_lag) * r.ami[0]) {
+    // A minimum with its rise (within as many lags again, before the curve falls below it).
+    auto is_minimum = [&](const std::vector<double>& ami, std::size_t m) {
+      if (!(ami[m] < ami[m - 1] && ami[m] <= ami[m + 1])) return false;
+      const double need = o.relative_rise * (ami[0] - ami[m]);
+      for (std::size_t j = m + 1; j < ami.size() && j <= 2 * m + 1; ++j) {
+        if (ami[j] < ami[m]) return false;
+        if (ami[j] - ami[m] >= need) return true;
+      }
+      return false;
+    };
+    // The bins' zigzag moves when the bin edges move, a minimum of the signal does not: with the
+    // edges shifted by half a width the curve must have one too, at the same lag give or take one
+    // (a shallow minimum of Lorenz x at dt = 0.05 sits at lag 4 with 16 bins, at 5 with 15).
+    auto survives_shifted_bins = [&](std::size_t m) {
+      const auto shifted = bin_indices(x, bins, 0.5);
+      std::vector<std::uint32_t> joint2((bins + 1) * (bins + 1));
+      std::vector<double> ami;
+      for (std::size_t tau = 0; tau <= std::min(2 * m + 3, r.ami.size() - 1); ++tau)
+        ami.push_back(mutual_information(shifted, bins + 1, tau, joint2));
+      for (std::size_t k = std::max<std::size_t>(m, 2) - 1; k <= m + 1 && k + 1 < ami.size(); ++k)
+        if (is_minimum(ami, k)) return true;
+      return false;
+    };
+    // Only a minimum the smoothing lost: one the smoothed curve has within twice its lag is the same
+    // minimum shifted by the averaging (Roessler x at dt = 0.2: raw 6, smoothed 7), and stays.
+    for (std::size_t m = 1; m + 1 < r.ami.size() && m <= 2 * o.smoothing && (r.delay == 0 || 2 * m <= r.delay); ++m) {
+      if (r.ami[m] >= o.floor_zone * r.floor && is_minimum(r.ami, m) && survives_shifted_bins(m)) {
+        r.delay = m;
+        break;
+      }
+    }
+  }
   // Smoothed values for the tail (truncated window).
   while (r.smoothed.size() < r.ami.size()) r.smoothed.push_back(r.ami[r.smoothed.size()]);
   return r;
@@ -131,6 +176,7 @@ void AmiOptions::validate() const {
   if (!(significance >= 0.0)) throw OptionError("ami.significance: expected >= 0");
   if (!(floor_zone >= 0.0)) throw OptionError("ami.floor_zone: expected >= 0");
   if (!(relative_rise >= 0.0 && relative_rise < 1.0)) throw OptionError("ami.relative_rise: expected 0 <= value < 1");
+  if (!(coarse_first_lag > 0.0 && coarse_first_lag <= 1.0)) throw OptionError("ami.coarse_first_lag: expected 0 < value <= 1");
 }
 
 std::size_t autocorrelation_time(const std::vector<double>& x, std::size_t max_lag) {

@@ -35,6 +35,11 @@ struct AmiOptions {
   /// measured it from the mean of I(0..2), ~30 % less, with 0.005): at 0.005 one of 200 Lorenz x
   /// series still got the deep minimum at 61 samples (build/start_variants, part 2).
   double relative_rise = 0.004;
+  /// A curve that loses more than this fraction of I(0) at lag 1 may be coarsely sampled: its
+  /// first 2 x smoothing lags are searched for a minimum without the smoothing as well (see
+  /// ami.cpp and README "The delay rule"). Lorenz x loses 0.62 at dt = 0.1 and 0.47 at dt = 0.05; a
+  /// sine of 126 samples per period 0.24.
+  double coarse_first_lag = 0.4;
   /// Stop at the first accepted minimum (the estimator's use); off: whole curve (the `ami` command).
   bool stop_at_minimum = false;
   void validate() const;
