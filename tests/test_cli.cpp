@@ -155,10 +155,23 @@ TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
   r = run("channels " + f);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("col:1    t\n  col:2    henon\n  col:3    logistic\n"), std::string::npos) << r.out;
-  // Without a header a name cannot be resolved.
+  // Names in the last comment before the data, one per column (`# time value`, as make_series,
+  // `mlce simulate --format columns` and numpy.savetxt write them), name the columns too.
   const auto g = series_file(henon, 1.0);
+  r = run("estimate " + g + " --time-column time --column value --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), 0.419, 0.02);
   expect_one_line_error(run("estimate " + g + " --time-column 1 --column x"),
-                        "series.txt: --column 'x': expected a 1-based column number (the file has no header line");
+                        "series.txt: --column 'x': no such column; the header names time, value");
+  // A comment of other words, or of another count, stays a comment: without a header a name
+  // cannot be resolved.
+  for (const char* comment : {"# henon x, 4000 iterations", "# t x y", "# time\n# 1 2"}) {
+    std::string text = std::string(comment) + "\n";
+    for (std::size_t i = 0; i < henon.size(); ++i) text += std::to_string(i) + " " + std::to_string(henon[i]) + "\n";
+    const auto plain = write("plain.txt", text).string();
+    expect_one_line_error(run("estimate " + plain + " --time-column 1 --column x"),
+                          "plain.txt: --column 'x': expected a 1-based column number (the file has no header line");
+  }
   // A name the header gives twice is not silently the first of them.
   const auto twice = write("twice.csv", "t,x,x\n" + s.str().substr(s.str().find('\n') + 1)).string();
   expect_one_line_error(run("estimate " + twice + " --time-column t --column x"),
@@ -354,7 +367,7 @@ TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --json --quiet");
   EXPECT_EQ(r.status, 1) << r.err;
   // One line on stderr naming the file and the channel, as for any data error.
-  EXPECT_NE(r.err.find("slow.txt: 1 of 2 channels could not be estimated (column 3)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("slow.txt: 1 of 2 channels could not be estimated (slow)"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["estimated"], 1);

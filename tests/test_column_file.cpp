@@ -80,6 +80,26 @@ TEST(ColumnFile, AHeaderLineNamesTheColumns) {
   EXPECT_EQ(error_of("a b\n"), "f.txt: no data (the file is empty or holds only comments)");
 }
 
+TEST(ColumnFile, TheLastCommentBeforeTheDataNamesTheColumnsWhenItNamesEachOne) {
+  // `# time x_h`, as make_series, `mlce simulate --format columns` and numpy.savetxt(header=...)
+  // write it (numpy's genfromtxt(names=True) reads it so): one word per column.
+  const Table t = parse_column_text("# lorenz, dt = 0.01\n# time value\n\n0 1.5\n0.01 2.5\n", "mem");
+  ASSERT_EQ(t.names, (std::vector<std::string>{"time", "value"}));
+  EXPECT_TRUE(t.has_header);
+  EXPECT_EQ(t.line_of(0), 4u);
+  EXPECT_EQ(parse_column_text("#t,x\n0,1\n", "mem").names, (std::vector<std::string>{"t", "x"}));
+  // Another count, a number among the words, or a comment that is not the last before the data:
+  // a comment, and the columns unnamed.
+  for (const char* text : {"# time x y\n0 1\n", "# time 2\n0 1\n", "# time value\n# run 7\n0 1\n", "# 0.5 x\n0 1\n"}) {
+    const Table u = parse_column_text(text, "mem");
+    EXPECT_FALSE(u.has_header) << text;
+    EXPECT_EQ(u.names, (std::vector<std::string>{"column 1", "column 2"})) << text;
+  }
+  // A header line outside a comment wins, and a comment after the first row names nothing.
+  EXPECT_EQ(parse_column_text("# a b\nt v\n0 1\n", "mem").names, (std::vector<std::string>{"t", "v"}));
+  EXPECT_FALSE(parse_column_text("0 1\n# a b\n2 3\n", "mem").has_header);
+}
+
 TEST(ColumnFile, AByteOrderMarkIsNotPartOfTheFirstLine) {
   // Spreadsheets' "CSV UTF-8" starts with EF BB BF: the comment or header behind it still reads.
   const Table c = parse_column_text("\xEF\xBB\xBF# run 7\n0 1\n1 2\n", "mem");

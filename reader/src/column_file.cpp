@@ -92,8 +92,9 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
   Table t;
   t.source = source;
   std::size_t ncols = 0;
-  std::size_t line_no = 0, header_line = 0;
+  std::size_t line_no = 0, header_line = 0, comment_line = 0;
   std::vector<std::string> header;
+  std::string last_comment;  // the last comment-only line before the first data row
   std::vector<double> row;
   std::vector<std::string_view> fields;
   // The source drops a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") and a CR before the
@@ -102,7 +103,11 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
   std::string_view line;
   while (src.next(line)) {
     line_no = src.line_number();
-    if (const auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+    std::string_view comment;
+    if (const auto hash = line.find('#'); hash != std::string_view::npos) {
+      comment = line.substr(hash + 1);
+      line = line.substr(0, hash);
+    }
     row.clear();
     // A header (the first line that is not blank or a comment, every field non-numeric, as
     // `mlce extract` and spreadsheets write it) names the columns; text anywhere else is an error.
@@ -147,9 +152,20 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
                         shorten(tok) + "': expected a finite number");
       row.push_back(v);
     }
-    if (row.empty()) continue;  // blank or comment-only line
+    if (row.empty()) {  // blank or comment-only line
+      if (ncols == 0 && header.empty() && !comment.empty()) last_comment = comment, comment_line = line_no;
+      continue;
+    }
     if (ncols == 0) {
       ncols = row.size();
+      // Names in a comment: the last comment line before the data, when it names exactly the
+      // columns the data has, every field a word (`# time x y`, as `mlce simulate --format columns`,
+      // make_series and numpy.savetxt(header=...) write it; numpy's genfromtxt(names=True) reads it
+      // so). A comment of other text, or of another count, stays a comment.
+      if (header.empty() && is_header(last_comment) && split_fields(last_comment).size() == ncols) {
+        header = split_fields(last_comment);
+        header_line = comment_line;
+      }
       if (!header.empty() && header.size() != ncols)
         throw ReadError(source + ":" + std::to_string(line_no) + ": " + std::to_string(ncols) +
                         " column(s), but the header on line " + std::to_string(header_line) + " names " +

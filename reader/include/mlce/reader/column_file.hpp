@@ -6,7 +6,9 @@
 // A data line separating some fields by commas and others by blanks only is an error (decimal
 // commas: "0,01<TAB>2,5" would read as four numbers).
 // An optional header line (the first line that is not blank or a comment, with no field that
-// reads as a number; an empty cell is an unnamed column) names the columns.
+// reads as a number; an empty cell is an unnamed column) names the columns. Without one, the last
+// comment line before the data names them when it holds exactly one such word per column
+// (`# time x_h`, numpy.savetxt's header).
 #include <string>
 #include <vector>
 
