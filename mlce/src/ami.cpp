@@ -139,14 +139,17 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     // The bins' zigzag moves when the bin edges move, a minimum of the signal does not: with the
     // edges shifted by half a width the curve must have one too, at the same lag give or take one
     // (a shallow minimum of Lorenz x at dt = 0.05 sits at lag 4 with 16 bins, at 5 with 15).
+    // Computed once, at the first candidate, over every lag a candidate (<= 2 x smoothing) can ask.
+    std::vector<double> shifted_ami;
     auto survives_shifted_bins = [&](std::size_t m) {
-      const auto shifted = bin_indices(x, bins, 0.5);
-      std::vector<std::uint32_t> joint2((bins + 1) * (bins + 1));
-      std::vector<double> ami;
-      for (std::size_t tau = 0; tau <= std::min(2 * m + 3, r.ami.size() - 1); ++tau)
-        ami.push_back(mutual_information(shifted, bins + 1, tau, joint2));
-      for (std::size_t k = std::max<std::size_t>(m, 2) - 1; k <= m + 1 && k + 1 < ami.size(); ++k)
-        if (is_minimum(ami, k)) return true;
+      if (shifted_ami.empty()) {
+        const auto shifted = bin_indices(x, bins, 0.5);
+        std::vector<std::uint32_t> joint2((bins + 1) * (bins + 1));
+        for (std::size_t tau = 0; tau <= std::min(4 * o.smoothing + 3, r.ami.size() - 1); ++tau)
+          shifted_ami.push_back(mutual_information(shifted, bins + 1, tau, joint2));
+      }
+      for (std::size_t k = std::max<std::size_t>(m, 2) - 1; k <= m + 1 && k + 1 < shifted_ami.size(); ++k)
+        if (is_minimum(shifted_ami, k)) return true;
       return false;
     };
     // Only a minimum the smoothing lost: one the smoothed curve has within twice its lag is the same
