@@ -18,6 +18,7 @@
 #include "mlce/spectrum/qr_spectrum.hpp"
 #include "long_qr_run.hpp"
 #include "reference_systems.hpp"
+#include "result_checks.hpp"
 
 using namespace mlce;
 
@@ -25,6 +26,7 @@ namespace {
 
 MlceResult estimate(const std::vector<double>& x, double dt) { return estimate_mlce(make_series_with_step({x}, dt), {}); }
 using reference::noisy_decay;
+using mlce::testing::has_warning;
 
 }  // namespace
 
@@ -71,9 +73,7 @@ TEST(Extremes, StronglyNegativeExponentDoesNotDriftWithTheRunLength) {
                 truth, r.n_points, u.lambda);
     EXPECT_NEAR(r.lambda, truth, 0.05 * std::abs(truth)) << "run " << T << " s: " << r.fit.rule;
     lambdas.push_back(r.lambda);
-    bool floor_seen = r.fit.end == CurveEnd::floor;
-    for (const auto& warning : r.warnings) floor_seen = floor_seen || warning.find("noise/underflow floor") != std::string::npos;
-    EXPECT_TRUE(floor_seen) << T;
+    EXPECT_TRUE(r.fit.end == CurveEnd::floor || has_warning(r, "noise/underflow floor")) << T;
   }
   const auto [lo, hi] = std::minmax_element(lambdas.begin(), lambdas.end());
   EXPECT_LT(*hi - *lo, 0.01 * std::abs(truth));  // no drift with the run length
@@ -105,10 +105,6 @@ TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {
   auto count = [](const std::vector<double>& x, int kind) {
     return std::count_if(x.begin(), x.end(), [&](double v) { return std::fpclassify(v) == kind; });
   };
-  auto floor_warned = [](const MlceResult& r) {
-    return std::any_of(r.warnings.begin(), r.warnings.end(),
-                       [](const std::string& w) { return w.find("noise/underflow floor") != std::string::npos; });
-  };
   // Light damping with noise 1e-12 of the start, scaled by 1e-305: its last 276 samples are
   // subnormal, and they are analysed (it falls by less than 1e-6: no floor).
   auto x = noisy_decay(2000, 0.01, 0.05, 2 * std::numbers::pi, 1e-12);
@@ -135,7 +131,7 @@ TEST(Extremes, DecayFromTheSmallestNormalNumbersIntoSubnormals) {
                 count(analysed, FP_ZERO), d.lambda, truth);
     EXPECT_NEAR(d.lambda, truth, 1e-4 * std::abs(truth)) << scale << ": " << d.fit.rule;
     EXPECT_TRUE(std::isfinite(d.ci95_low) && std::isfinite(d.ci95_high)) << scale;
-    EXPECT_TRUE(floor_warned(d)) << scale;
+    EXPECT_TRUE(has_warning(d, "noise/underflow floor")) << scale;
     EXPECT_EQ(count(analysed, FP_ZERO), 0) << scale;
   }
 }
