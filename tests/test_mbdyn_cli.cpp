@@ -245,6 +245,20 @@ TEST_F(MbdynCli, UsageErrors) {
   expect_one_line_error(run("estimate " + prefix + " --channel node:2:x --column 3"), "--channel", 2);
 }
 
+TEST_F(MbdynCli, CorruptNetcdf4FileThatMakesHdf5LoopIsOneErrorWithinTheTimeLimit) {
+  // data/corrupt/netcdf4_hdf5_loops.nc (found by fuzz_netcdf) keeps libhdf5 busy for minutes; the
+  // read runs first in a child process that is killed at the limit (MbdynNetcdf.CorruptNetcdf4Files...).
+  const std::string nc = std::string(MLCE_DATA_DIR) + "/corrupt/netcdf4_hdf5_loops.nc";
+  const fs::path csv = dir / "loops.csv";
+  for (const std::string& args : {"channels " + nc, "extract " + nc + " --channel node:2:x --csv " + csv.string(),
+                                  "estimate " + nc + " --channel node:2:x"})
+    expect_one_line_error(run(args, "MLCE_NETCDF4_TIME_LIMIT=1"),
+                          nc + ": reading it as a netCDF-4 (HDF5) file did not end within 1 s");
+  EXPECT_FALSE(fs::exists(csv));
+  expect_one_line_error(run("channels " + nc, "MLCE_NETCDF4_TIME_LIMIT=-2"),
+                        "MLCE_NETCDF4_TIME_LIMIT: expected seconds > 0, got '-2'");
+}
+
 TEST_F(MbdynCli, NoPartialCsvOnError) {
   const fs::path csv = dir / "x.csv";
   expect_one_line_error(run("extract " + prefix + " --channel node:99:x --csv " + csv.string()), "no structural node 99");

@@ -2,16 +2,21 @@
 // orientation parametrization, and interrupted runs.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
+#include "isolated_run.hpp"  // reader/src: the child-process guard of the netCDF-4 reads
 #include "mlce/reader/format.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
@@ -267,6 +272,67 @@ TEST(MbdynNetcdf, Netcdf4HdfFileReadsLikeTheClassicOne) {
     EXPECT_NE(std::string(e.what()).find(cut.string()), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("netCDF-4 (HDF5) file, cut short or corrupt"), std::string::npos) << e.what();
   }
+}
+
+// A corrupt netCDF-4 file can make libhdf5 loop or free a wild pointer (isolated_run.hpp); both
+// files of data/corrupt were found by fuzz_netcdf from a netCDF-4 copy of the bundled run.
+TEST(MbdynNetcdf, CorruptNetcdf4FilesAreOneErrorNotAHangOrACrash) {
+  const std::string loops = std::string(MLCE_DATA_DIR) + "/corrupt/netcdf4_hdf5_loops.nc";
+  const std::string bad_free = std::string(MLCE_DATA_DIR) + "/corrupt/netcdf4_hdf5_bad_free.nc";
+  const auto spec = specs({"node:2:x"});
+  // The error of read_mbdyn_netcdf, or of describe_mbdyn_netcdf, on `file` ("(read)" if none).
+  auto error_of = [&](const std::string& file, bool describe) -> std::string {
+    try {
+      if (describe) (void)describe_mbdyn_netcdf(file);
+      else (void)read_mbdyn_netcdf(file, spec);
+    } catch (const ReadError& e) {
+      return e.what();
+    }
+    return "(read)";
+  };
+  ::setenv("MLCE_NETCDF4_TIME_LIMIT", "1.5", 1);
+  const auto start = std::chrono::steady_clock::now();
+  for (const bool describe : {false, true})
+    EXPECT_EQ(error_of(loops, describe),
+              loops + ": reading it as a netCDF-4 (HDF5) file did not end within 1.5 s (a corrupt file can send the "
+                      "HDF5 library into an endless loop; for a slow disk or a huge file, set "
+                      "MLCE_NETCDF4_TIME_LIMIT=SECONDS)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  // Under AddressSanitizer the child's report ends it ("crashed"); a release build may not notice
+  // the bad free, and libnetcdf then refuses the file: one error naming the file either way.
+  for (const bool describe : {false, true}) {
+    const std::string e = error_of(bad_free, describe);
+    EXPECT_EQ(e.rfind(bad_free + ": ", 0), 0u) << e;
+    EXPECT_NE(e.find("netCDF-4 (HDF5) file"), std::string::npos) << e;
+  }
+  ::setenv("MLCE_NETCDF4_TIME_LIMIT", "soon", 1);
+  EXPECT_EQ(error_of(loops, false), "MLCE_NETCDF4_TIME_LIMIT: expected seconds > 0, got 'soon'");
+  ::unsetenv("MLCE_NETCDF4_TIME_LIMIT");
+  // A sound netCDF-4 file passes the child and reads as before (Netcdf4HdfFileReadsLikeTheClassicOne).
+}
+
+TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
+  using mlce::reader::detail::IsolatedOutcome;
+  using mlce::reader::detail::run_isolated;
+  int touched = 0;
+  auto r = run_isolated([&] { touched = 1; }, 10.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
+  EXPECT_EQ(touched, 0);  // the child's copy of it
+  r = run_isolated([] { throw ReadError("the parent throws it again"); }, 10.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
+  r = run_isolated([] { std::raise(SIGTERM); }, 10.0);  // killed by a signal (one that dumps no core)
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
+  EXPECT_EQ(r.signal, SIGTERM);
+  r = run_isolated([] { std::_Exit(3); }, 10.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
+  EXPECT_EQ(r.signal, 0);
+  EXPECT_EQ(r.status, 3);
+  const auto start = std::chrono::steady_clock::now();
+  r = run_isolated([] { for (;;) std::this_thread::sleep_for(std::chrono::seconds(1)); }, 0.3);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::timed_out);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(waited, 0.3);
+  EXPECT_LT(waited, 5.0);
 }
 
 TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {

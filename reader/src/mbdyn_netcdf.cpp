@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -13,6 +16,7 @@
 #include "mlce/reader/mbdyn_text.hpp"
 #include "mlce/reader/orientation.hpp"
 #include "mlce/reader/table.hpp"
+#include "isolated_run.hpp"
 #include "node_fields.hpp"
 
 namespace mlce::reader {
@@ -302,11 +306,50 @@ std::size_t records_written(const std::vector<double>& time, const std::string& 
   return k - 1;
 }
 
-}  // namespace
+/// Seconds the child reading a netCDF-4 file may take (MLCE_NETCDF4_TIME_LIMIT, else 60 s plus 1 s per
+/// 10 MB: a sound file reads in a fraction of that).
+double netcdf4_time_limit(const std::string& path) {
+  if (const char* text = std::getenv("MLCE_NETCDF4_TIME_LIMIT")) {
+    char* end = nullptr;
+    const double s = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !(s > 0.0) || !std::isfinite(s))
+      throw ReadError(std::string("MLCE_NETCDF4_TIME_LIMIT: expected seconds > 0, got '") + text + "'");
+    return s;
+  }
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  return 60.0 + (ec ? 0.0 : static_cast<double>(size / 10'000'000));  // whole seconds: a message says it
+}
 
-ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels,
-                             const ReadOptions& options) {
-  if (channels.empty()) throw ReadError(path + ": no channel requested (give --channel SPEC)");
+/// A file that is not classic NetCDF (netCDF-4 is HDF5 underneath) is parsed by libhdf5, which
+/// trusts its metadata and can crash or loop on a corrupt one (isolated_run.hpp). `work`, the
+/// whole read, runs first in a child process; only when it ends there is it run here. The classic
+/// formats are walked by check_classic_header and read by libnetcdf's own code (fuzzed: fuzz_netcdf)
+/// and are read once. The price: a netCDF-4 file is read twice.
+void read_netcdf4_in_child_first(const std::string& path, const std::function<void()>& work) {
+  {
+    char magic[3] = {};
+    std::ifstream in(path, std::ios::binary);
+    if (in.read(magic, 3) && std::memcmp(magic, "CDF", 3) == 0) return;
+  }
+  const double limit = netcdf4_time_limit(path);
+  const auto outcome = detail::run_isolated(work, limit);
+  using Kind = detail::IsolatedOutcome::Kind;
+  if (outcome.kind == Kind::timed_out) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%g", limit);
+    throw ReadError(path + ": reading it as a netCDF-4 (HDF5) file did not end within " + text +
+                    " s (a corrupt file can send the HDF5 library into an endless loop; for a slow disk or a huge "
+                    "file, set MLCE_NETCDF4_TIME_LIMIT=SECONDS)");
+  }
+  if (outcome.kind == Kind::crashed)
+    throw ReadError(path + ": a corrupt netCDF-4 (HDF5) file: the HDF5 library crashed reading it (" +
+                    (outcome.signal ? "signal " + std::to_string(outcome.signal) + ": " + strsignal(outcome.signal)
+                                    : "exit status " + std::to_string(outcome.status)) +
+                    ", in a separate process; nothing was read)");
+}
+
+ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>& channels, const ReadOptions& options) {
   const NcFile nc(path);
   ChannelSet out;
   out.source = path;
@@ -394,7 +437,7 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
   return out;
 }
 
-Inventory describe_mbdyn_netcdf(const std::string& path) {
+Inventory describe(const std::string& path) {
   const NcFile nc(path);
   Inventory inv;
   inv.source = path;
@@ -422,6 +465,20 @@ Inventory describe_mbdyn_netcdf(const std::string& path) {
     inv.entities.push_back({"jnt", l, v ? nc.text_attribute(*v, "type") : "", 0});
   }
   return inv;
+}
+
+}  // namespace
+
+ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels,
+                             const ReadOptions& options) {
+  if (channels.empty()) throw ReadError(path + ": no channel requested (give --channel SPEC)");
+  read_netcdf4_in_child_first(path, [&] { (void)read_channels(path, channels, options); });
+  return read_channels(path, channels, options);
+}
+
+Inventory describe_mbdyn_netcdf(const std::string& path) {
+  read_netcdf4_in_child_first(path, [&] { (void)describe(path); });
+  return describe(path);
 }
 
 }  // namespace mlce::reader
