@@ -35,7 +35,10 @@ IsolatedOutcome run_isolated(const std::function<void()>& work, double seconds) 
   for (;;) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
     if (done == pid) break;
-    if (done < 0 && errno != EINTR) return out;  // the child is not ours to wait for: nothing known
+    if (done < 0 && errno != EINTR) {  // not ours to wait for (SIGCHLD ignored: reaped on its own)
+      ::kill(pid, SIGKILL);             // nothing is known; no child is left running
+      return out;
+    }
     if (Clock::now() >= deadline) {
       ::kill(pid, SIGKILL);
       while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {

@@ -24,9 +24,9 @@ struct IsolatedOutcome {
 };
 
 /// Runs `work` in a forked child (a copy of this process; only the calling thread is copied) and
-/// waits at most `seconds` for it. The child's exceptions are swallowed and it leaves with _exit
-/// (no atexit handlers, no stdio flush: nothing it buffered is written twice). Its results are
-/// lost: the caller runs `work` again when it finished.
+/// waits at most `seconds` for it. The child writes to /dev/null (stdout, stderr), its exceptions
+/// are swallowed, and it leaves with _exit (no atexit handlers, no stdio flush: nothing it
+/// buffered is written twice). Its results are lost: the caller runs `work` again when it finished.
 IsolatedOutcome run_isolated(const std::function<void()>& work, double seconds);
 
 }  // namespace mlce::reader::detail
