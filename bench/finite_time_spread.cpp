@@ -121,8 +121,16 @@ struct Tally {
   /// estimator left out as not recurring (none should be: the transient is discarded). Printed
   /// when any was.
   int flagged_noisy = 0, skipped_start = 0;
+  std::string bends;  // the values (/ known) of the series whose curve bends within its fit region
   void check_flags(const mlce::MlceResult& r) {
     skipped_start += r.skipped_start > 0;
+    for (const auto& w : r.warnings)
+      if (w.find("bends within the fit region") != std::string::npos) {  // FitOptions::bend_warning
+        char item[16];
+        std::snprintf(item, sizeof item, " %.3f", values.empty() ? 0.0 : values.back());
+        bends += item;
+        break;
+      }
     for (const auto& w : r.warnings)
       if (w.find("measurement noise") != std::string::npos || w.find("divergence not resolved") != std::string::npos) {
         ++flagged_noisy;
@@ -147,6 +155,7 @@ struct Tally {
       std::printf(", rms from own %.3f, correlation with own %+.2f", std::sqrt(own_err2 / n), correlation_with_own());
     if (flagged_noisy > 0) std::printf("\n  %-30s %d flagged as noise-dominated or unresolved", "", flagged_noisy);
     if (skipped_start > 0) std::printf("\n  %-30s %d with a start that does not recur, left out", "", skipped_start);
+    if (!bends.empty()) std::printf("\n  %-30s curve bends within its fit region (warned) on:%s", "", bends.c_str());
     if (intervals > 0)
       std::printf("\n  %-30s 95 %% interval holds the known exponent on %d of %d (the own exponent on %d), mean half-width %.*f",
                   "", holds_known, intervals, holds_own, digits, half_width_sum / intervals);

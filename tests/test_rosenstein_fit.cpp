@@ -228,6 +228,45 @@ TEST(Fit, ConcaveGrowthIsFittedFromTheStartUpNotOnItsFlattestPiece) {
   EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
 }
 
+TEST(Fit, RegionThatBendsIsSaidToBendAndNothingElseChanges) {
+  // Pieces like those of a Chua x curve (dt 0.05, N = 4 x 10^4; `build/other_flows`: own exponent
+  // 0.4583 = 0.0229 per sample, estimate 0.815 of it): a start-up, then 0.0255, 0.0145 and 0.0060
+  // per step into the plateau, no straight stretch. Its mean period (114 samples, the slow
+  // switching between the scrolls) makes the region span 171 steps, into the flattening, and the
+  // batch-means interval does not know it. The warning says how the halves differ
+  // (FitOptions::bend_warning).
+  const auto y = piecewise(-5.5, {{58, 0.040}, {80, 0.0255}, {90, 0.0145}, {100, 0.0060}, {600, 0.0}});
+  FitOptions o;
+  o.period = 114;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  ASSERT_EQ(r.end, CurveEnd::saturation) << r.rule;
+  const std::size_t mid = (r.first + r.last) / 2;
+  const double early = fit_line(y.data(), r.first, mid).slope, late = fit_line(y.data(), mid, r.last).slope;
+  ASSERT_LT(late, 0.65 * early) << r.rule;
+  const auto bends = [](const FitResult& f) {
+    return std::any_of(f.warnings.begin(), f.warnings.end(), [](const std::string& w) { return w.find("bends within") != std::string::npos; });
+  };
+  EXPECT_TRUE(bends(r)) << r.rule;
+  char halves[160];
+  std::snprintf(halves, sizeof halves, "first half (steps %zu..%zu) rises at %.2f x the fitted slope, its second half (%zu..%zu) at %.2f x",
+                r.first, mid, early / r.slope, mid, r.last, late / r.slope);
+  EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.find(halves) != std::string::npos; }))
+      << halves;
+  o.bend_warning = 0.0;  // never warn: the same region and slope
+  const FitResult quiet = fit_divergence(synthetic(y), o);
+  EXPECT_FALSE(bends(quiet));
+  EXPECT_EQ(quiet.first, r.first);
+  EXPECT_EQ(quiet.last, r.last);
+  EXPECT_EQ(quiet.slope, r.slope);
+  o.bend_warning = 1.0;
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+  // A straight region before the plateau is not said to bend; nor a given range.
+  o.bend_warning = 0.65;
+  EXPECT_FALSE(bends(fit_divergence(synthetic(piecewise(-6.0, {{10, 0.2}, {200, 0.05}, {300, 0.0}})), o)));
+  o.range = std::pair<std::size_t, std::size_t>{r.first, r.last};
+  EXPECT_FALSE(bends(fit_divergence(synthetic(y), o)));
+}
+
 TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   std::vector<double> y;
   for (int i = 0; i <= 800; ++i) y.push_back(std::max(-0.02 * i, -10.0) + 1e-3 * std::sin(0.3 * i));

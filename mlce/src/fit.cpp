@@ -1,5 +1,7 @@
 #include "mlce/fit.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -287,6 +289,7 @@ void FitOptions::validate() const {
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");
   if (!(min_periods >= 0.0 && min_periods <= 100.0)) throw OptionError("fit.min_periods: expected [0, 100] (0 = off)");
+  if (!(bend_warning >= 0.0 && bend_warning < 1.0)) throw OptionError("fit.bend_warning: expected [0, 1) (0 = never warn)");
   if (std::isinf(signal_rate)) throw OptionError("fit.signal_rate: expected a finite rate or NaN (unknown)");
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
 }
@@ -395,6 +398,17 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
     r.warnings.push_back("fit region has only " + std::to_string(r.last - r.first + 1) + " points");
   if (r.r2 < 0.9 && std::abs(r.slope) * static_cast<double>(r.last - r.first) > 0.5)
     r.warnings.push_back("the fitted region is not straight (R^2 = " + std::to_string(r.r2) + ")");
+  // A growth whose fitted region bends (FitOptions::bend_warning): said, not changed.
+  if (r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 && r.last - r.first + 1 >= 8) {
+    const std::size_t mid = (r.first + r.last) / 2;
+    const double early = fit_line(y.data(), r.first, mid).slope, late = fit_line(y.data(), mid, r.last).slope;
+    if (early > 0.0 && late < options.bend_warning * early)
+      r.warnings.push_back(fmt::format(
+          "the divergence curve bends within the fit region: its first half (steps {}..{}) rises at {:.2f} x the fitted "
+          "slope, its second half ({}..{}) at {:.2f} x; there is no straight stretch, and the exponent depends on the "
+          "region more than its 95 % interval says (a longer run straightens the curve: see mlce convergence)",
+          r.first, mid, early / r.slope, mid, r.last, late / r.slope));
+  }
   r.rule = rule.str();
   return r;
 }

@@ -69,6 +69,14 @@ struct FitOptions {
   /// start and a longer region reads lower still (`build/finite_time_spread noise`: with 1 % and
   /// 3 % noise the same estimates with the minimum on and off). 0 = off.
   double min_periods = 1.5;
+  /// Curves that grow into a saturation plateau, fitted by the rule: when the region's second half
+  /// rises at less than this fraction of its first half's slope, a warning says that the curve bends
+  /// within the region (it has no straight stretch; the exponent then depends on the region more than
+  /// its batch-means interval says). Nothing else changes. At 0.65 `build/finite_time_spread starts`
+  /// lists 2 of its 128 Lorenz x series (0.846 and 0.976 lambda_1) and none of its Roessler x, and
+  /// `build/other_flows` 4 of its 6 Chua x series (0.81-0.86 of their own exponents but one).
+  /// 0 = never warn.
+  double bend_warning = 0.65;
   /// Rate at which the analysed signal's own amplitude changes, per sample (envelope_rate; NaN =
   /// unknown). A curve that falls into a floor while the signal decays less than persist_share x
   /// as fast does not measure a decay to rest: its neighbours converge onto a motion that persists
