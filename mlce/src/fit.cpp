@@ -399,14 +399,15 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
   if (r.r2 < 0.9 && std::abs(r.slope) * static_cast<double>(r.last - r.first) > 0.5)
     r.warnings.push_back("the fitted region is not straight (R^2 = " + std::to_string(r.r2) + ")");
   // A growth whose fitted region bends (FitOptions::bend_warning): said, not changed.
-  if (r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 && r.last - r.first + 1 >= 8) {
+  if (options.bend_warning > 0.0 && r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 &&
+      r.last - r.first + 1 >= 8) {
     const std::size_t mid = (r.first + r.last) / 2;
     const double early = fit_line(y.data(), r.first, mid).slope, late = fit_line(y.data(), mid, r.last).slope;
     if (early > 0.0 && late < options.bend_warning * early)
       r.warnings.push_back(fmt::format(
           "the divergence curve bends within the fit region: its first half (steps {}..{}) rises at {:.2f} x the fitted "
           "slope, its second half ({}..{}) at {:.2f} x; there is no straight stretch, and the exponent depends on the "
-          "region more than its 95 % interval says (a longer run straightens the curve: see mlce convergence)",
+          "region more than its 95 % interval says (--fit A:B fits another region)",
           r.first, mid, early / r.slope, mid, r.last, late / r.slope));
   }
   r.rule = rule.str();
