@@ -3,6 +3,7 @@
 //   make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt] > file
 //   make_series lorenz N dt TRANSIENT > file   (Lorenz from (1, 1, 1) after TRANSIENT time units; default 50)
 //   make_series lorenz N dt TRANSIENT X Y Z    (from (X, Y, Z) instead)
+//   make_series roessler N dt TRANSIENT X Y Z  (Roessler from (X, Y, Z) after TRANSIENT time units)
 //   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
 #include <cstdio>
 #include <cstdlib>
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
                                                                          std::strtod(argv[7], nullptr)}
                                                  : std::array<double, 3>{1.0, 1.0, 1.0};
     x = lorenz_x(n, dt = dt > 0 ? dt : 0.01, start, argc > 4 ? std::strtod(argv[4], nullptr) : 50.0);
+  } else if (name == "roessler" && argc > 7) {  // from (X, Y, Z) after TRANSIENT time units (RK4, 10 steps per sample)
+    const std::array<double, 3> start{std::strtod(argv[5], nullptr), std::strtod(argv[6], nullptr), std::strtod(argv[7], nullptr)};
+    x = sample_flow<3>(roessler_rhs, start, dt = dt > 0 ? dt : 0.1, n, std::strtod(argv[4], nullptr), 10);
   } else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
   else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);

@@ -228,6 +228,28 @@ TEST(Fit, ConcaveGrowthIsFittedFromTheStartUpNotOnItsFlattestPiece) {
   EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
 }
 
+TEST(Fit, StartUpPieceLongerThanTwoPeriodsIsSplitFromTheLinearRegionItSwallowed) {
+  // The pieces of the curve of a Roessler x series (dt 0.1, from (5, 5, 5), nothing discarded;
+  // periods of 57 samples; lambda_1 = 0.00714 per sample): start-up 0..72 at 0.0108 per step, the
+  // linear region 73..201 at 0.0069, then the flattening 0.0043, 0.0022, 0.0014 and the plateau
+  // from step 1201. Four pieces before the plateau cannot hold the five: the first piece took in
+  // the start-up and the linear region (0..201), was skipped as the start-up, and the fit landed
+  // in the flattening (0.77 lambda_1). The long first piece is split in two; its second part is
+  // the linear region.
+  const FitResult r = fit_pieces(-3.0, {{73, 0.0108}, {129, 0.0069}, {377, 0.0043}, {313, 0.0022}, {309, 0.0014}, {624, 0.0}}, 57);
+  EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
+  EXPECT_GE(r.first, 70u) << r.rule;
+  EXPECT_LE(r.last, 202u) << r.rule;
+  EXPECT_NEAR(r.slope, 0.0069, 0.0069 * 0.03) << r.rule;
+  EXPECT_NE(r.rule.find("the first piece, longer than two periods, split in two"), std::string::npos) << r.rule;
+  // A start-up no longer than two periods is left whole (the same curve's start-up and linear
+  // region, at the 1.5-period region of TransientLinearPlateauRecoversTheSlope's scale).
+  const FitResult short_start = fit_pieces(-3.0, {{73, 0.0108}, {129, 0.0069}, {150, 0.0030}, {400, 0.0}}, 57);
+  EXPECT_EQ(short_start.rule.find("split in two"), std::string::npos) << short_start.rule;
+  EXPECT_GE(short_start.first, 70u) << short_start.rule;
+  EXPECT_NEAR(short_start.slope, 0.0069, 0.0069 * 0.05) << short_start.rule;
+}
+
 TEST(Fit, RegionThatBendsIsSaidToBendAndNothingElseChanges) {
   // Pieces like those of a Chua x curve (dt 0.05, N = 4 x 10^4; `build/other_flows`: own exponent
   // 0.4583 = 0.0229 per sample, estimate 0.815 of it): a start-up, then 0.0255, 0.0145 and 0.0060

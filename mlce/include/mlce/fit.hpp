@@ -125,7 +125,8 @@ struct FitResult {
 ///     floor to the curve's end, and the end is reported as bounded divergence (no stage 2).
 ///  2. The part before the cut is split into `pieces` pieces (start-up transient, linear region,
 ///     bend into the plateau). A first piece steeper than the next and no longer than it is the
-///     start-up transient and is skipped; when the cut is a saturation plateau, a piece less than
+///     start-up transient and is skipped (of a growth, when longer than two periods, only the first
+///     of its two optimal parts if that one is the steeper); when the cut is a saturation plateau, a piece less than
 ///     bend_ratio x as steep as a piece before it is the bend and so is everything after it; the
 ///     linear region is the remaining piece of largest |slope| x length, or an earlier piece at
 ///     least a period (2 minimum pieces) long with a slope of the same sign and at least as large
