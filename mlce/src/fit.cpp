@@ -186,7 +186,9 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // Roessler x within 5 % / 10 %: 75 / 111 -> 78 / 114 of 128; Lorenz x, maps and the studies'
   // decays unchanged). Growths only: the rule was measured on them.
   bool split = false;
-  if (skip && r.end == CurveEnd::saturation && inner[0].b - inner[0].a + 1 > 2 * options.period) {
+  const std::size_t start_length = inner.empty() ? 0 : inner[0].b - inner[0].a + 1;
+  if (skip && r.end == CurveEnd::saturation && start_length > 2 * std::max<std::size_t>(1, options.period) &&
+      start_length >= 2 * min_len) {
     const std::vector<double> start(y.begin() + static_cast<std::ptrdiff_t>(inner[0].a),
                                     y.begin() + static_cast<std::ptrdiff_t>(inner[0].b) + 1);
     auto parts = merge_collinear(segment(start, 2, min_len), start, options.merge_tolerance);
