@@ -164,6 +164,17 @@ void describe(std::ostringstream& rule, const char* stage, const std::vector<Pie
 
 /// Stage 2 of the rule (fit.hpp): the linear region of y[0..stop], the part before the plateau or
 /// floor that stage 1 found (r.end, r.end_index); sets r.first and r.last and accounts in `rule`.
+/// The slopes of the region's two halves, [first, mid] and [mid, last] (they share mid): how
+/// straight it is (the straightness trim and the bend warning).
+struct HalfSlopes {
+  std::size_t mid;
+  double first, second;
+};
+HalfSlopes half_slopes(const std::vector<double>& y, std::size_t first, std::size_t last) {
+  const std::size_t mid = first + (last - first) / 2;
+  return {mid, fit_line(y.data(), first, mid).slope, fit_line(y.data(), mid, last).slope};
+}
+
 void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len,
                           const FitOptions& options, FitResult& r, std::ostringstream& rule) {
   // Stage 2: before that end, split off a start-up transient and the bend into the end.
@@ -254,9 +265,8 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // half, the region reaches into the bend: keep its first three quarters.
   std::size_t trimmed = 0;
   while (r.last - r.first + 1 >= 4 * min_len) {
-    const std::size_t mid = r.first + (r.last - r.first) / 2;
-    const double s1 = fit_line(y.data(), r.first, mid).slope, s2 = fit_line(y.data(), mid, r.last).slope;
-    if (std::abs(s2) >= options.straightness * std::abs(s1)) break;
+    const HalfSlopes h = half_slopes(y, r.first, r.last);
+    if (std::abs(h.second) >= options.straightness * std::abs(h.first)) break;
     r.last = r.first + 3 * (r.last - r.first) / 4;
     ++trimmed;
   }
@@ -422,14 +432,13 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
   // A growth whose fitted region bends (FitOptions::bend_warning): said, not changed.
   if (options.bend_warning > 0.0 && r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 &&
       r.last - r.first + 1 >= 8) {
-    const std::size_t mid = (r.first + r.last) / 2;
-    const double early = fit_line(y.data(), r.first, mid).slope, late = fit_line(y.data(), mid, r.last).slope;
-    if (early > 0.0 && late < options.bend_warning * early)
+    const HalfSlopes h = half_slopes(y, r.first, r.last);
+    if (h.first > 0.0 && h.second < options.bend_warning * h.first)
       r.warnings.push_back(fmt::format(
           "the divergence curve bends within the fit region: its first half (steps {}..{}) rises at {:.2f} x the fitted "
           "slope, its second half ({}..{}) at {:.2f} x; there is no straight stretch, and the exponent depends on the "
           "region more than its 95 % interval says (--fit A:B fits another region)",
-          r.first, mid, early / r.slope, mid, r.last, late / r.slope));
+          r.first, h.mid, h.first / r.slope, h.mid, r.last, h.second / r.slope));
   }
   r.rule = rule.str();
   return r;
