@@ -1,8 +1,9 @@
 // libFuzzer: the MBDyn NetCDF reader on arbitrary bytes written to a file (libnetcdf opens paths).
 // What it guards: the classic-header walk before nc_open, and the record cap by file size, so
 // that no header makes libnetcdf allocate or loop without bound (-rss_limit_mb, -timeout). From a
-// netCDF-4 seed (fuzz/run.sh), the child process that reads such a file first: whatever libhdf5
-// does there (crash, endless loop), this process must get one ReadError.
+// netCDF-4 seed (fuzz/run.sh), the child process that reads such a file and the pipe its result
+// comes back through: whatever libhdf5 does there (crash, endless loop), this process must get
+// the channels or one ReadError.
 #include <unistd.h>
 
 #include <cstdint>

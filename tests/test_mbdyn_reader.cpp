@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,11 @@
 #include <sstream>
 #include <thread>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "byte_codec.hpp"    // reader/src: the child's result as bytes
 #include "isolated_run.hpp"  // reader/src: the child-process guard of the netCDF-4 reads
 #include "mlce/reader/format.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
@@ -258,7 +264,39 @@ TEST(MbdynNetcdf, Netcdf4HdfFileReadsLikeTheClassicOne) {
   ASSERT_EQ(hdf.values.size(), classic.values.size());
   for (std::size_t c = 0; c < spec.size(); ++c) EXPECT_EQ(hdf.values[c], classic.values[c]) << spec[c].text;
   EXPECT_EQ(hdf.warnings, classic.warnings);
+  EXPECT_EQ(hdf.names, classic.names);
+  EXPECT_EQ(hdf.source, nc4.string());
   EXPECT_EQ(default_registry().for_path(nc4.string()).name(), "mbdyn-netcdf");
+  // Read in a child process (isolated_run.hpp), the result crosses a pipe: the inventory, and an
+  // error of the reader's own, arrive as the classic file's do here.
+  const auto inv4 = describe_mbdyn_netcdf(nc4.string()), inv = describe_mbdyn_netcdf(kIso + ".nc");
+  ASSERT_EQ(inv4.nodes.size(), inv.nodes.size());
+  for (std::size_t k = 0; k < inv.nodes.size(); ++k) {
+    EXPECT_EQ(inv4.nodes[k].label, inv.nodes[k].label);
+    EXPECT_EQ(inv4.nodes[k].kind, inv.nodes[k].kind);
+    EXPECT_EQ(inv4.nodes[k].orientation, inv.nodes[k].orientation);
+  }
+  ASSERT_EQ(inv4.entities.size(), inv.entities.size());
+  for (std::size_t k = 0; k < inv.entities.size(); ++k) {
+    EXPECT_EQ(inv4.entities[k].label, inv.entities[k].label);
+    EXPECT_EQ(inv4.entities[k].type, inv.entities[k].type);
+  }
+  EXPECT_EQ(inv4.blocks, inv.blocks);
+  EXPECT_EQ(inv4.t_first, inv.t_first);
+  EXPECT_EQ(inv4.t_last, inv.t_last);
+  EXPECT_EQ(inv4.warnings, inv.warnings);
+  auto error_of = [&](const std::string& file) -> std::string {
+    try {
+      (void)read_mbdyn_netcdf(file, specs({"node:99:x"}));
+    } catch (const ReadError& e) {
+      std::string text = e.what();
+      if (const auto at = text.find(file); at != std::string::npos) text.replace(at, file.size(), "FILE");
+      return text;
+    }
+    return "(read)";
+  };
+  EXPECT_EQ(error_of(nc4.string()), error_of(kIso + ".nc"));
+  EXPECT_NE(error_of(nc4.string()).find("99"), std::string::npos) << error_of(nc4.string());
   // Cut short, it is one error naming the file (HDF5 keeps metadata at both ends: no partial read).
   const fs::path cut = fs::path(::testing::TempDir()) / "iso_200rpm_nc4_cut.nc";
   {
@@ -315,24 +353,96 @@ TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
   using mlce::reader::detail::IsolatedOutcome;
   using mlce::reader::detail::run_isolated;
   int touched = 0;
-  auto r = run_isolated([&] { touched = 1; }, 10.0);
+  auto r = run_isolated([&] { touched = 1; return std::string("done"); }, 10.0);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
+  EXPECT_EQ(r.output, "done");
   EXPECT_EQ(touched, 0);  // the child's copy of it
-  r = run_isolated([] { throw ReadError("the parent throws it again"); }, 10.0);
+  r = run_isolated([] { return std::string(); }, 10.0);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
-  r = run_isolated([] { std::raise(SIGTERM); }, 10.0);  // killed by a signal (one that dumps no core)
+  EXPECT_EQ(r.output, "");
+  // A result far larger than a pipe's buffer (64 kB) arrives whole, every byte in its place.
+  std::string big(20'000'000, '\0');
+  for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>((i * 2654435761u) >> 13);
+  r = run_isolated([&] { return big; }, 60.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
+  EXPECT_TRUE(r.output == big) << r.output.size() << " bytes";
+  r = run_isolated([]() -> std::string { throw ReadError("file.nc: what the reader says"); }, 10.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::threw);
+  EXPECT_EQ(r.message, "file.nc: what the reader says");
+  r = run_isolated([]() -> std::string { std::raise(SIGTERM); return "x"; }, 10.0);  // a signal that dumps no core
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
   EXPECT_EQ(r.signal, SIGTERM);
-  r = run_isolated([] { std::_Exit(3); }, 10.0);
+  r = run_isolated([]() -> std::string { std::_Exit(3); }, 10.0);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
   EXPECT_EQ(r.signal, 0);
   EXPECT_EQ(r.status, 3);
+  // Dying after its result's first bytes reached the pipe is a crash, not a short result: the
+  // work below writes half a frame itself, as a child killed while writing would leave it.
+  r = run_isolated(
+      []() -> std::string {
+        for (int fd = 3; fd < 1024; ++fd)  // the pipe is the child's only fd that writes to a pipe
+          if (struct stat st{}; ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode) && (::fcntl(fd, F_GETFL) & O_ACCMODE) == O_WRONLY)
+            (void)!::write(fd, "R\x40\0\0\0\0\0\0\0abc", 12);
+        std::raise(SIGTERM);
+        return "x";
+      },
+      10.0);
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
+  EXPECT_EQ(r.signal, SIGTERM);
   const auto start = std::chrono::steady_clock::now();
-  r = run_isolated([] { for (;;) std::this_thread::sleep_for(std::chrono::seconds(1)); }, 0.3);
+  r = run_isolated([]() -> std::string { for (;;) std::this_thread::sleep_for(std::chrono::seconds(1)); }, 0.3);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::timed_out);
   const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_GE(waited, 0.3);
   EXPECT_LT(waited, 5.0);
+}
+
+TEST(ByteCodec, CarriesValuesBitForBitAndRefusesToReadPastItsBytes) {
+  using mlce::reader::detail::ByteReader;
+  using mlce::reader::detail::ByteWriter;
+  const std::vector<double> values{0.0, -0.0, 1e-310, -1e308, std::numeric_limits<double>::infinity(),
+                                   std::numeric_limits<double>::quiet_NaN(), 1.0 / 3.0};
+  ByteWriter w;
+  w.str("node:2:x");
+  w.doubles(values);
+  w.strings({"", "a warning", std::string("with a \0 inside", 16)});
+  w.i64(-42);
+  w.f64(-0.0);
+  const std::string bytes = w.take();
+  ByteReader r(bytes);
+  EXPECT_EQ(r.str(), "node:2:x");
+  const auto back = r.doubles();
+  ASSERT_EQ(back.size(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k)
+    EXPECT_EQ(std::memcmp(&back[k], &values[k], sizeof(double)), 0) << k;  // nan, -0 and subnormals too
+  EXPECT_EQ(r.strings(), (std::vector<std::string>{"", "a warning", std::string("with a \0 inside", 16)}));
+  EXPECT_EQ(r.i64(), -42);
+  EXPECT_TRUE(std::signbit(r.f64()));
+  EXPECT_NO_THROW(r.expect_end());
+  // Cut anywhere, it throws instead of reading past the end; a count larger than the bytes left
+  // is refused before anything is allocated for it.
+  for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+    ByteReader part(std::string_view(bytes).substr(0, cut));
+    EXPECT_THROW(
+        {
+          (void)part.str();
+          (void)part.doubles();
+          (void)part.strings();
+          (void)part.i64();
+          (void)part.f64();
+        },
+        std::runtime_error)
+        << cut;
+  }
+  ByteWriter huge;
+  huge.u64(std::uint64_t{1} << 60);
+  const std::string h = huge.take();
+  ByteReader hr(h);
+  EXPECT_THROW((void)hr.doubles(), std::runtime_error);
+  const std::string longer = bytes + "x";
+  ByteReader extra(longer);
+  (void)extra.str(), (void)extra.doubles(), (void)extra.strings(), (void)extra.i64(), (void)extra.f64();
+  EXPECT_THROW(extra.expect_end(), std::runtime_error);
 }
 
 TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {

@@ -16,6 +16,7 @@
 #include "mlce/reader/mbdyn_text.hpp"
 #include "mlce/reader/orientation.hpp"
 #include "mlce/reader/table.hpp"
+#include "byte_codec.hpp"
 #include "isolated_run.hpp"
 #include "node_fields.hpp"
 
@@ -328,28 +329,123 @@ double netcdf4_time_limit(const std::string& path) {
   return 60.0 + (ec ? 0.0 : static_cast<double>(size / 10'000'000));  // whole seconds: a message says it
 }
 
-/// A file that is not classic NetCDF (netCDF-4 is HDF5 underneath) is parsed by libhdf5, which
-/// trusts its metadata and can crash or loop on a corrupt one (isolated_run.hpp). `work`, the
-/// whole read, runs first in a child process; only when it ends there is it run here. The classic
-/// formats are walked by check_classic_header and read by libnetcdf's own code (fuzzed: fuzz_netcdf)
-/// and are read once. The price: a netCDF-4 file is read twice.
-void read_netcdf4_in_child_first(const std::string& path, const std::function<void()>& work) {
-  if (leading_bytes(path, 3) == "CDF") return;
-  const double limit = netcdf4_time_limit(path);
-  const auto outcome = detail::run_isolated(work, limit);
-  using Kind = detail::IsolatedOutcome::Kind;
-  if (outcome.kind == Kind::timed_out) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%g", limit);
-    throw ReadError(path + ": reading it as a netCDF-4 (HDF5) file did not end within " + text +
-                    " s (a corrupt file can send the HDF5 library into an endless loop; for a slow disk or a huge "
-                    "file, set MLCE_NETCDF4_TIME_LIMIT=SECONDS)");
+/// A ChannelSet or an Inventory as bytes and back (byte_codec.hpp), for the child's result.
+std::string encode(const ChannelSet& set) {
+  detail::ByteWriter w;
+  w.str(set.source);
+  w.doubles(set.time);
+  w.strings(set.names);
+  w.u64(set.values.size());
+  for (const auto& v : set.values) w.doubles(v);
+  w.strings(set.warnings);
+  return w.take();
+}
+
+ChannelSet decode_channel_set(std::string_view bytes) {
+  detail::ByteReader r(bytes);
+  ChannelSet set;
+  set.source = r.str();
+  set.time = r.doubles();
+  set.names = r.strings();
+  set.values.resize(r.count(sizeof(std::uint64_t)));
+  for (auto& v : set.values) v = r.doubles();
+  set.warnings = r.strings();
+  r.expect_end();
+  return set;
+}
+
+std::string encode(const Inventory& inv) {
+  detail::ByteWriter w;
+  w.str(inv.source);
+  w.str(inv.format);
+  w.u64(inv.nodes.size());
+  for (const auto& n : inv.nodes) w.i64(n.label), w.str(n.kind), w.str(n.orientation), w.u64(n.columns);
+  w.u64(inv.entities.size());
+  for (const auto& e : inv.entities) w.str(e.file), w.i64(e.label), w.str(e.type), w.u64(e.columns);
+  w.u64(inv.blocks);
+  w.f64(inv.t_first);
+  w.f64(inv.t_last);
+  w.strings(inv.columns);
+  w.strings(inv.warnings);
+  return w.take();
+}
+
+Inventory decode_inventory(std::string_view bytes) {
+  detail::ByteReader r(bytes);
+  Inventory inv;
+  inv.source = r.str();
+  inv.format = r.str();
+  inv.nodes.resize(r.count(4 * sizeof(std::uint64_t)));
+  for (auto& n : inv.nodes) {
+    n.label = static_cast<long>(r.i64());
+    n.kind = r.str();
+    n.orientation = r.str();
+    n.columns = static_cast<std::size_t>(r.u64());
   }
-  if (outcome.kind == Kind::crashed)
-    throw ReadError(path + ": a corrupt netCDF-4 (HDF5) file: the HDF5 library crashed reading it (" +
-                    (outcome.signal ? "signal " + std::to_string(outcome.signal) + ": " + strsignal(outcome.signal)
-                                    : "exit status " + std::to_string(outcome.status)) +
-                    ", in a separate process; nothing was read)");
+  inv.entities.resize(r.count(4 * sizeof(std::uint64_t)));
+  for (auto& e : inv.entities) {
+    e.file = r.str();
+    e.label = static_cast<long>(r.i64());
+    e.type = r.str();
+    e.columns = static_cast<std::size_t>(r.u64());
+  }
+  inv.blocks = static_cast<std::size_t>(r.u64());
+  inv.t_first = r.f64();
+  inv.t_last = r.f64();
+  inv.columns = r.strings();
+  inv.warnings = r.strings();
+  r.expect_end();
+  return inv;
+}
+
+/// `read()` of a file that is not classic NetCDF (netCDF-4 is HDF5 underneath) runs only in a
+/// child process, whose result comes back as bytes: libhdf5 trusts the file's metadata and can
+/// crash, corrupt its heap or loop on a corrupt one (isolated_run.hpp), and none of it reaches
+/// this process. The classic formats are walked by check_classic_header and read by libnetcdf's
+/// own code (fuzzed: fuzz_netcdf) here. The price of the child: a fork and one copy of the result
+/// through a pipe.
+template <class Read, class Decode>
+auto read_netcdf4_in_child(const std::string& path, Read read, Decode decode) -> decltype(read()) {
+  if (leading_bytes(path, 3) == "CDF") return read();
+  const double limit = netcdf4_time_limit(path);
+  auto outcome = detail::run_isolated(
+      [&] {
+        try {
+          return encode(read());
+        } catch (const ReadError&) {
+          throw;  // names the file and what is wrong with it
+        } catch (const std::exception& e) {  // e.g. std::bad_alloc: say which file it came from
+          throw ReadError(path + ": " + e.what());
+        }
+      },
+      limit);
+  using Kind = detail::IsolatedOutcome::Kind;
+  switch (outcome.kind) {
+    case Kind::finished:
+      try {
+        return decode(outcome.output);
+      } catch (const std::runtime_error& e) {  // our own child's bytes: a bug, said as one
+        throw ReadError(path + ": the process that read it handed back a malformed result (" + e.what() + ")");
+      }
+    case Kind::threw:
+      throw ReadError(outcome.message);  // the reader's own error, naming the file
+    case Kind::timed_out: {
+      char text[64];
+      std::snprintf(text, sizeof text, "%g", limit);
+      throw ReadError(path + ": reading it as a netCDF-4 (HDF5) file did not end within " + text +
+                      " s (a corrupt file can send the HDF5 library into an endless loop; for a slow disk or a huge "
+                      "file, set MLCE_NETCDF4_TIME_LIMIT=SECONDS)");
+    }
+    case Kind::crashed:
+      throw ReadError(path + ": a corrupt netCDF-4 (HDF5) file: the HDF5 library crashed reading it (" +
+                      (outcome.signal   ? "signal " + std::to_string(outcome.signal) + ": " + strsignal(outcome.signal)
+                       : outcome.status ? "exit status " + std::to_string(outcome.status)
+                                        : std::string("it ended without handing over its result")) +
+                      ", in a separate process; nothing was read)");
+    case Kind::not_run:
+      break;
+  }
+  return read();  // no process could be started (pipe or fork failed): read here, unguarded
 }
 
 ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>& channels, const ReadOptions& options) {
@@ -475,13 +571,11 @@ Inventory describe(const std::string& path) {
 ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelSpec>& channels,
                              const ReadOptions& options) {
   if (channels.empty()) throw ReadError(path + ": no channel requested (give --channel SPEC)");
-  read_netcdf4_in_child_first(path, [&] { (void)read_channels(path, channels, options); });
-  return read_channels(path, channels, options);
+  return read_netcdf4_in_child(path, [&] { return read_channels(path, channels, options); }, decode_channel_set);
 }
 
 Inventory describe_mbdyn_netcdf(const std::string& path) {
-  read_netcdf4_in_child_first(path, [&] { (void)describe(path); });
-  return describe(path);
+  return read_netcdf4_in_child(path, [&] { return describe(path); }, decode_inventory);
 }
 
 }  // namespace mlce::reader
