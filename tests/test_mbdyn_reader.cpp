@@ -376,19 +376,29 @@ TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
   EXPECT_EQ(r.signal, 0);
   EXPECT_EQ(r.status, 3);
-  // Dying after its result's first bytes reached the pipe is a crash, not a short result: the
-  // work below writes half a frame itself, as a child killed while writing would leave it.
-  r = run_isolated(
-      []() -> std::string {
-        for (int fd = 3; fd < 1024; ++fd)  // the pipe is the child's only fd that writes to a pipe
-          if (struct stat st{}; ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode) && (::fcntl(fd, F_GETFL) & O_ACCMODE) == O_WRONLY)
-            (void)!::write(fd, "R\x40\0\0\0\0\0\0\0abc", 12);
-        std::raise(SIGTERM);
-        return "x";
-      },
-      10.0);
+  // A frame cut short is a crash, not a short result, even when the child then exits with status 0.
+  // The work below writes frames itself and leaves by _exit(0), as a child killed while writing
+  // would leave the pipe. The pipe is the one descriptor the child has that this process did not
+  // have before the call (its read end is closed in the child); another may be a pipe of the test
+  // runner's whose reader is gone (SIGPIPE).
+  std::vector<bool> open_before(1024);
+  for (int fd = 0; fd < 1024; ++fd) open_before[static_cast<std::size_t>(fd)] = ::fcntl(fd, F_GETFD) != -1;
+  auto writes_then_exits = [&](std::string frame) {
+    return [&open_before, frame]() -> std::string {
+      for (int fd = 0; fd < 1024; ++fd)
+        if (!open_before[static_cast<std::size_t>(fd)] && ::fcntl(fd, F_GETFD) != -1)
+          (void)!::write(fd, frame.data(), frame.size());
+      ::_exit(0);
+    };
+  };
+  const std::string whole("R\x03\0\0\0\0\0\0\0abc", 12), cut("R\x40\0\0\0\0\0\0\0abc", 12);  // 3 and 64 bytes announced
+  r = run_isolated(writes_then_exits(whole), 10.0);  // the pipe was found: a frame written by hand arrives
+  EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
+  EXPECT_EQ(r.output, "abc");
+  r = run_isolated(writes_then_exits(cut), 10.0);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::crashed);
-  EXPECT_EQ(r.signal, SIGTERM);
+  EXPECT_EQ(r.signal, 0);
+  EXPECT_EQ(r.status, 0);
   const auto start = std::chrono::steady_clock::now();
   r = run_isolated([]() -> std::string { for (;;) std::this_thread::sleep_for(std::chrono::seconds(1)); }, 0.3);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::timed_out);
