@@ -509,6 +509,18 @@ TEST_F(Cli, PhaseAlignmentSwitch) {
   const std::string a = slurp(curve), p = slurp(plain_curve);
   EXPECT_EQ(a.substr(0, a.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance");
   EXPECT_EQ(p.substr(0, p.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line");
+  EXPECT_EQ(on["phase_interpolation"].get<std::string>(), "linear");
+  EXPECT_FALSE(off.contains("phase_interpolation"));
+  // --phase-interpolation cubic reads the aligned neighbours on cubics, and says so; the plain
+  // curve (the same pairs, not moved) is unchanged; a bad value is one error.
+  const auto cubic = nlohmann::json::parse(
+      run("estimate " + f + " --column 2 --time-column 1 --json --quiet --phase-interpolation cubic").out);
+  EXPECT_EQ(cubic["phase_interpolation"].get<std::string>(), "cubic");
+  EXPECT_DOUBLE_EQ(cubic["unaligned_lambda"].get<double>(), off["lambda"].get<double>());
+  EXPECT_NEAR(cubic["lambda"].get<double>(), 0.0714, 0.1 * 0.0714);
+  const auto bad = run("estimate " + f + " --column 2 --time-column 1 --phase-interpolation spline");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--phase-interpolation 'spline': expected linear or cubic"), std::string::npos) << bad.err;
   // A map (Henon, mean period < 8 samples) is never aligned automatically.
   const auto h = series_file(mlce::reference::henon_x(5000), 1.0);
   EXPECT_FALSE(nlohmann::json::parse(run("estimate " + h + " --column 2 --json --quiet").out)["phase_aligned"].get<bool>());

@@ -53,6 +53,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["attractor_log_distance"] = finite_or_null(r.curve.attractor_log_distance);
   j["phase_aligned"] = r.curve.phase_aligned;
   if (r.curve.phase_aligned) j["mean_phase_shift"] = r.curve.mean_phase_shift;
+  if (r.curve.phase_aligned) j["phase_interpolation"] = r.curve.cubic_pairs > 0 ? "cubic" : "linear";
   j["unaligned_lambda"] = finite_or_null(r.unaligned_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
   j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
@@ -105,8 +106,9 @@ std::string to_text(const MlceResult& r) {
   s += fmt::format("Theiler window  {} samples\n", r.theiler);
   s += fmt::format("curve           steps 0..{}, {} pairs ({} references)\n", r.horizon, r.curve.pairs, r.curve.references);
   if (r.curve.phase_aligned)
-    s += fmt::format("phase aligned   neighbours moved along their trajectories by {:.3f} samples on average{}\n",
+    s += fmt::format("phase aligned   neighbours moved along their trajectories by {:.3f} samples on average{}{}\n",
                      r.curve.mean_phase_shift,
+                     r.curve.cubic_pairs > 0 ? fmt::format(", read on cubics ({} pairs)", r.curve.cubic_pairs) : "",
                      std::isfinite(r.unaligned_lambda) ? fmt::format(" (plain curve: {:.6g} {})", r.unaligned_lambda, u) : "");
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";

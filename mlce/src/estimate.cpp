@@ -341,6 +341,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     r.unaligned_lambda = r.fit.slope / series.dt;
     r.unaligned_curve = r.curve.mean_log_distance;
     ro.align_phase = true;
+    ro.interpolation = options.phase_interpolation;
     report(options, "phase-aligned curve", 0.0);
     r.curve = follow_pairs(series, ro, pairs);
     r.fit = fit_divergence(r.curve, fo);

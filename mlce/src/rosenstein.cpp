@@ -1,11 +1,14 @@
 #include "mlce/rosenstein.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+
+#include <boost/math/tools/minima.hpp>
 
 #include "mlce/embedding.hpp"
 #include "mlce/neighbours.hpp"
@@ -39,6 +42,26 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
     if (d2 > 0.0) sum.add(0.5 * std::log(d2)), ++n;
   }
   return n ? sum.value() / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Lagrange weights of the samples at -1, 0, 1, 2 for the point a fraction f in [0, 1) past sample 0.
+std::array<double, 4> cubic_weights(double f) {
+  return {-f * (f - 1.0) * (f - 2.0) / 6.0, (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
+          -(f + 1.0) * f * (f - 2.0) / 2.0, (f + 1.0) * f * (f - 1.0) / 6.0};
+}
+
+/// Squared distance from embedded point j to the cubic through the embedded points around the
+/// continuous index u (floor(u) - 1 .. floor(u) + 2, all of them points of `points`).
+double cubic_squared_distance(const DelayEmbedding& points, std::size_t j, double u) {
+  const auto a = static_cast<std::size_t>(std::floor(u));
+  const auto w = cubic_weights(u - static_cast<double>(a));
+  double sum = 0.0;
+  for (std::size_t d = 0, D = points.dimension(); d < D; ++d) {
+    const double e = points.coordinate(j, d) - (w[0] * points.coordinate(a - 1, d) + w[1] * points.coordinate(a, d) +
+                                                w[2] * points.coordinate(a + 1, d) + w[3] * points.coordinate(a + 2, d));
+    sum += e * e;
+  }
+  return sum;
 }
 
 }  // namespace
@@ -127,6 +150,7 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
   // next one (align_phase), chosen on the two segments around the neighbour by least squares.
   std::vector<std::size_t> base(refs.size(), 0);
   std::vector<double> fraction(refs.size(), 0.0);
+  std::vector<char> cubic(refs.size(), 0);  // followed on the cubic (Interpolation::cubic)
   CompensatedSum shift;
   for (std::size_t k = 0; k < refs.size(); ++k) {
     if (nn.neighbour[k] == NeighbourResult::none) continue;
@@ -144,9 +168,26 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
       const double d2 = all.squared_distance_between(j, a, f);
       if (d2 < best) best = d2, base[k] = a, fraction[k] = f;
     }
+    if (options.interpolation == RosensteinOptions::Interpolation::cubic && jn >= 2 && jn + H + 3 <= M) {
+      // On the cubic through the samples around it the neighbour's closest phase differs from the
+      // segment's: searched over [jn - 1, jn + 1), starting from the segment's choice (kept if the
+      // search, which assumes one minimum there, lands higher).
+      const double linear_u = static_cast<double>(base[k]) + fraction[k];
+      double best_u = linear_u, best_d2 = cubic_squared_distance(all, j, linear_u);
+      // Brent's minimiser to 2^-26 of a sample (boost/math/tools/minima.hpp), below jn + 1 so
+      // that floor(u) <= jn (the pair's followed span checked above).
+      const auto [u, d2] = boost::math::tools::brent_find_minima(
+          [&](double v) { return cubic_squared_distance(all, j, v); }, static_cast<double>(jn) - 1.0,
+          std::nextafter(static_cast<double>(jn) + 1.0, 0.0), 26);
+      if (d2 < best_d2) best_u = u;
+      base[k] = std::min(static_cast<std::size_t>(std::floor(best_u)), jn);  // u < jn + 1
+      fraction[k] = best_u - static_cast<double>(base[k]);
+      cubic[k] = true;
+    }
     shift.add(std::abs(static_cast<double>(base[k]) + fraction[k] - static_cast<double>(jn)));
   }
   curve.phase_aligned = options.align_phase;
+  curve.cubic_pairs = static_cast<std::size_t>(std::count(cubic.begin(), cubic.end(), 1));
   if (options.align_phase && curve.pairs > 0) curve.mean_phase_shift = shift.value() / static_cast<double>(curve.pairs);
 
   // Per batch of contiguous references: sums of ln d_j(i) (eq. 22), computed batch by batch so the
@@ -177,7 +218,13 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
       const double f = fraction[k];
       std::fill(e2.begin(), e2.end(), 0.0);
       for (const auto& x : s.channels) {
-        if (f > 0.0) {
+        if (f > 0.0 && cubic[k]) {
+          const auto w = cubic_weights(f);
+          for (std::size_t t = 0; t <= span; ++t) {
+            const double e = x[j + t] - (w[0] * x[jn + t - 1] + w[1] * x[jn + t] + w[2] * x[jn + t + 1] + w[3] * x[jn + t + 2]);
+            e2[t] += e * e;
+          }
+        } else if (f > 0.0) {
           for (std::size_t t = 0; t <= span; ++t) {
             const double e = x[j + t] - ((1.0 - f) * x[jn + t] + f * x[jn + t + 1]);
             e2[t] += e * e;

@@ -29,6 +29,14 @@ struct RosensteinOptions {
   /// slope below lambda_1 (Roessler x at dt = 0.1: ~0.8 lambda_1 over its whole linear region).
   /// Meaningless for maps: the points between two samples are not on the attractor.
   bool align_phase = false;
+  /// How a neighbour's trajectory is read between its samples when align_phase moves it.
+  /// linear: the straight segment between two samples (error f(1-f)/2 dt^2 |x''|, ~(omega dt)^2 / 8
+  /// of the amplitude at most); cubic: the Lagrange cubic through the four samples around it
+  /// (error ~(omega dt)^4 / 128), the phase then chosen on the cubic itself (golden-section search
+  /// over the two sample intervals around the neighbour). Pairs within two samples of the series'
+  /// ends keep the linear segment.
+  enum class Interpolation { linear, cubic };
+  Interpolation interpolation = Interpolation::linear;
   void validate() const;
 };
 
@@ -52,6 +60,7 @@ struct DivergenceCurve {
   std::size_t zero_distance_candidates = 0;
   bool phase_aligned = false;           ///< neighbours were moved along their trajectories (align_phase)
   double mean_phase_shift = 0.0;        ///< mean |shift| of the neighbours, samples (align_phase)
+  std::size_t cubic_pairs = 0;          ///< pairs followed on the cubic (Interpolation::cubic)
   /// <ln d> over unrelated pairs of embedded points (deterministic pseudo-random pairs, more than
   /// a Theiler window apart): the level a chaotic divergence saturates at, the attractor's scale in
   /// the same units as mean_log_distance. NaN when not computed.
