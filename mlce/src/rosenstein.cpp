@@ -170,8 +170,8 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
     }
     if (options.interpolation == RosensteinOptions::Interpolation::cubic && jn >= 2 && jn + H + 3 <= M) {
       // On the cubic through the samples around it the neighbour's closest phase differs from the
-      // segment's: searched over [jn - 1, jn + 1), starting from the segment's choice (kept if the
-      // search, which assumes one minimum there, lands higher).
+      // segment's: searched over [jn - 1, jn + 1), and compared with the segment's choice, which
+      // is kept if the search (it assumes one minimum there) lands higher.
       const double linear_u = static_cast<double>(base[k]) + fraction[k];
       double best_u = linear_u, best_d2 = cubic_squared_distance(all, j, linear_u);
       // Brent's minimiser to 2^-26 of a sample (boost/math/tools/minima.hpp), below jn + 1 so

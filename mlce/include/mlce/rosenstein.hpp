@@ -32,8 +32,8 @@ struct RosensteinOptions {
   /// How a neighbour's trajectory is read between its samples when align_phase moves it.
   /// linear: the straight segment between two samples (error f(1-f)/2 dt^2 |x''|, ~(omega dt)^2 / 8
   /// of the amplitude at most); cubic: the Lagrange cubic through the four samples around it
-  /// (error ~(omega dt)^4 / 128), the phase then chosen on the cubic itself (golden-section search
-  /// over the two sample intervals around the neighbour). Pairs within two samples of the series'
+  /// (error ~(omega dt)^4 / 128), the phase then chosen on the cubic itself (Brent's minimiser over
+  /// the two sample intervals around the neighbour). Pairs within two samples of the series'
   /// ends keep the linear segment.
   enum class Interpolation { linear, cubic };
   Interpolation interpolation = Interpolation::linear;
