@@ -1,0 +1,120 @@
+// Why does the phase-aligned curve start steeper than lambda_1 (Lorenz's start-up, Roessler's
+// concave curve), and what would make it straight? A diagnostic with the known equations, in the
+// true state space: nearest neighbours by brute force (Euclidean, raw coordinates, Theiler window
+// T), each pair followed with the neighbour moved along its own trajectory by a shift s (cubic
+// interpolation between samples), for three choices of s:
+//   none        s = 0 (the plain curve);
+//   orthogonal  s removes the separation's component along the flow f by orthogonal projection
+//               (what RosensteinOptions::align_phase does from data: the closest phase);
+//   oblique     s removes only the flow's share of the separation decomposed along (u, f, u x f),
+//               u the unstable direction at the neighbour (the tangent vector carried along the
+//               trajectory from 500 time units before: the backward Lyapunov vector).
+// The orthogonal projection also removes the part of u's component that lies along f, which the
+// curve then regains at the rate lambda_1: |v(t)|^2 ~ e^{2 lt} - 2 k e^{lt} + k, k = cos^2(u, f),
+// whose slope is above lambda_1 for a few 1 / lambda_1 (Roessler: 140 samples, its whole fit region).
+// Prints the local slope of each curve per sixteenth of the horizon, / lambda_1.
+//   build/oblique_alignment      (0.5 s)
+// Not an estimator: u comes from the Jacobian. Estimating u from the data (e.g. the dominant
+// direction of neighbour separations evolved for ~1 / lambda_1 into the point) is the open step.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "reference_systems.hpp"
+
+namespace {
+
+using V = std::array<double, 3>;
+using mlce::reference::rk4_step;
+
+double dot(const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+V cross(const V& a, const V& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+double det3(const V& c0, const V& c1, const V& c2) { return dot(c0, cross(c1, c2)); }
+V minus(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
+struct Case {
+  const char* name;
+  std::size_t n, horizon, theiler, substeps;
+  double dt, lambda;
+  std::array<double, 6> start;  // state and tangent
+};
+
+template <class Flow, class WithTangent>
+void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
+  const double h = c.dt / static_cast<double>(c.substeps);
+  auto s = c.start;
+  auto normalise = [&s] {
+    const double norm = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+    for (int k = 3; k < 6; ++k) s[k] /= norm;
+  };
+  for (double t = 0; t < 500; t += h) s = rk4_step<6>(with_tangent, s, h), normalise();
+  std::vector<V> p(c.n), u(c.n), f(c.n);
+  for (std::size_t i = 0; i < c.n; ++i) {
+    normalise();
+    p[i] = {s[0], s[1], s[2]}, u[i] = {s[3], s[4], s[5]}, f[i] = flow(p[i]);
+    for (std::size_t k = 0; k < c.substeps; ++k) s = rk4_step<6>(with_tangent, s, h);
+  }
+  auto at = [&p](double x) {  // the cubic through the samples floor(x) - 1 .. floor(x) + 2
+    const auto a = static_cast<std::size_t>(std::floor(x));
+    const double q = x - static_cast<double>(a);
+    const double w[4] = {-q * (q - 1) * (q - 2) / 6, (q + 1) * (q - 1) * (q - 2) / 2, -(q + 1) * q * (q - 2) / 2,
+                         (q + 1) * q * (q - 1) / 6};
+    V r{0, 0, 0};
+    for (int k = 0; k < 4; ++k)
+      for (int d = 0; d < 3; ++d) r[static_cast<std::size_t>(d)] += w[k] * p[a - 1 + static_cast<std::size_t>(k)][static_cast<std::size_t>(d)];
+    return r;
+  };
+  const std::size_t H = c.horizon, last = c.n - H - 4;  // points followed for H steps, shifts up to 1.5
+  std::vector<std::size_t> nearest(c.n, c.n);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
+    const auto j = static_cast<std::size_t>(jj);
+    double best = INFINITY;
+    for (std::size_t k = 2; k < last; ++k) {
+      const V d = minus(p[k], p[j]);
+      if ((k > j ? k - j : j - k) > c.theiler && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
+    }
+  }
+  std::printf("%s, N = %zu, dt = %g, Theiler window %zu: local slope / lambda_1 per %zu steps\n", c.name, c.n, c.dt,
+              c.theiler, H / 16);
+  for (const char* rule : {"none", "orthogonal", "oblique"}) {
+    std::vector<double> sum(H + 1, 0.0);
+    std::size_t pairs = 0;
+    double moved = 0;
+    for (std::size_t j = 2; j < last; ++j) {
+      const std::size_t k = nearest[j];
+      if (k == c.n) continue;
+      const V v0 = minus(p[k], p[j]);
+      double shift = 0;  // samples: p(k + shift) ~ p(k) + shift dt f(k)
+      if (rule[1] == 'r') shift = -dot(v0, f[k]) / dot(f[k], f[k]) / c.dt;
+      if (rule[1] == 'b') {  // v0 = a u + b f + c (u x f): Cramer's rule for b
+        const V w = cross(u[k], f[k]);
+        shift = -det3(u[k], v0, w) / det3(u[k], f[k], w) / c.dt;
+      }
+      shift = std::clamp(shift, -1.5, 1.5);
+      moved += std::abs(shift), ++pairs;
+      for (std::size_t i = 0; i <= H; ++i) {
+        const V d = minus(at(static_cast<double>(k + i) + shift), p[j + i]);
+        sum[i] += 0.5 * std::log(dot(d, d));
+      }
+    }
+    std::printf("  %-10s (mean |shift| %.3f samples):", rule, moved / static_cast<double>(pairs));
+    const std::size_t q = H / 16;
+    for (std::size_t a = 0; a + q <= H; a += q)
+      std::printf(" %.2f", (sum[a + q] - sum[a]) / static_cast<double>(pairs) / static_cast<double>(q) / (c.lambda * c.dt));
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+int main() {
+  using namespace mlce::reference;
+  run({"Roessler a = b = 0.2, c = 5.7", 10000, 400, 57, 10, 0.1, 0.0714, {1, 1, 0, 1, 0, 0}}, roessler_rhs,
+      roessler_tangent_rhs);
+  run({"Lorenz sigma = 10, rho = 28, beta = 8/3", 10000, 400, 150, 10, 0.01, 0.9056, {1, 1, 1, 1, 0, 0}},
+      [](const V& x) { return V{10.0 * (x[1] - x[0]), x[0] * (28.0 - x[2]) - x[1], x[0] * x[1] - 8.0 / 3.0 * x[2]}; },
+      lorenz_tangent_rhs);
+}
