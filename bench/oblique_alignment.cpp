@@ -12,8 +12,9 @@
 // The orthogonal projection also removes the part of u's component that lies along f, which the
 // curve then regains at the rate lambda_1: |v(t)|^2 ~ e^{2 lt} - 2 k e^{lt} + k, k = cos^2(u, f),
 // whose slope is above lambda_1 for a few 1 / lambda_1 (Roessler: 140 samples, its whole fit region).
-// Prints the local slope of each curve per sixteenth of the horizon, / lambda_1.
-//   build/oblique_alignment      (0.5 s)
+// Prints the local slope of each curve per sixteenth of the horizon, / lambda_1; then the same
+// shifts in the delay embedding of Lorenz x (embedded_lorenz).
+//   build/oblique_alignment      (2 s)
 // Not an estimator: u comes from the Jacobian. Estimating u from the data (e.g. the dominant
 // direction of neighbour separations evolved for ~1 / lambda_1 into the point) is the open step.
 #include <algorithm>
@@ -108,6 +109,79 @@ void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
   }
 }
 
+/// The same in the delay embedding of Lorenz x (m = 3, delay J = 17, as the estimator picks for
+/// dt = 0.01; Theiler window 150), from (x0, 1, 1) after 100 time units: the unstable direction of
+/// an embedded point i is (u_x(i), g(i, i + J) u_x(i + J), g(i, i + 2J) u_x(i + 2J)), the tangent
+/// vector carried along (g: its growth), the flow's is (f_x(i), f_x(i + J), f_x(i + 2J)). Prints
+/// the slope of the chord over steps 25..225 and 50..250 / lambda_1, and the trajectory's own
+/// exponent over the series.
+void embedded_lorenz(double x0) {
+  const std::size_t n = 10000, H = 400, T = 150, J = 17, substeps = 10;
+  const double dt = 0.01, h = dt / substeps, lambda = 0.9056;
+  auto flow = [](const V& x) { return V{10.0 * (x[1] - x[0]), x[0] * (28.0 - x[2]) - x[1], x[0] * x[1] - 8.0 / 3.0 * x[2]}; };
+  std::array<double, 6> s{x0, 1, 1, 1, 0, 0};
+  auto normalise = [&s] {
+    const double norm = std::sqrt(s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+    for (int k = 3; k < 6; ++k) s[k] /= norm;
+    return norm;
+  };
+  for (double t = 0; t < 100; t += h) s = rk4_step<6>(mlce::reference::lorenz_tangent_rhs, s, h), normalise();
+  std::vector<double> x(n), ux(n), fx(n), growth(n, 0.0);  // growth: ln of the tangent's growth since sample 0
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) growth[i] = growth[i - 1] + std::log(normalise());
+    x[i] = s[0], ux[i] = s[3], fx[i] = flow({s[0], s[1], s[2]})[0];
+    for (std::size_t k = 0; k < substeps; ++k) s = rk4_step<6>(mlce::reference::lorenz_tangent_rhs, s, h);
+  }
+  const std::size_t M = n - 2 * J, last = M - H - 4;
+  auto point = [&](std::size_t i) { return V{x[i], x[i + J], x[i + 2 * J]}; };
+  auto unstable = [&](std::size_t i) {
+    return V{ux[i], std::exp(growth[i + J] - growth[i]) * ux[i + J], std::exp(growth[i + 2 * J] - growth[i]) * ux[i + 2 * J]};
+  };
+  auto along = [&](std::size_t i) { return V{fx[i], fx[i + J], fx[i + 2 * J]}; };
+  auto at = [&x](double t) {
+    const auto a = static_cast<std::size_t>(std::floor(t));
+    const double q = t - static_cast<double>(a);
+    return -q * (q - 1) * (q - 2) / 6 * x[a - 1] + (q + 1) * (q - 1) * (q - 2) / 2 * x[a] -
+           (q + 1) * q * (q - 2) / 2 * x[a + 1] + (q + 1) * q * (q - 1) / 6 * x[a + 2];
+  };
+  std::vector<std::size_t> nearest(M, M);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
+    const auto j = static_cast<std::size_t>(jj);
+    double best = INFINITY;
+    for (std::size_t k = 2; k < last; ++k) {
+      const V d = minus(point(k), point(j));
+      if ((k > j ? k - j : j - k) > T && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
+    }
+  }
+  std::printf("  x0 = %g, own exponent %.3f:", x0, growth[n - 1] / (static_cast<double>(n - 1) * dt) / lambda);
+  for (const char* rule : {"orthogonal", "oblique"}) {
+    std::vector<double> sum(H + 1, 0.0);
+    std::size_t pairs = 0;
+    for (std::size_t j = 2; j < last; ++j) {
+      const std::size_t k = nearest[j];
+      if (k == M) continue;
+      const V v0 = minus(point(k), point(j)), f = along(k), u = unstable(k);
+      double shift = rule[1] == 'r' ? -dot(v0, f) / dot(f, f) / dt : -det3(u, v0, cross(u, f)) / det3(u, f, cross(u, f)) / dt;
+      shift = std::clamp(shift, -1.5, 1.5);
+      ++pairs;
+      for (std::size_t i = 0; i <= H; ++i) {
+        double d2 = 0;
+        for (std::size_t l = 0; l < 3; ++l) {
+          const double e = at(static_cast<double>(k + i + l * J) + shift) - x[j + i + l * J];
+          d2 += e * e;
+        }
+        sum[i] += 0.5 * std::log(d2);
+      }
+    }
+    auto chord = [&](std::size_t a, std::size_t b) {
+      return (sum[b] - sum[a]) / static_cast<double>(pairs) / static_cast<double>(b - a) / (lambda * dt);
+    };
+    std::printf("  %s %.3f (25..225), %.3f (50..250);", rule, chord(25, 225), chord(50, 250));
+  }
+  std::printf("\n");
+}
+
 }  // namespace
 
 int main() {
@@ -117,4 +191,6 @@ int main() {
   run({"Lorenz sigma = 10, rho = 28, beta = 8/3", 10000, 400, 150, 10, 0.01, 0.9056, {1, 1, 1, 1, 0, 0}},
       [](const V& x) { return V{10.0 * (x[1] - x[0]), x[0] * (28.0 - x[2]) - x[1], x[0] * x[1] - 8.0 / 3.0 * x[2]}; },
       lorenz_tangent_rhs);
+  std::printf("Lorenz x, delay embedding m = 3, J = 17, Theiler window 150: chord slope / lambda_1\n");
+  for (const double x0 : {1.0, 2.0, 3.0, 4.0, 5.0, 6.0}) embedded_lorenz(x0);
 }
