@@ -8,15 +8,18 @@
 //               (what RosensteinOptions::align_phase does from data: the closest phase);
 //   oblique     s removes only the flow's share of the separation decomposed along (u, f, u x f),
 //               u the unstable direction at the neighbour (the tangent vector carried along the
-//               trajectory from 500 time units before: the backward Lyapunov vector).
+//               trajectory from 500 time units before: the backward Lyapunov vector);
+//   data        the same with u estimated from the data alone (see run()): a first try at the open
+//               step below.
 // The orthogonal projection also removes the part of u's component that lies along f, which the
 // curve then regains at the rate lambda_1: |v(t)|^2 ~ e^{2 lt} - 2 k e^{lt} + k, k = cos^2(u, f),
 // whose slope is above lambda_1 for a few 1 / lambda_1 (Roessler: 140 samples, its whole fit region).
 // Prints the local slope of each curve per sixteenth of the horizon, / lambda_1; then the same
 // shifts in the delay embedding of Lorenz x (embedded_lorenz).
 //   build/oblique_alignment      (2 s)
-// Not an estimator: u comes from the Jacobian. Estimating u from the data (e.g. the dominant
-// direction of neighbour separations evolved for ~1 / lambda_1 into the point) is the open step.
+// Not an estimator: u comes from the Jacobian, or (data) from the true state space with the
+// nearest neighbours of every point. Estimating u in the delay embedding, and the shift from it,
+// is the open step.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -78,9 +81,41 @@ void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
       if ((k > j ? k - j : j - k) > c.theiler && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
     }
   }
+  // u from the data alone: at point k, the dominant direction (power iteration on the sum of
+  // w w^T / |w|^2) of the separations w of the pairs of points k - tau, tau = 100, 105 .. 300,
+  // each shifted to its closest phase at its start and followed tau steps into k. Their flow
+  // offsets stay while their unstable parts grow by ~e^{lambda tau}.
+  std::vector<V> u_data(c.n, V{0, 0, 0});
+  double agreement = 0;
+  std::size_t estimated = 0;
+  for (std::size_t k = 302; k < last; ++k) {
+    double C[3][3] = {};
+    for (std::size_t tau = 100; tau <= 300; tau += 5) {
+      const std::size_t r = k - tau, q = nearest[r];
+      if (q == c.n || q + tau + 3 >= c.n) continue;
+      const V v0 = minus(p[q], p[r]);
+      const double shift = std::clamp(-dot(v0, f[q]) / dot(f[q], f[q]) / c.dt, -1.5, 1.5);
+      const V w = minus(at(static_cast<double>(q + tau) + shift), p[k]);
+      if (!(dot(w, w) > 0)) continue;
+      for (std::size_t a = 0; a < 3; ++a)
+        for (std::size_t b = 0; b < 3; ++b) C[a][b] += w[a] * w[b] / dot(w, w);
+    }
+    V v{1, 1, 1};
+    for (int it = 0; it < 50; ++it) {
+      V y{0, 0, 0};
+      for (std::size_t a = 0; a < 3; ++a)
+        for (std::size_t b = 0; b < 3; ++b) y[a] += C[a][b] * v[b];
+      const double norm = std::sqrt(dot(y, y));
+      if (!(norm > 0)) break;
+      for (std::size_t a = 0; a < 3; ++a) v[a] = y[a] / norm;
+    }
+    u_data[k] = v, agreement += std::abs(dot(v, u[k])), ++estimated;
+  }
   std::printf("%s, N = %zu, dt = %g, Theiler window %zu: local slope / lambda_1 per %zu steps\n", c.name, c.n, c.dt,
               c.theiler, H / 16);
-  for (const char* rule : {"none", "orthogonal", "oblique"}) {
+  std::printf("  (u from the data: |cos| to the tangent's u %.3f on average)\n",
+              agreement / static_cast<double>(std::max<std::size_t>(estimated, 1)));
+  for (const char* rule : {"none", "orthogonal", "oblique", "data"}) {
     std::vector<double> sum(H + 1, 0.0);
     std::size_t pairs = 0;
     double moved = 0;
@@ -90,9 +125,11 @@ void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
       const V v0 = minus(p[k], p[j]);
       double shift = 0;  // samples: p(k + shift) ~ p(k) + shift dt f(k)
       if (rule[1] == 'r') shift = -dot(v0, f[k]) / dot(f[k], f[k]) / c.dt;
-      if (rule[1] == 'b') {  // v0 = a u + b f + c (u x f): Cramer's rule for b
-        const V w = cross(u[k], f[k]);
-        shift = -det3(u[k], v0, w) / det3(u[k], f[k], w) / c.dt;
+      if (rule[1] == 'b' || rule[0] == 'd') {  // v0 = a u + b f + c (u x f): Cramer's rule for b
+        const V& uk = rule[0] == 'd' ? u_data[k] : u[k];
+        if (dot(uk, uk) == 0) continue;  // data: no estimate of u here (the first 300 points)
+        const V w = cross(uk, f[k]);
+        shift = -det3(uk, v0, w) / det3(uk, f[k], w) / c.dt;
       }
       shift = std::clamp(shift, -1.5, 1.5);
       moved += std::abs(shift), ++pairs;
