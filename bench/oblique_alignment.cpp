@@ -24,6 +24,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
 #include <vector>
 
 #include "reference_systems.hpp"
@@ -37,6 +38,44 @@ double dot(const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b
 V cross(const V& a, const V& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
 double det3(const V& c0, const V& c1, const V& c2) { return dot(c0, cross(c1, c2)); }
 V minus(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+
+/// Lagrange weights of the samples at -1, 0, 1, 2 for the point a fraction q past sample 0.
+std::array<double, 4> cubic_weights(double q) {
+  return {-q * (q - 1) * (q - 2) / 6, (q + 1) * (q - 1) * (q - 2) / 2, -(q + 1) * q * (q - 2) / 2, (q + 1) * q * (q - 1) / 6};
+}
+
+/// Samples[t] at a continuous index t: the cubic through the samples floor(t) - 1 .. floor(t) + 2.
+template <class T>
+T cubic_at(const std::vector<T>& samples, double t) {
+  const auto a = static_cast<std::size_t>(std::floor(t));
+  const auto w = cubic_weights(t - static_cast<double>(a));
+  T r{};
+  for (std::size_t k = 0; k < 4; ++k) {
+    if constexpr (std::is_same_v<T, V>) {
+      for (std::size_t d = 0; d < 3; ++d) r[d] += w[k] * samples[a - 1 + k][d];
+    } else {
+      r += w[k] * samples[a - 1 + k];
+    }
+  }
+  return r;
+}
+
+/// Nearest neighbour (brute force, Euclidean, more than `theiler` samples apart) of every point
+/// 2 .. last - 1 among the same points; `none` where there is none.
+template <class Point>
+std::vector<std::size_t> brute_force_nearest(std::size_t last, std::size_t theiler, std::size_t none, const Point& point) {
+  std::vector<std::size_t> nearest(none, none);
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
+    const auto j = static_cast<std::size_t>(jj);
+    double best = INFINITY;
+    for (std::size_t k = 2; k < last; ++k) {
+      const V d = minus(point(k), point(j));
+      if ((k > j ? k - j : j - k) > theiler && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
+    }
+  }
+  return nearest;
+}
 
 struct Case {
   const char* name;
@@ -60,27 +99,9 @@ void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
     p[i] = {s[0], s[1], s[2]}, u[i] = {s[3], s[4], s[5]}, f[i] = flow(p[i]);
     for (std::size_t k = 0; k < c.substeps; ++k) s = rk4_step<6>(with_tangent, s, h);
   }
-  auto at = [&p](double x) {  // the cubic through the samples floor(x) - 1 .. floor(x) + 2
-    const auto a = static_cast<std::size_t>(std::floor(x));
-    const double q = x - static_cast<double>(a);
-    const double w[4] = {-q * (q - 1) * (q - 2) / 6, (q + 1) * (q - 1) * (q - 2) / 2, -(q + 1) * q * (q - 2) / 2,
-                         (q + 1) * q * (q - 1) / 6};
-    V r{0, 0, 0};
-    for (int k = 0; k < 4; ++k)
-      for (int d = 0; d < 3; ++d) r[static_cast<std::size_t>(d)] += w[k] * p[a - 1 + static_cast<std::size_t>(k)][static_cast<std::size_t>(d)];
-    return r;
-  };
+  auto at = [&p](double x) { return cubic_at(p, x); };
   const std::size_t H = c.horizon, last = c.n - H - 4;  // points followed for H steps, shifts up to 1.5
-  std::vector<std::size_t> nearest(c.n, c.n);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
-    const auto j = static_cast<std::size_t>(jj);
-    double best = INFINITY;
-    for (std::size_t k = 2; k < last; ++k) {
-      const V d = minus(p[k], p[j]);
-      if ((k > j ? k - j : j - k) > c.theiler && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
-    }
-  }
+  const auto nearest = brute_force_nearest(last, c.theiler, c.n, [&p](std::size_t i) { return p[i]; });
   // u from the data alone: at point k, the dominant direction (power iteration on the sum of
   // w w^T / |w|^2) of the separations w of the pairs of points k - tau, tau = 100, 105 .. 300,
   // each shifted to its closest phase at its start and followed tau steps into k. Their flow
@@ -175,22 +196,8 @@ void embedded_lorenz(double x0) {
     return V{ux[i], std::exp(growth[i + J] - growth[i]) * ux[i + J], std::exp(growth[i + 2 * J] - growth[i]) * ux[i + 2 * J]};
   };
   auto along = [&](std::size_t i) { return V{fx[i], fx[i + J], fx[i + 2 * J]}; };
-  auto at = [&x](double t) {
-    const auto a = static_cast<std::size_t>(std::floor(t));
-    const double q = t - static_cast<double>(a);
-    return -q * (q - 1) * (q - 2) / 6 * x[a - 1] + (q + 1) * (q - 1) * (q - 2) / 2 * x[a] -
-           (q + 1) * q * (q - 2) / 2 * x[a + 1] + (q + 1) * q * (q - 1) / 6 * x[a + 2];
-  };
-  std::vector<std::size_t> nearest(M, M);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
-    const auto j = static_cast<std::size_t>(jj);
-    double best = INFINITY;
-    for (std::size_t k = 2; k < last; ++k) {
-      const V d = minus(point(k), point(j));
-      if ((k > j ? k - j : j - k) > T && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
-    }
-  }
+  auto at = [&x](double t) { return cubic_at(x, t); };
+  const auto nearest = brute_force_nearest(last, T, M, point);
   std::printf("  x0 = %g, own exponent %.3f:", x0, growth[n - 1] / (static_cast<double>(n - 1) * dt) / lambda);
   for (const char* rule : {"orthogonal", "oblique"}) {
     std::vector<double> sum(H + 1, 0.0);
