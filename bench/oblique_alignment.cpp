@@ -29,6 +29,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "mlce/numerics.hpp"
 #include "reference_systems.hpp"
 
 namespace {
@@ -41,16 +42,11 @@ V cross(const V& a, const V& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0]
 double det3(const V& c0, const V& c1, const V& c2) { return dot(c0, cross(c1, c2)); }
 V minus(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 
-/// Lagrange weights of the samples at -1, 0, 1, 2 for the point a fraction q past sample 0.
-std::array<double, 4> cubic_weights(double q) {
-  return {-q * (q - 1) * (q - 2) / 6, (q + 1) * (q - 1) * (q - 2) / 2, -(q + 1) * q * (q - 2) / 2, (q + 1) * q * (q - 1) / 6};
-}
-
 /// Samples[t] at a continuous index t: the cubic through the samples floor(t) - 1 .. floor(t) + 2.
 template <class T>
 T cubic_at(const std::vector<T>& samples, double t) {
   const auto a = static_cast<std::size_t>(std::floor(t));
-  const auto w = cubic_weights(t - static_cast<double>(a));
+  const auto w = mlce::lagrange_cubic_weights(t - static_cast<double>(a));
   T r{};
   for (std::size_t k = 0; k < 4; ++k) {
     if constexpr (std::is_same_v<T, V>) {

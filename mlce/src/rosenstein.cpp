@@ -44,17 +44,11 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
   return n ? sum.value() / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
 }
 
-/// Lagrange weights of the samples at -1, 0, 1, 2 for the point a fraction f in [0, 1) past sample 0.
-std::array<double, 4> cubic_weights(double f) {
-  return {-f * (f - 1.0) * (f - 2.0) / 6.0, (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
-          -(f + 1.0) * f * (f - 2.0) / 2.0, (f + 1.0) * f * (f - 1.0) / 6.0};
-}
-
 /// Squared distance from embedded point j to the cubic through the embedded points around the
 /// continuous index u (floor(u) - 1 .. floor(u) + 2, all of them points of `points`).
 double cubic_squared_distance(const DelayEmbedding& points, std::size_t j, double u) {
   const auto a = static_cast<std::size_t>(std::floor(u));
-  const auto w = cubic_weights(u - static_cast<double>(a));
+  const auto w = lagrange_cubic_weights(u - static_cast<double>(a));
   double sum = 0.0;
   for (std::size_t d = 0, D = points.dimension(); d < D; ++d) {
     const double e = points.coordinate(j, d) - (w[0] * points.coordinate(a - 1, d) + w[1] * points.coordinate(a, d) +
@@ -219,7 +213,7 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
       std::fill(e2.begin(), e2.end(), 0.0);
       for (const auto& x : s.channels) {
         if (f > 0.0 && cubic[k]) {
-          const auto w = cubic_weights(f);
+          const auto w = lagrange_cubic_weights(f);
           for (std::size_t t = 0; t <= span; ++t) {
             const double e = x[j + t] - (w[0] * x[jn + t - 1] + w[1] * x[jn + t] + w[2] * x[jn + t + 1] + w[3] * x[jn + t + 2]);
             e2[t] += e * e;

@@ -1,5 +1,6 @@
 #pragma once
 // Small numerical helpers shared by the estimators.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -55,6 +56,13 @@ inline double uniform01(std::uint64_t& state) { return static_cast<double>(split
 double upper_median(std::vector<double> v);
 /// The median of v (the mean of the middle two for even sizes); v non-empty.
 double median(std::vector<double> v);
+
+/// Lagrange weights of the samples at -1, 0, 1, 2 for the point a fraction f past sample 0 (f in
+/// [0, 1)): the cubic through four samples, exact for cubics; at f = 0 exactly (0, 1, 0, 0).
+inline std::array<double, 4> lagrange_cubic_weights(double f) {
+  return {-f * (f - 1.0) * (f - 2.0) / 6.0, (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0, -(f + 1.0) * f * (f - 2.0) / 2.0,
+          (f + 1.0) * f * (f - 1.0) / 6.0};
+}
 
 /// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom.
 double student_t95(std::size_t dof);
