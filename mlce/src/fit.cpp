@@ -264,9 +264,10 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // Straightness: while the second half of the region is flatter than straightness x the first
   // half, the region reaches into the bend: keep its first three quarters.
   std::size_t trimmed = 0;
+  const double straightness = options.period < kMinFlowPeriod ? options.map_straightness : options.straightness;
   while (r.last - r.first + 1 >= 4 * min_len) {
     const HalfSlopes h = half_slopes(y, r.first, r.last);
-    if (std::abs(h.second) >= options.straightness * std::abs(h.first)) break;
+    if (std::abs(h.second) >= straightness * std::abs(h.first)) break;
     r.last = r.first + 3 * (r.last - r.first) / 4;
     ++trimmed;
   }
@@ -286,7 +287,7 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
        << (pick != largest ? "; fitted the earliest piece a period long and as steep as the one of largest |slope| x length"
                            : "; fitted the piece of largest |slope| x length");
   if (joined) rule << ", joined with the steeper pieces after the start-up (concave growth)";
-  if (trimmed) rule << "; its end trimmed " << trimmed << "x (second half flatter than " << options.straightness << " x the first)";
+  if (trimmed) rule << "; its end trimmed " << trimmed << "x (second half flatter than " << straightness << " x the first)";
   if (extended) rule << "; extended to " << options.min_periods << " periods";
   if (trimmed || extended) rule << ": fitted to step " << r.last;
   if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
@@ -318,6 +319,7 @@ void FitOptions::validate() const {
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
+  if (!(map_straightness > 0.0 && map_straightness <= 1.0)) throw OptionError("fit.map_straightness: expected (0, 1]");
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");
   if (!(min_periods >= 0.0 && min_periods <= 100.0)) throw OptionError("fit.min_periods: expected [0, 100] (0 = off)");
   if (!(bend_warning >= 0.0 && bend_warning < 1.0)) throw OptionError("fit.bend_warning: expected [0, 1) (0 = never warn)");

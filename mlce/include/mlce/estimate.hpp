@@ -25,9 +25,8 @@ using ProgressCallback = std::function<void(std::string_view stage, double fract
 /// (RosensteinOptions::align_phase). automatic: for sampled flows (mean period >= kMinFlowPeriod
 /// samples) whose plain curve grows into a saturation plateau (lambda > 0).
 enum class PhaseAlignment { automatic, off, on };
-/// A series whose mean period is shorter than this many samples is treated as a map (or a flow
-/// sampled too coarsely to interpolate between samples): no phase alignment.
-inline constexpr std::size_t kMinFlowPeriod = 8;
+/// kMinFlowPeriod (fit.hpp): a series whose mean period is shorter is treated as a map, with no
+/// phase alignment.
 /// With an automatic Theiler window, a motion that persists (transient.hpp: persists) must span at least this many of its own mean
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
