@@ -25,8 +25,9 @@ using ProgressCallback = std::function<void(std::string_view stage, double fract
 /// (RosensteinOptions::align_phase). automatic: for sampled flows (mean period >= kMinFlowPeriod
 /// samples) whose plain curve grows into a saturation plateau (lambda > 0).
 enum class PhaseAlignment { automatic, off, on };
-/// kMinFlowPeriod (fit.hpp): a series whose mean period is shorter is treated as a map, with no
-/// phase alignment.
+// kMinFlowPeriod lives in fit.hpp (the fit also treats a map's curve apart): a series whose mean
+// period is shorter is treated as a map, with no phase alignment.
+
 /// With an automatic Theiler window, a motion that persists (transient.hpp: persists) must span at least this many of its own mean
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.

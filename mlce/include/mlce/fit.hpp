@@ -55,7 +55,8 @@ struct FitOptions {
   /// reached ~6 iterations into the bend), 32 at 0.97 with the slow-first-step rule; Roessler x rms
   /// error 8.7 -> 6.7 %, Lorenz x unchanged (build/finite_time_spread).
   double straightness = 0.97;
-  /// `straightness` for the curve of a map (`period` below kMinFlowPeriod). A flow's curve
+  /// `straightness` for the curve of a map (`period` below kMinFlowPeriod; an unset period, 0,
+  /// counts as 1 sample, as everywhere in the fit, so a bare curve is judged as a map's). A flow's curve
   /// breathes with the orbit, so the slopes of its halves differ by a few per cent on a straight
   /// stretch; a map's curve does not, and at 0.97 its region kept ~2 iterations of the bend into
   /// the plateau (Henon x: the last two steps of a 1..13 region rose at 0.97 and 0.92 lambda,
