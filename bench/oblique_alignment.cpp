@@ -1,6 +1,6 @@
 // Why does the phase-aligned curve start steeper than lambda_1 (Lorenz's start-up, Roessler's
 // concave curve), and what would make it straight? A diagnostic with the known equations, in the
-// true state space: nearest neighbours by brute force (Euclidean, raw coordinates, Theiler window
+// true state space: nearest neighbours by the exact kd-tree search (Euclidean, raw coordinates, Theiler window
 // T), each pair followed with the neighbour moved along its own trajectory by a shift s (cubic
 // interpolation between samples), for three choices of s:
 //   none        s = 0 (the plain curve);
@@ -19,16 +19,19 @@
 // estimated from the embedded series alone ("data").
 //   build/oblique_alignment      (3 s)
 // Not an estimator: u comes from the Jacobian, or (data) from the nearest neighbours of every point
-// found by brute force. In the embedding the data's shift reads no closer to the own exponent than
+// found by the exact search. In the embedding the data's shift reads no closer to the own exponent than
 // the orthogonal one over the region the automatic fit uses (README), so the estimator keeps the
 // closest phase.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <type_traits>
 #include <vector>
 
+#include "mlce/embedding.hpp"
+#include "mlce/neighbours.hpp"
 #include "mlce/numerics.hpp"
 #include "reference_systems.hpp"
 
@@ -58,20 +61,22 @@ T cubic_at(const std::vector<T>& samples, double t) {
   return r;
 }
 
-/// Nearest neighbour (brute force, Euclidean, more than `theiler` samples apart) of every point
-/// 2 .. last - 1 among the same points; `none` where there is none.
-template <class Point>
-std::vector<std::size_t> brute_force_nearest(std::size_t last, std::size_t theiler, std::size_t none, const Point& point) {
+/// Nearest neighbour (Euclidean, raw coordinates, more than `theiler` samples apart) of every point
+/// 2 .. last - 1 of the delay embedding (dim, delay) of `channels` among the same points, by the
+/// library's exact kd-tree search (mlce::find_nearest_neighbours, the one the estimator uses; ties
+/// go to the earlier point); `none` where there is none. The view starts at sample 2 so that every
+/// neighbour can be interpolated on the cubic through its samples k - 1 .. k + 2.
+std::vector<std::size_t> nearest_neighbours(const std::vector<const std::vector<double>*>& channels, std::size_t dim,
+                                            std::size_t delay, std::size_t last, std::size_t theiler, std::size_t none) {
+  std::vector<std::span<const double>> from_two;
+  for (const auto* c : channels) from_two.emplace_back(std::span<const double>(*c).subspan(2));
+  const mlce::DelayEmbedding view(from_two, dim, delay, last - 2);
+  mlce::NeighbourOptions options;
+  options.theiler = theiler;
+  const auto found = mlce::find_nearest_neighbours(view, mlce::strided_indices(last - 2, 0), options);
   std::vector<std::size_t> nearest(none, none);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t jj = 2; jj < static_cast<std::ptrdiff_t>(last); ++jj) {
-    const auto j = static_cast<std::size_t>(jj);
-    double best = INFINITY;
-    for (std::size_t k = 2; k < last; ++k) {
-      const V d = minus(point(k), point(j));
-      if ((k > j ? k - j : j - k) > theiler && dot(d, d) > 0 && dot(d, d) < best) best = dot(d, d), nearest[j] = k;
-    }
-  }
+  for (std::size_t q = 0; q < found.neighbour.size(); ++q)
+    if (found.neighbour[q] != mlce::NeighbourResult::none) nearest[q + 2] = found.neighbour[q] + 2;
   return nearest;
 }
 
@@ -134,7 +139,10 @@ void run(const Case& c, const Flow& flow, const WithTangent& with_tangent) {
   }
   auto at = [&p](double x) { return cubic_at(p, x); };
   const std::size_t H = c.horizon, last = c.n - H - 4;  // points followed for H steps, shifts up to 1.5
-  const auto nearest = brute_force_nearest(last, c.theiler, c.n, [&p](std::size_t i) { return p[i]; });
+  std::array<std::vector<double>, 3> xyz;
+  for (std::size_t d = 0; d < 3; ++d)
+    for (const V& q : p) xyz[d].push_back(q[d]);
+  const auto nearest = nearest_neighbours({&xyz[0], &xyz[1], &xyz[2]}, 1, 1, last, c.theiler, c.n);
   const auto u_data = unstable_from_data(c.n, last, nearest, c.dt, at, [&f](std::size_t i) { return f[i]; });
   double agreement = 0;
   std::size_t estimated = 0;
@@ -205,7 +213,7 @@ void embedded_lorenz(double x0) {
   };
   auto along = [&](std::size_t i) { return V{fx[i], fx[i + J], fx[i + 2 * J]}; };
   auto at = [&x](double t) { return cubic_at(x, t); };
-  const auto nearest = brute_force_nearest(last, T, M, point);
+  const auto nearest = nearest_neighbours({&x}, 3, J, last, T, M);
   // From the data alone: the flow by central differences, u as in run() (|cos| to the tangent's).
   auto embedded_at = [&x](double t) { return V{cubic_at(x, t), cubic_at(x, t + J), cubic_at(x, t + 2 * J)}; };
   auto flow_from_data = [&](std::size_t i) {
