@@ -191,7 +191,32 @@ TEST_F(Cli, CurveCsvAndGivenParameters) {
   EXPECT_EQ(j["horizon"], 30);
   EXPECT_EQ(j["fit"][0], 1);
   EXPECT_EQ(j["fit"][1], 9);
-  expect_csv(csv, "step,time,mean_log_distance,terms,in_fit,fit_line", 32);
+  expect_csv(csv, "step,time,mean_log_distance,terms,in_fit,fit_line,local_slope", 32);
+}
+
+// The curve CSV's local slope (per time unit, over one mean period) of a damped oscillator's curve
+// is its exponent -zeta omega wherever the window fits, and empty within half a period of the ends.
+TEST_F(Cli, CurveCsvLocalSlopeIsTheDecayRate) {
+  const double dt = 0.01, zeta = 0.05, omega = 2 * M_PI;
+  const auto f = series_file(mlce::reference::damped_oscillator(2000, dt, zeta, omega), dt);
+  const auto csv = dir / "decay.csv";
+  ASSERT_EQ(run("estimate " + f + " --column 2 --time-column 1 --quiet --curve " + csv.string()).status, 0);
+  std::istringstream lines(slurp(csv));
+  std::string line;
+  std::getline(lines, line);
+  ASSERT_EQ(line, "step,time,mean_log_distance,terms,in_fit,fit_line,local_slope");
+  std::size_t with_slope = 0, empty = 0;
+  while (std::getline(lines, line)) {
+    const std::string last = line.substr(line.rfind(',') + 1);
+    if (last.empty()) {
+      ++empty;
+      continue;
+    }
+    ++with_slope;
+    EXPECT_NEAR(std::stod(last), -zeta * omega, 0.005 * zeta * omega) << line;
+  }
+  EXPECT_GT(with_slope, 100u);
+  EXPECT_GT(empty, 0u);
 }
 
 TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
@@ -507,8 +532,8 @@ TEST_F(Cli, PhaseAlignmentSwitch) {
   ASSERT_EQ(run("estimate " + f + " --column 2 --time-column 1 --quiet --curve " + curve).status, 0);
   ASSERT_EQ(run("estimate " + f + " --column 2 --time-column 1 --quiet --align-phase off --curve " + plain_curve).status, 0);
   const std::string a = slurp(curve), p = slurp(plain_curve);
-  EXPECT_EQ(a.substr(0, a.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance");
-  EXPECT_EQ(p.substr(0, p.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line");
+  EXPECT_EQ(a.substr(0, a.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance,local_slope");
+  EXPECT_EQ(p.substr(0, p.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,local_slope");
   EXPECT_EQ(on["phase_interpolation"].get<std::string>(), "linear");
   EXPECT_FALSE(off.contains("phase_interpolation"));
   // --phase-interpolation cubic reads the aligned neighbours on cubics, and says so; the plain

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "mlce/fit.hpp"
 #include "mlce/numerics.hpp"
@@ -106,6 +107,39 @@ TEST(Fit, GradualBendIntoThePlateauIsLeftOut) {
   const FitResult r = fit_divergence(synthetic(y), o);
   EXPECT_NEAR(r.slope, 0.05, 0.1 * 0.05) << r.rule;
   EXPECT_LE(r.last, 300u) << r.rule;
+}
+
+// local_slopes: a centred difference over a whole period cancels an oscillation of that period
+// exactly (a straight stretch that breathes reads its slope), is the derivative at the centre of a
+// quadratic (a bend reads its local rate), and leaves the ends without a window as NaN.
+TEST(Fit, LocalSlopeOverOnePeriodCancelsTheOscillation) {
+  const double slope = 0.02, amplitude = 0.3;
+  const std::size_t period = 24, n = 200;
+  std::vector<double> breathing(n), bend(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = static_cast<double>(i);
+    breathing[i] = -5.0 + slope * x + amplitude * std::sin(2.0 * std::numbers::pi * x / period + 0.4);
+    bend[i] = 0.01 * x - 2e-5 * x * x;
+  }
+  const auto s = mlce::local_slopes(breathing, period);
+  ASSERT_EQ(s.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i < period / 2 || i + period / 2 >= n) EXPECT_TRUE(std::isnan(s[i])) << i;
+    else EXPECT_NEAR(s[i], slope, 1e-12) << i;
+  }
+  // An odd period is rounded up to the next even window (25 -> w = 13).
+  const auto odd = mlce::local_slopes(bend, 25);
+  EXPECT_TRUE(std::isnan(odd[12]));
+  for (std::size_t i = 13; i + 13 < n; ++i) EXPECT_NEAR(odd[i], 0.01 - 4e-5 * static_cast<double>(i), 1e-12) << i;
+  EXPECT_TRUE(std::isnan(odd[n - 13]));
+  // A map's curve (period 0 or 1): the step either side.
+  for (const std::size_t p : {0u, 1u}) {
+    const auto m = mlce::local_slopes(bend, p);
+    EXPECT_TRUE(std::isnan(m[0]) && std::isnan(m[n - 1]));
+    EXPECT_NEAR(m[1], 0.01 - 4e-5, 1e-12);
+  }
+  EXPECT_TRUE(mlce::local_slopes({}, 10).empty());
+  EXPECT_TRUE(std::isnan(mlce::local_slopes({1.0, 2.0}, 10)[1]));
 }
 
 TEST(Fit, MapCurveLosesItsSlowFirstStepAndItsBend) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -76,19 +77,32 @@ void render_png(const std::string& png_path, const std::string& csv,
 
 void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   const std::string u = r.time_unit.empty() ? "sample" : r.time_unit;
+  // The local slope (curve_csv's last column: 7, or 8 after the plain curve) on the right axis with
+  // lambda as a level: where the curve is straight the slope lies flat on it. Its range is held
+  // around lambda (the start-up and the plateau would otherwise flatten it); a curve with lambda ~ 0
+  // (limit cycle) keeps gnuplot's.
+  const bool plain = !r.unaligned_curve.empty();
+  const double a = std::abs(r.lambda);
+  const std::string y2range =
+      a > 0.0 && std::isfinite(a)
+          ? fmt::format("set y2range [{:.6g}:{:.6g}]\n", r.lambda > 0 ? -0.5 * a : -2.5 * a, r.lambda > 0 ? 2.5 * a : 0.5 * a)
+          : "";
   render_png(png_path, curve_csv(r), [&](const std::string& png, const std::string& data) {
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
+        "set y2label 'local slope over one mean period (1/{})'\nset y2tics\nset ytics nomirror\n{}"
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
         "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
-        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}\n",
-        png, quoted(u), r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
+        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}, "
+        "'' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title 'local slope (right axis)', "
+        "{:.10g} axes x1y2 with lines lw 1 dt 3 lc rgb 'dark-orange' title 'lambda (right axis)'\n",
+        png, quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
         r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
-        r.unaligned_curve.empty()
-            ? ""
-            : fmt::format(", '' every ::1 using 2:7 with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
-                          r.unaligned_lambda));
+        plain ? fmt::format(", '' every ::1 using 2:7 with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
+                            r.unaligned_lambda)
+              : "",
+        plain ? 8 : 7, r.lambda);
   });
 }
 

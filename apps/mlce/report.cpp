@@ -155,12 +155,15 @@ std::string curve_row(const MlceResult& r, std::size_t i) {
 }  // namespace
 
 std::string curve_csv(const MlceResult& r) {
-  // A phase-aligned curve is followed by the plain one (same pairs) in a last column.
+  // A phase-aligned curve is followed by the plain one (same pairs), then by the local slope per
+  // time unit over one mean period (local_slopes; empty where the window does not fit).
   const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
+  const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
   std::string s = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") +
-                  (plain ? ",plain_mean_log_distance\n" : "\n");
+                  (plain ? ",plain_mean_log_distance" : "") + ",local_slope\n";
   for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
-    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}\n", r.unaligned_curve[i]) : "\n");
+    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") +
+         (std::isfinite(slope[i]) ? fmt::format(",{:.10g}\n", slope[i] / r.dt) : ",\n");
   return s;
 }
 

@@ -295,6 +295,13 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
 
 }  // namespace
 
+std::vector<double> local_slopes(const std::vector<double>& y, std::size_t period) {
+  const std::size_t w = std::max<std::size_t>(1, (period + 1) / 2);
+  std::vector<double> slope(y.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = w; i + w < y.size(); ++i) slope[i] = (y[i + w] - y[i - w]) / static_cast<double>(2 * w);
+  return slope;
+}
+
 bool first_step_jumps(const std::vector<double>& y, double slope_per_step) {
   if (y.size() < 2) return false;
   const double jump = y[1] - y[0];

@@ -159,6 +159,15 @@ struct FitResult {
 /// t-distributed over the batches.
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
 
+/// Local slope of a divergence curve y (eq. 23), per step, for reading it by eye beside the fit:
+/// the centred difference (y[i + w] - y[i - w]) / (2 w) over one oscillation period of the curve,
+/// 2 w = `period` rounded up to an even count (w >= 1; period 0 or 1, a map's curve: w = 1). A
+/// flow's curve oscillates with its orbit (FitOptions::period); a difference over a whole period
+/// cancels an oscillation of that period exactly, so the local slope of a straight stretch is flat
+/// at its growth rate where a step-to-step difference swings by more than it. The first and last w
+/// steps have no centred window: NaN there (written as empty fields by the CLI).
+std::vector<double> local_slopes(const std::vector<double>& y, std::size_t period);
+
 const char* to_string(CurveEnd end);
 
 }  // namespace mlce
