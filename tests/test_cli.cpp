@@ -337,7 +337,7 @@ TEST_F(Cli, EachChannelInEveryForm) {
   // The curves, one channel after the other, as many rows as the two horizons hold.
   const auto rows = j["channels"][0]["horizon"].get<long>() + j["channels"][1]["horizon"].get<long>() + 2;
   const std::string curves =
-      expect_csv(csv, "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line", rows + 1);
+      expect_csv(csv, "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line,local_slope", rows + 1);
   EXPECT_NE(curves.find("\nfast,1,0,0,"), std::string::npos);
   EXPECT_TRUE(fs::exists(png));
   // The table for people says it too.

@@ -152,18 +152,27 @@ std::string curve_row(const MlceResult& r, std::size_t i) {
   return fmt::format("{},{:.10g},{:.10g},{},{},{:.10g}", i, r.dt * static_cast<double>(i), r.curve.mean_log_distance[i],
                      r.curve.terms[i], in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
 }
+
+/// ",local_slope" of every curve step: per time unit over one mean period (local_slopes), an empty
+/// field within half a period of either end, where no centred window fits.
+std::vector<std::string> local_slope_fields(const MlceResult& r) {
+  const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
+  std::vector<std::string> fields;
+  fields.reserve(slope.size());
+  for (const double s : slope) fields.push_back(std::isfinite(s) ? fmt::format(",{:.10g}", s / r.dt) : ",");
+  return fields;
+}
 }  // namespace
 
 std::string curve_csv(const MlceResult& r) {
   // A phase-aligned curve is followed by the plain one (same pairs), then by the local slope per
   // time unit over one mean period (local_slopes; empty where the window does not fit).
   const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
-  const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
+  const std::vector<std::string> slope = local_slope_fields(r);
   std::string s = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") +
                   (plain ? ",plain_mean_log_distance" : "") + ",local_slope\n";
   for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
-    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") +
-         (std::isfinite(slope[i]) ? fmt::format(",{:.10g}\n", slope[i] / r.dt) : ",\n");
+    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") + slope[i] + "\n";
   return s;
 }
 
@@ -376,12 +385,13 @@ std::string to_text(const EachChannelResult& r, double t0) {
 }
 
 std::string each_channel_curves_csv(const EachChannelResult& r) {
-  std::string s = "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line\n";
+  std::string s = "channel,index,step,time,mean_log_distance,terms,in_fit,fit_line,local_slope\n";
   for (std::size_t k = 0; k < r.channels.size(); ++k) {
     if (!r.channels[k].result) continue;
     const MlceResult& e = *r.channels[k].result;
     const std::string prefix = fmt::format("{},{},", csv_field(r.channels[k].name), k);
-    for (std::size_t i = 0; i < e.curve.mean_log_distance.size(); ++i) s += prefix + curve_row(e, i) + "\n";
+    const std::vector<std::string> slope = local_slope_fields(e);
+    for (std::size_t i = 0; i < e.curve.mean_log_distance.size(); ++i) s += prefix + curve_row(e, i) + slope[i] + "\n";
   }
   return s;
 }
