@@ -80,8 +80,10 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   // The local slope (curve_csv's last column: 7, or 8 after the plain curve) on the right axis with
   // lambda as a level: where the curve is straight the slope lies flat on it. Its range is held
   // around lambda (the start-up and the plateau would otherwise flatten it); a curve with lambda ~ 0
-  // (limit cycle) keeps gnuplot's.
-  const bool plain = !r.unaligned_curve.empty();
+  // (limit cycle) keeps gnuplot's. A curve shorter than a mean period has no local slope: not drawn.
+  const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();  // as curve_csv decides
+  const auto slopes = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
+  const bool any_slope = std::any_of(slopes.begin(), slopes.end(), [](double v) { return std::isfinite(v); });
   const double a = std::abs(r.lambda);
   const std::string y2range =
       a > 0.0 && std::isfinite(a)
@@ -94,15 +96,18 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
         "set y2label 'local slope over one mean period (1/{})'\nset y2tics\nset ytics nomirror\n{}"
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
         "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
-        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}, "
-        "'' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title 'local slope (right axis)', "
+        "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}{}"
         "{:.10g} axes x1y2 with lines lw 1 dt 3 lc rgb 'dark-orange' title 'lambda (right axis)'\n",
         png, quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
         r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
         plain ? fmt::format(", '' every ::1 using 2:7 with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
                             r.unaligned_lambda)
               : "",
-        plain ? 8 : 7, r.lambda);
+        any_slope ? fmt::format(", '' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title "
+                                "'local slope (right axis)', ",
+                                plain ? 8 : 7)
+                  : ", ",
+        r.lambda);
   });
 }
 
