@@ -140,6 +140,11 @@ TEST(Fit, LocalSlopeOverOnePeriodCancelsTheOscillation) {
   }
   EXPECT_TRUE(mlce::local_slopes({}, 10).empty());
   EXPECT_TRUE(std::isnan(mlce::local_slopes({1.0, 2.0}, 10)[1]));
+  // A period far beyond the curve (up to SIZE_MAX: no overflow of the window) leaves no slope.
+  for (const std::size_t p : {n, std::numeric_limits<std::size_t>::max() - 1, std::numeric_limits<std::size_t>::max()}) {
+    const auto none = mlce::local_slopes(bend, p);
+    EXPECT_TRUE(std::all_of(none.begin(), none.end(), [](double v) { return std::isnan(v); })) << p;
+  }
 }
 
 TEST(Fit, MapCurveLosesItsSlowFirstStepAndItsBend) {

@@ -296,9 +296,11 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
 }  // namespace
 
 std::vector<double> local_slopes(const std::vector<double>& y, std::size_t period) {
-  const std::size_t w = std::max<std::size_t>(1, (period + 1) / 2);
+  // Half the period rounded up, written so that no period (up to SIZE_MAX) overflows, nor i + w below.
+  const std::size_t w = std::max<std::size_t>(1, period / 2 + period % 2);
   std::vector<double> slope(y.size(), std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t i = w; i + w < y.size(); ++i) slope[i] = (y[i + w] - y[i - w]) / static_cast<double>(2 * w);
+  for (std::size_t i = w; i < y.size() && y.size() - i > w; ++i)
+    slope[i] = (y[i + w] - y[i - w]) / (2.0 * static_cast<double>(w));
   return slope;
 }
 
