@@ -452,6 +452,19 @@ TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), path + ": h = -1e-3: expected a step >= 0 (0: dt_out / 4)");
   }
+  // The span errors name the values they refuse, as typed (not std::to_string's 30000000000000.000000).
+  const auto message = [&](std::vector<std::string> args) {
+    try {
+      models::load_scene(path, args);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message({"--t_end", "0", "--dt_out", "0.005"}),
+            path + ": dt_out = 0.005, t_end = 0: expected 0 < dt_out <= t_end");
+  EXPECT_EQ(message({"--t_end", "30", "--dt_out", "1e-12"}),
+            path + ": t_end / dt_out = 3e+13 output samples: expected at most 5e7 (raise dt_out)");
   EXPECT_THROW(models::load_scene(path, {"--colour", "red"}), std::invalid_argument);
   EXPECT_THROW(models::load_scene("/nonexistent.scene", {}), std::invalid_argument);
 }

@@ -207,12 +207,18 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   s.integrator.h_fixed = r.number("h", 0.0);
   if (s.integrator.h_fixed < 0.0)
     throw std::invalid_argument(source + ": h = " + r.text("h", "") + ": expected a step >= 0 (0: dt_out / 4)");
+  const auto shortest = [](double value) {  // as the user would type it: 30, 0.005, 3e+13
+    std::ostringstream o;
+    o << value;
+    return o.str();
+  };
   if (!(s.dt_out > 0) || !(s.t_end > 0) || s.dt_out > s.t_end)
-    throw std::invalid_argument(source + ": expected 0 < dt_out <= t_end");
+    throw std::invalid_argument(source + ": dt_out = " + shortest(s.dt_out) + ", t_end = " + shortest(s.t_end) +
+                                ": expected 0 < dt_out <= t_end");
   // Every sample is kept in memory (and written): bound it before allocating.
   constexpr double kMaxSamples = 5e7;
   if (s.t_end / s.dt_out > kMaxSamples)
-    throw std::invalid_argument(source + ": t_end / dt_out = " + std::to_string(s.t_end / s.dt_out) +
+    throw std::invalid_argument(source + ": t_end / dt_out = " + shortest(s.t_end / s.dt_out) +
                                 " output samples: expected at most 5e7 (raise dt_out)");
   try {
     s.integrator.validate();
