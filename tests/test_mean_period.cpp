@@ -54,6 +54,27 @@ TEST(MeanPeriod, ClampsAndReportsVeryLongPeriods) {
   EXPECT_TRUE(r.clamped);
   EXPECT_EQ(r.mean_period, 250u);
   ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].find("clamped to 250 (0.25 of the series)"), std::string::npos) << r.warnings[0];
+  // A fraction smaller than std::to_string's six decimals is still named (it printed 0.000000).
+  MeanPeriodOptions tiny;
+  tiny.max_fraction = 2e-3;
+  const auto t = estimate_mean_period(make_series_with_step({x}, 1.0), tiny);
+  EXPECT_EQ(t.mean_period, 2u);
+  ASSERT_FALSE(t.warnings.empty());
+  EXPECT_NE(t.warnings[0].find("(0.002 of the series)"), std::string::npos) << t.warnings[0];
+  tiny.max_fraction = 1e-7;
+  try {
+    tiny.validate();
+  } catch (const std::exception&) {
+    ADD_FAILURE() << "1e-7 is a valid fraction";
+  }
+  tiny.max_fraction = -1e-7;
+  try {
+    tiny.validate();
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()), "mean_period.max_fraction = -1e-07: expected 0 < value <= 1");
+  }
 }
 
 TEST(MeanPeriod, ScaleInvariantAtExtremeAmplitudes) {

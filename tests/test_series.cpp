@@ -232,6 +232,12 @@ TEST(Transient, DecayIntoTheNoiseFloorEndsWhereTheFloorStarts) {
   EXPECT_EQ(r.end_index, 0u);
   EXPECT_GT(r.floor_index * 0.01, 20.0);
   EXPECT_LT(r.floor_index * 0.01, 30.0);
+  // The rule names the floor ratio as given (std::to_string printed 1e-9 as 0.000000).
+  TransientOptions deep = o;
+  deep.floor_ratio = 1e-9;
+  const auto d = detect_transient(make_series_with_step({x}, 0.01), deep);
+  EXPECT_GT(d.floor_index, 0u);
+  EXPECT_NE(d.rule.find("(RMS below 1e-09 of its largest)"), std::string::npos) << d.rule;
   // A limit cycle, however small against its start-up, is not a floor.
   std::vector<double> lc;
   for (int i = 0; i < 20000; ++i) lc.push_back((1e-4 + std::exp(-0.01 * i)) * std::sin(2 * M_PI * 0.01 * i));

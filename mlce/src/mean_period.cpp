@@ -1,6 +1,7 @@
 #include "mlce/mean_period.hpp"
 
 #include <fftw3.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -60,7 +61,7 @@ double mean_frequency_per_sample(const std::vector<double>& x, SpectralWindow wi
 
 void MeanPeriodOptions::validate() const {
   if (!(max_fraction > 0.0 && max_fraction <= 1.0))
-    throw OptionError("mean_period.max_fraction = " + std::to_string(max_fraction) + ": expected 0 < value <= 1");
+    throw OptionError("mean_period.max_fraction = " + fmt::format("{:g}", max_fraction) + ": expected 0 < value <= 1");
 }
 
 MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOptions& options) {
@@ -86,7 +87,7 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
     r.clamped = true;
     r.warnings.push_back("mean period " + std::to_string(static_cast<long long>(period)) +
                          " samples clamped to " + std::to_string(static_cast<long long>(cap)) + " (" +
-                         std::to_string(options.max_fraction) + " of the series): the series spans few periods");
+                         fmt::format("{:g}", options.max_fraction) + " of the series): the series spans few periods");
     period = cap;
   }
   r.mean_period = static_cast<std::size_t>(std::max(1.0, period));

@@ -3,6 +3,8 @@
 #include "mlce/mean_period.hpp"
 #include "mlce/numerics.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,7 +81,7 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
     r.floor_index = f;
     r.end_time = s.time(0);
     r.rule = "decays into the noise/underflow floor from sample " + std::to_string(f) + " (RMS below " +
-             std::to_string(options.floor_ratio) + " of its largest): nothing cut at the start";
+             fmt::format("{:g}", options.floor_ratio) + " of its largest): nothing cut at the start";
     return r;
   }
   // Window RMS about the last quarter's mean (the centre of the settled motion), the median window

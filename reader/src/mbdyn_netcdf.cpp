@@ -307,8 +307,10 @@ std::size_t records_written(const std::vector<double>& time, const std::string& 
   std::size_t k = n;
   while (k > 1 && time[k - 1] == 0.0) --k;
   if (k == n || !(time[k - 1] > 0.0)) return n;  // no zero tail, or a run that ends at t = 0
+  char last_time[32];
+  std::snprintf(last_time, sizeof last_time, "%.10g", time[k - 1]);
   warnings.push_back(path + ": records " + std::to_string(k) + ".." + std::to_string(n - 1) +
-                     " have time 0 after t = " + std::to_string(time[k - 1]) +
+                     " have time 0 after t = " + last_time +
                      " (file truncated, or the run killed before its records were written): read the first " +
                      std::to_string(k - 1) + " records, the last one with a time left out as possibly incomplete");
   return k - 1;

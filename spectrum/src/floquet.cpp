@@ -59,8 +59,14 @@ LinearSpectrum sorted(LinearSpectrum s, const Eigen::MatrixXd& sens) {
 
 void condition_warning(LinearSpectrum& s) {
   if (!s.parameters.empty() && s.eigenvector_condition > 1e8)
-    s.warnings.push_back("eigenvectors nearly dependent (condition " + std::to_string(s.eigenvector_condition) +
-                         "): repeated eigenvalues, the sensitivities of the merging ones are unreliable");
+  {
+    char buf[192];
+    std::snprintf(buf, sizeof buf,
+                  "eigenvectors nearly dependent (condition %.3g): repeated eigenvalues, the sensitivities of the merging "
+                  "ones are unreliable",
+                  s.eigenvector_condition);
+    s.warnings.push_back(buf);
+  }
 }
 
 }  // namespace
@@ -174,8 +180,11 @@ LinearSpectrum floquet(const ode::DynamicalSystem& sys, const FloquetOptions& o,
   }
   if (o.orbit) {
     const double gap = (X.head(n) - x0).norm() / std::max(1.0, x0.norm());
-    if (gap > 1e-6)
-      s.warnings.push_back("the orbit does not close over one period (relative gap " + std::to_string(gap) + ")");
+    if (gap > 1e-6) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "the orbit does not close over one period (relative gap %.3g)", gap);
+      s.warnings.push_back(buf);
+    }
   }
   s = sorted(s, sens);
   // Multipliers below the integration error of Phi are noise: say which exponents lie below that.
