@@ -193,14 +193,24 @@ TEST_F(SweepCli, Errors) {
                         2);
   expect_one_line_error(run(base + " --param rpm=200 --rpm 300"), "--param rpm=200: --rpm sets it too", 2);
   EXPECT_FALSE(fs::exists(out("x.csv")));
-  // A point that cannot be computed (0.15 s at 20 ms: 8 samples) is recorded, not fatal: no values,
-  // the reason in its note, a warning on stderr.
-  const CliRun bad = run(base + " --param rpm=200 --method rosenstein --t_end 0.05 --quiet");
-  EXPECT_EQ(bad.status, 0) << bad.err;
-  EXPECT_NE(bad.err.find("1 of 1 points failed"), std::string::npos) << bad.err;
-  EXPECT_NE(slurp(out("x.csv")).find("\n200,,,,,,,error: series too short: 8 samples"), std::string::npos)
-      << slurp(out("x.csv"));
+  // A point that cannot be computed is recorded, not fatal: no values, the reason in its note, a
+  // warning on stderr. The rotor with blade 3's damper off is isotropic only at c3 = 4067.5, so
+  // eigen (which needs an isotropic rotor) fails at c3 = 0 and computes c3 = 4067.5.
+  const CliRun some = run(base + " --param c3=0:4067.5:4067.5 --method eigen --quiet");
+  EXPECT_EQ(some.status, 0) << some.err;
+  EXPECT_NE(some.err.find("1 of 2 points failed"), std::string::npos) << some.err;
+  const std::string mixed = slurp(out("x.csv"));
+  EXPECT_NE(mixed.find("\n0,,,,,,,,,,,,,error: the rotor is not isotropic"), std::string::npos) << mixed;
+  EXPECT_NE(mixed.find("\n4067.5,-"), std::string::npos) << mixed;
   fs::remove(out("x.csv"));
+  // When every point fails (0.05 s at 20 ms: 8 samples), nothing was computed: one error line,
+  // exit 1, and no CSV or journal.
+  expect_one_line_error(run(base + " --param rpm=200:210:10 --method rosenstein --t_end 0.05 --quiet"),
+                        "every one of the 2 points failed (" + out("x.csv") +
+                            " not written); the first (rpm = 200): series too short: 8 samples",
+                        1);
+  EXPECT_FALSE(fs::exists(out("x.csv")));
+  EXPECT_FALSE(fs::exists(out("x.csv") + ".partial"));
   // A journal left by a sweep with other settings is not mixed in.
   ASSERT_EQ(run(base + " --param rpm=200:300:50 --max-points 1 --quiet").status, 3);
   expect_one_line_error(run(base + " --param rpm=200:300:25 --quiet"), "other settings", 1);

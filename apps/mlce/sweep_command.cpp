@@ -282,6 +282,14 @@ int cmd_sweep(const std::vector<std::string>& args) {
     return cells;
   };
   const SweepOutcome outcome = run_sweep(plan, compute);
+  if (outcome.all_failed) {  // a setup the method cannot take (wrong method for the scene, too short a run)
+    std::string at;
+    for (std::size_t a = 0; a < plan.axes.size(); ++a)
+      at += fmt::format("{}{} = {:g}", a ? ", " : "", plan.axes[a].name, outcome.values[0][a]);
+    throw std::runtime_error(fmt::format("every one of the {} points failed ({} not written); the first ({}): {}",
+                                         outcome.points, out_path, at,
+                                         outcome.results[0].back().substr(std::string("error: ").size())));
+  }
   std::size_t failed = 0;
   for (const auto& cells : outcome.results)
     if (!cells.empty() && cells.back().rfind("error: ", 0) == 0) ++failed;  // unfinished points have none

@@ -234,6 +234,15 @@ SweepOutcome run_sweep(const SweepPlan& plan,
   out.computed = finished;
   report(true);
   if (chunk) return out;  // the journal keeps them; a rerun continues
+  std::error_code ec;
+  const auto is_failure = [](const std::vector<std::string>& cells) {
+    return !cells.empty() && cells.back().rfind("error: ", 0) == 0;
+  };
+  if (notes && total > 0 && std::all_of(out.results.begin(), out.results.end(), is_failure)) {
+    out.complete = out.all_failed = true;
+    std::filesystem::remove(journal_path, ec);
+    return out;
+  }
 
   std::string csv = plan.header_comment;
   for (std::size_t d = 0; d < plan.axes.size(); ++d) csv += (d ? "," : "") + plan.axes[d].name;
@@ -246,7 +255,6 @@ SweepOutcome run_sweep(const SweepPlan& plan,
   }
   write_file_atomically(plan.out_path, csv);
   out.complete = true;
-  std::error_code ec;
   std::filesystem::remove(journal_path, ec);
   return out;
 }

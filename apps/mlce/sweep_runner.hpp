@@ -37,13 +37,17 @@ struct SweepPlan {
 struct SweepOutcome {
   std::size_t points = 0, resumed = 0, computed = 0;
   bool complete = false;  ///< false when max_new_points stopped it (no CSV written yet)
+  /// Every point failed (each note says "error: ..."): no CSV is written, the journal is removed
+  /// (a rerun computes them again), and the caller reports it as an error: nothing was computed.
+  bool all_failed = false;
   std::vector<std::vector<double>> values;        ///< per point: its parameter values
   std::vector<std::vector<std::string>> results;  ///< per point: its result cells
 };
 
 /// Runs the plan; compute(values) returns the point's result cells (size result_columns) and must
 /// be thread-safe. An exception from compute leaves the point's cells empty and its last cell "error: ..."
-/// when the plan's last column is "note", otherwise it aborts the sweep (journal kept).
+/// when the plan's last column is "note", otherwise it aborts the sweep (journal kept). When every
+/// point of a finished sweep failed so, no CSV is written (SweepOutcome::all_failed).
 SweepOutcome run_sweep(const SweepPlan& plan,
                        const std::function<std::vector<std::string>(const std::vector<double>&)>& compute);
 
