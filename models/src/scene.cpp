@@ -1,6 +1,7 @@
 #include "mlce/models/scene.hpp"
 
 #include <boost/program_options.hpp>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -11,6 +12,14 @@ namespace po = boost::program_options;
 
 namespace mlce::models {
 namespace {
+
+/// The shortest decimal that reads back as v (std::to_chars): 242.4, 0.005, 3e+13. A scene written
+/// out (describe_scene) reloads bit for bit, and a message shows a number as the user typed it.
+std::string shortest(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
 
 struct Key {
   const char* name;
@@ -207,11 +216,6 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   s.integrator.h_fixed = r.number("h", 0.0);
   if (s.integrator.h_fixed < 0.0)
     throw std::invalid_argument(source + ": h = " + r.text("h", "") + ": expected a step >= 0 (0: dt_out / 4)");
-  const auto shortest = [](double value) {  // as the user would type it: 30, 0.005, 3e+13
-    std::ostringstream o;
-    o << value;
-    return o.str();
-  };
   if (!(s.dt_out > 0) || !(s.t_end > 0) || s.dt_out > s.t_end)
     throw std::invalid_argument(source + ": dt_out = " + shortest(s.dt_out) + ", t_end = " + shortest(s.t_end) +
                                 ": expected 0 < dt_out <= t_end");
@@ -230,12 +234,13 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 
 std::string describe_scene(const Scene& s) {
   std::ostringstream o;
-  o.precision(17);
   auto list = [&](const std::vector<double>& v) {
-    std::ostringstream l;
-    l.precision(17);
-    for (std::size_t i = 0; i < v.size(); ++i) l << (i ? "," : "") << v[i];
-    return l.str();
+    std::string l;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (i > 0) l += ',';
+      l += shortest(v[i]);
+    }
+    return l;
   };
   o << "model = " << s.model << "\n";
   if (s.model == "hammond") {
@@ -246,20 +251,24 @@ std::string describe_scene(const Scene& s) {
     const int N = p.blades, nq = N + 2;
     std::vector<double> z0, zd0;
     for (int i = 0; i < N; ++i) z0.push_back(s.x0(i)), zd0.push_back(s.x0(nq + i));
-    o << "blades = " << N << "\nrpm = " << p.rpm << "\nc = " << list(p.c) << "\nk = " << list(p.k)
-      << "\ndamper = " << dampers << "\nCL = " << list(p.C_L) << "\nchibar = " << p.chibar
-      << "\nzetadot_L = " << p.zetadot_L << "\ncx = " << p.c_x << "\ncy = " << p.c_y << "\nkx = " << p.k_x
-      << "\nky = " << p.k_y << "\nmx = " << p.m_x << "\nmy = " << p.m_y << "\nmb = " << p.m_b << "\nSb = " << p.S_b
-      << "\nIb = " << p.I_b << "\ne = " << p.e << "\nplacement = " << (p.paper_placement ? "paper" : "mbdyn")
-      << "\nx0 = " << s.x0(N) << "\ny0 = " << s.x0(N + 1) << "\nxdot0 = " << s.x0(nq + N) << "\nydot0 = "
-      << s.x0(nq + N + 1) << "\nzeta0 = " << list(z0) << "\nzetadot0 = " << list(zd0) << "\n";
+    o << "blades = " << N << "\nrpm = " << shortest(p.rpm) << "\nc = " << list(p.c) << "\nk = " << list(p.k)
+      << "\ndamper = " << dampers << "\nCL = " << list(p.C_L) << "\nchibar = " << shortest(p.chibar)
+      << "\nzetadot_L = " << shortest(p.zetadot_L) << "\ncx = " << shortest(p.c_x) << "\ncy = " << shortest(p.c_y)
+      << "\nkx = " << shortest(p.k_x) << "\nky = " << shortest(p.k_y) << "\nmx = " << shortest(p.m_x)
+      << "\nmy = " << shortest(p.m_y) << "\nmb = " << shortest(p.m_b) << "\nSb = " << shortest(p.S_b)
+      << "\nIb = " << shortest(p.I_b) << "\ne = " << shortest(p.e)
+      << "\nplacement = " << (p.paper_placement ? "paper" : "mbdyn") << "\nx0 = " << shortest(s.x0(N))
+      << "\ny0 = " << shortest(s.x0(N + 1)) << "\nxdot0 = " << shortest(s.x0(nq + N))
+      << "\nydot0 = " << shortest(s.x0(nq + N + 1)) << "\nzeta0 = " << list(z0) << "\nzetadot0 = " << list(zd0) << "\n";
   } else {
-    o << "gamma = " << s.flapping.gamma << "\nnu = " << s.flapping.nu << "\nmu = " << s.flapping.mu
-      << "\nbeta0 = " << s.x0(0) << "\nbetadot0 = " << s.x0(1) << "\n";
+    o << "gamma = " << shortest(s.flapping.gamma) << "\nnu = " << shortest(s.flapping.nu)
+      << "\nmu = " << shortest(s.flapping.mu) << "\nbeta0 = " << shortest(s.x0(0))
+      << "\nbetadot0 = " << shortest(s.x0(1)) << "\n";
   }
-  o << "t_end = " << s.t_end << "\ndt_out = " << s.dt_out << "\nintegrator = " << ode::scheme_name(s.integrator.scheme)
-    << "\nrtol = " << s.integrator.rtol << "\natol = " << s.integrator.atol << "\n";
-  if (s.integrator.h_fixed > 0) o << "h = " << s.integrator.h_fixed << "\n";
+  o << "t_end = " << shortest(s.t_end) << "\ndt_out = " << shortest(s.dt_out)
+    << "\nintegrator = " << ode::scheme_name(s.integrator.scheme) << "\nrtol = " << shortest(s.integrator.rtol)
+    << "\natol = " << shortest(s.integrator.atol) << "\n";
+  if (s.integrator.h_fixed > 0) o << "h = " << shortest(s.integrator.h_fixed) << "\n";
   return o.str();
 }
 
