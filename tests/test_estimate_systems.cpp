@@ -31,6 +31,7 @@ void expect_clean(const MlceResult& r) {
   EXPECT_FALSE(has_warning(r, "measurement noise")) << r.fit.rule;
   EXPECT_FALSE(has_warning(r, "divergence not resolved")) << r.fit.rule;
   EXPECT_FALSE(has_warning(r, "drifts"));
+  EXPECT_FALSE(has_warning(r, "the embedding window")) << r.dim << " x " << r.delay;
 }
 }  // namespace
 
@@ -82,6 +83,19 @@ TEST(EstimateSystems, LorenzCanonicalSeries) {
   EXPECT_EQ(r.dim, 3u);
   EXPECT_GT(r.r2, 0.98);
   expect_clean(r);
+}
+
+TEST(EstimateSystems, EmbeddingWindowOfSeveralMeanPeriodsIsFlagged) {
+  // The automatic embedding of Lorenz x spans (3 - 1) x 18 = 36 samples of its 171-sample mean
+  // period (expect_clean above). A given m = 30 spans 29 x 18 = 522 samples, about 3 mean periods:
+  // flagged; m = 10 (162 samples, under two periods) is not.
+  const Series s = make_series_with_step({reference::lorenz_x(10000, 0.01)}, 0.01);
+  MlceOptions o;
+  o.dim = 30;
+  const auto wide = estimate_mlce(s, o);
+  ASSERT_TRUE(has_warning(wide, "the embedding window (m-1)*delay = 522 samples spans 3.")) << wide.warnings.size();
+  o.dim = 10;
+  EXPECT_FALSE(has_warning(estimate_mlce(s, o), "the embedding window"));
 }
 
 TEST(EstimateSystems, LorenzYWhoseStartUpOutlastsTheNextPieceIsNotFitted) {

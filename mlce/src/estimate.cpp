@@ -271,6 +271,17 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   };
   if (r.ami) append(r.warnings, r.ami->warnings);
   if (r.fnn) append(r.warnings, r.fnn->warnings);
+  // A delay vector should span about a mean period or less (the window (m-1)J that the AMI delay
+  // and FNN dimension give: Lorenz x 36 samples of 171, Roessler x 0.5 of a period, maps 1-2
+  // samples). Far beyond it, on a chaotic motion its first and last coordinates are as good as
+  // independent: distances mix unrelated states, the neighbours are poor, and the curve can read
+  // flat (Lorenz x with m = 100: 10 mean periods, "lambda" 0.015 against 0.91). Said, not changed.
+  if (const double window = static_cast<double>((r.dim - 1) * r.delay); window > kMaxWindowPeriods * own_period)
+    r.warnings.push_back(fmt::format(
+        "the embedding window (m-1)*delay = {:.0f} samples spans {:.3g} mean periods ({:.0f} samples each): its "
+        "coordinates are too far apart in time to describe one state, and the exponent is unreliable; choose m and "
+        "the delay so that (m-1)*delay is about one mean period or less",
+        window, window / own_period, std::ceil(own_period)));
 
   RosensteinOptions ro;
   ro.dim = r.dim;

@@ -32,6 +32,9 @@ enum class PhaseAlignment { automatic, off, on };
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
 /// another pass of the orbit, and estimate_mlce refuses it.
 inline constexpr double kMinMeanPeriods = 2.0;
+/// An embedding window (m-1)*delay longer than this many mean periods is flagged (estimate_mlce):
+/// a delay vector should describe one state, about a mean period of the motion or less.
+inline constexpr double kMaxWindowPeriods = 2.0;
 /// A curve averaged over fewer neighbour pairs than this is flagged: with the default 16 batches
 /// (RosensteinOptions::batches) each batch mean then holds fewer than 10 pairs, so the batch means
 /// are far from normal and the 95 % interval is not to be trusted (at 1 pair the interval is the
