@@ -77,19 +77,17 @@ void render_png(const std::string& png_path, const std::string& csv,
 
 void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   const std::string u = r.time_unit.empty() ? "sample" : r.time_unit;
-  // The local slope (curve_csv's last column: 7, or 8 after the plain curve) on the right axis with
-  // lambda as a level: where the curve is straight the slope lies flat on it. Its range is held
-  // around lambda (the start-up and the plateau would otherwise flatten it); a curve with lambda ~ 0
-  // (limit cycle) keeps gnuplot's. A curve shorter than a mean period has no local slope: not drawn.
-  const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();  // as curve_csv decides
-  const auto slopes = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
-  const bool any_slope = std::any_of(slopes.begin(), slopes.end(), [](double v) { return std::isfinite(v); });
+  // The local slope (the table's local_slope column) on the right axis with lambda as a level:
+  // where the curve is straight the slope lies flat on it. Its range is held around lambda (the
+  // start-up and the plateau would otherwise flatten it); a curve with lambda ~ 0 (limit cycle)
+  // keeps gnuplot's. A curve shorter than a mean period has no local slope: not drawn.
+  const CurveTable table = curve_table(r);
   const double a = std::abs(r.lambda);
   const std::string y2range =
       a > 0.0 && std::isfinite(a)
           ? fmt::format("set y2range [{:.6g}:{:.6g}]\n", r.lambda > 0 ? -0.5 * a : -2.5 * a, r.lambda > 0 ? 2.5 * a : 0.5 * a)
           : "";
-  render_png(png_path, curve_csv(r), [&](const std::string& png, const std::string& data) {
+  render_png(png_path, table.csv, [&](const std::string& png, const std::string& data) {
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
@@ -100,13 +98,14 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
         "{:.10g} axes x1y2 with lines lw 1 dt 3 lc rgb 'dark-orange' title 'lambda (right axis)'\n",
         png, quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
         r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
-        plain ? fmt::format(", '' every ::1 using 2:7 with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
-                            r.unaligned_lambda)
-              : "",
-        any_slope ? fmt::format(", '' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title "
-                                "'local slope (right axis)', ",
-                                plain ? 8 : 7)
-                  : ", ",
+        table.plain_column
+            ? fmt::format(", '' every ::1 using 2:{} with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
+                          table.plain_column, r.unaligned_lambda)
+            : "",
+        table.any_slope ? fmt::format(", '' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title "
+                                      "'local slope (right axis)', ",
+                                      table.slope_column)
+                        : ", ",
         r.lambda);
   });
 }

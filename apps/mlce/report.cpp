@@ -155,26 +155,31 @@ std::string curve_row(const MlceResult& r, std::size_t i) {
 
 /// ",local_slope" of every curve step: per time unit over one mean period (local_slopes), an empty
 /// field within half a period of either end, where no centred window fits.
-std::vector<std::string> local_slope_fields(const MlceResult& r) {
+std::vector<std::string> local_slope_fields(const MlceResult& r, bool* any = nullptr) {
   const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
   std::vector<std::string> fields;
   fields.reserve(slope.size());
   for (const double s : slope) fields.push_back(std::isfinite(s) ? fmt::format(",{:.10g}", s / r.dt) : ",");
+  if (any) *any = std::any_of(slope.begin(), slope.end(), [](double s) { return std::isfinite(s); });
   return fields;
 }
 }  // namespace
 
-std::string curve_csv(const MlceResult& r) {
-  // A phase-aligned curve is followed by the plain one (same pairs), then by the local slope per
-  // time unit over one mean period (local_slopes; empty where the window does not fit).
+CurveTable curve_table(const MlceResult& r) {
+  // A phase-aligned curve is followed by the plain one (same pairs), then by the local slope.
+  CurveTable t;
   const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
-  const std::vector<std::string> slope = local_slope_fields(r);
-  std::string s = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") +
-                  (plain ? ",plain_mean_log_distance" : "") + ",local_slope\n";
+  t.plain_column = plain ? 7 : 0;
+  t.slope_column = plain ? 8 : 7;
+  const std::vector<std::string> slope = local_slope_fields(r, &t.any_slope);
+  t.csv = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") + (plain ? ",plain_mean_log_distance" : "") +
+          ",local_slope\n";
   for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
-    s += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") + slope[i] + "\n";
-  return s;
+    t.csv += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") + slope[i] + "\n";
+  return t;
 }
+
+std::string curve_csv(const MlceResult& r) { return curve_table(r).csv; }
 
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit) {
   nlohmann::json contours = nlohmann::json::object();

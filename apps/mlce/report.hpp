@@ -18,7 +18,18 @@ nlohmann::json to_json(const FnnResult& r);
 std::string to_text(const MlceResult& r);
 std::string to_text(const AmiResult& r);
 std::string to_text(const FnnResult& r);
-/// step,time,mean_log_distance,terms,in_fit,fit_line
+/// The divergence curve as a table: step,time,mean_log_distance,terms,in_fit,fit_line, then
+/// plain_mean_log_distance when the curve is phase-aligned, then local_slope (per time unit over
+/// one mean period; empty where no centred window fits). The layout is decided here once, for the
+/// CSV and for the plot that draws it.
+struct CurveTable {
+  std::string csv;
+  std::size_t plain_column = 0;  ///< 1-based column of plain_mean_log_distance; 0 = absent
+  std::size_t slope_column = 0;  ///< 1-based column of local_slope
+  bool any_slope = false;        ///< some step has a local slope (the curve is longer than a period)
+};
+CurveTable curve_table(const MlceResult& r);
+/// curve_table(r).csv
 std::string curve_csv(const MlceResult& r);
 /// "tau,ami,smoothed": the AMI curve in nats (mlce ami --csv; the plot's data).
 std::string ami_csv(const AmiResult& r);

@@ -290,11 +290,9 @@ int cmd_sweep(const std::vector<std::string>& args) {
                                          outcome.points, out_path, at,
                                          outcome.results[0].back().substr(std::string("error: ").size())));
   }
-  std::size_t failed = 0;
-  for (const auto& cells : outcome.results)
-    if (!cells.empty() && cells.back().rfind("error: ", 0) == 0) ++failed;  // unfinished points have none
-  if (failed > 0)
-    print_warnings({fmt::format("{} of {} points failed (see their 'note' column in {})", failed, outcome.points, out_path)});
+  if (outcome.failed > 0)
+    print_warnings(
+        {fmt::format("{} of {} points failed (see their 'note' column in {})", outcome.failed, outcome.points, out_path)});
   if (!outcome.complete) {
     std::cerr << fmt::format("mlce: sweep stopped after {} new points ({} of {} done, kept in {}.partial); rerun to continue\n",
                              outcome.computed, outcome.resumed + outcome.computed, outcome.points, out_path);

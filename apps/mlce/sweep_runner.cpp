@@ -232,13 +232,14 @@ SweepOutcome run_sweep(const SweepPlan& plan,
   for (auto& t : pool) t.join();
   if (failed) throw std::runtime_error(failure + " (finished points are kept in " + journal_path + "; rerun to resume)");
   out.computed = finished;
+  if (notes)  // points that threw (compute's note "error: ..."); unfinished points have no cells
+    out.failed = static_cast<std::size_t>(std::count_if(out.results.begin(), out.results.end(), [](const auto& cells) {
+      return !cells.empty() && cells.back().rfind("error: ", 0) == 0;
+    }));
   report(true);
   if (chunk) return out;  // the journal keeps them; a rerun continues
   std::error_code ec;
-  const auto is_failure = [](const std::vector<std::string>& cells) {
-    return !cells.empty() && cells.back().rfind("error: ", 0) == 0;
-  };
-  if (notes && total > 0 && std::all_of(out.results.begin(), out.results.end(), is_failure)) {
+  if (notes && total > 0 && out.failed == total) {
     out.complete = out.all_failed = true;
     std::filesystem::remove(journal_path, ec);
     return out;

@@ -37,8 +37,10 @@ struct SweepPlan {
 struct SweepOutcome {
   std::size_t points = 0, resumed = 0, computed = 0;
   bool complete = false;  ///< false when max_new_points stopped it (no CSV written yet)
-  /// Every point failed (each note says "error: ..."): no CSV is written, the journal is removed
-  /// (a rerun computes them again), and the caller reports it as an error: nothing was computed.
+  /// Points whose note says "error: ..." (resumed ones included). When the sweep completes with
+  /// every point failed, no CSV is written, the journal is removed (a rerun computes them again),
+  /// and all_failed tells the caller to report it as an error: nothing was computed.
+  std::size_t failed = 0;
   bool all_failed = false;
   std::vector<std::vector<double>> values;        ///< per point: its parameter values
   std::vector<std::vector<std::string>> results;  ///< per point: its result cells
