@@ -78,6 +78,17 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.fnn) j["fnn_points"] = r.fnn->points;  // kd-tree size per m (capped on long series)
   j["pairs"] = r.curve.pairs;
   j["references"] = r.curve.references;
+  // What the exponent says about the motion (reading.hpp): paper 001's reading of its sign.
+  const Reading reading = read_stability(r);
+  j["reading"] = {{"stability", to_string(reading.stability)},
+                  {"motion", reading.motion},
+                  {"amplitude", to_string(reading.amplitude)},
+                  {"amplitude_ratio", finite_or_null(r.amplitude_ratio)},
+                  {"mean_period_time", finite_or_null(reading.mean_period)},
+                  {"lambda_per_period", finite_or_null(reading.lambda_per_period)},
+                  {"ci95_per_period", {finite_or_null(reading.ci_low_per_period), finite_or_null(reading.ci_high_per_period)}},
+                  {"neutral_per_period", ReadingOptions{}.neutral_per_period},
+                  {"summary", reading.summary}};
   j["warnings"] = r.warnings;
   return j;
 }
@@ -90,6 +101,7 @@ std::string to_text(const MlceResult& r) {
   if (std::isfinite(r.lyapunov_time))
     s += fmt::format(", Lyapunov time {:.6g} {}", r.lyapunov_time, r.time_unit.empty() ? "samples" : r.time_unit);
   s += "\n";
+  s += "reading         " + read_stability(r).summary + "\n";
   s += fmt::format("series          {} samples, dt = {:.6g} {}\n", r.n_points, r.dt,
                    r.time_unit.empty() ? "(per sample)" : r.time_unit);
   s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}\n", r.mean_period.mean_period,

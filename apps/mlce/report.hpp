@@ -9,6 +9,7 @@
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
 #include "mlce/each_channel.hpp"
+#include "mlce/reading.hpp"
 
 namespace mlce::cli {
 

@@ -18,6 +18,7 @@
 
 #include "cli_common.hpp"
 #include "mlce/estimate.hpp"
+#include "mlce/reading.hpp"
 #include "mlce/transient.hpp"
 #include "mlce/models/dynamics.hpp"
 #include "mlce/models/scene.hpp"
@@ -175,7 +176,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
   std::size_t channel_state = 0;
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
-    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "note"};
+    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "stability", "note"};
   } else {
     for (int i = 0; i < exponents; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
     if (!sensitivity.empty() && method == "eigen") throw po::error("--sensitivity: with --method qr or floquet");
@@ -247,7 +248,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
       const auto& x = s.channels[0];
       const auto [lo, hi] = std::minmax_element(x.end() - static_cast<std::ptrdiff_t>(std::max<std::size_t>(1, x.size() / 4)), x.end());
       cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points),
-               cell(0.5 * (*hi - *lo))};
+               cell(0.5 * (*hi - *lo)), to_string(read_stability(r).stability)};
       warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;

@@ -50,11 +50,13 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // delay 1: plateau at step 5, "lambda" = 0.16 per sample). A chaotic signal keeps rising after it
   // (Henon: window 2 steps, plateau from ~15; Lorenz x: 37 and ~600).
   const std::size_t window = (r.dim - 1) * r.delay + 1;
-  if (const auto reached = plateau_reached(r.curve, r.fit); r.fit.automatic && reached && *reached <= window)
+  if (const auto reached = plateau_reached(r.curve, r.fit); r.fit.automatic && reached && *reached <= window) {
+    r.divergence_resolved = false;
     r.warnings.push_back("divergence not resolved: the curve reaches its plateau at step " + std::to_string(*reached) +
                          ", within one embedding window ((m-1)*delay + 1 = " + std::to_string(window) +
                          " samples), as uncorrelated noise does; lambda measures the window, not an exponential "
                          "divergence (a noise-dominated signal, or a sampling too coarse for the motion)");
+  }
   // White measurement noise is matched at step 0 (the search picks the smallest distance, noise
   // included) and fresh one step later: the curve jumps by the noise's share at once, while a
   // deterministic curve rises at about its slope per step (Lorenz x: 0.013 at a slope of 0.010 per
@@ -203,7 +205,8 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // within 1.7 of its mean periods); an explicit window is the user's decision.
   // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
   // first third's (transient.hpp). Read by the short-run refusal and by the recurrence test.
-  const bool persisting = persists(amplitude_ratio(series));
+  r.amplitude_ratio = amplitude_ratio(series);
+  const bool persisting = persists(r.amplitude_ratio);
   if (!options.theiler && spanned < kMinMeanPeriods && persisting) {
     char text[400];
     std::snprintf(text, sizeof text,

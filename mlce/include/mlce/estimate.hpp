@@ -105,6 +105,12 @@ struct MlceResult {
   /// The analysed signal's own amplitude change, per sample (envelope_rate; NaN when too short):
   /// what tells a decay to rest from neighbours converging onto a motion that persists.
   double envelope_rate = std::numeric_limits<double>::quiet_NaN();
+  /// RMS of the analysed signal's last third over its first third's (amplitude_ratio, transient.hpp):
+  /// ~1 for a motion that persists; NaN when the first third has zero RMS.
+  double amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
+  /// False when the curve reaches its plateau within one embedding window ((m-1) delay + 1 steps),
+  /// as uncorrelated noise does: lambda then measures the window, not a divergence (warned).
+  bool divergence_resolved = true;
   /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
   /// standard deviation, white noise assumed, in units of the signal's standard deviation; NaN
   /// when not flagged.

@@ -1,0 +1,70 @@
+#pragma once
+// What an estimated MLCE says about the motion, in the terms of paper 001 sec. 3 (the paragraph
+// after eq. 9): all exponents negative, the solution is exponentially stable; one positive, it is
+// unstable or on a chaotic attractor; the largest zero, a limit cycle (several zero: a torus).
+//
+// The rule (read_stability), deterministic, on the estimate's own numbers:
+//  - Rates are compared per mean period T = 1 / mean frequency of the spectrum (eq. 19, the
+//    unclamped period, in the series' time unit): lambda T is the log change of a perturbation over
+//    one oscillation, a scale-free number for a flow, a map or a rotor alike.
+//  - Stability from the 95 % interval against a neutral band |lambda T| <= neutral_per_period:
+//    stable when the whole interval lies below -band, unstable when it lies above +band, neutral
+//    otherwise (the interval reaches into the band: zero is not excluded at the estimate's own
+//    precision).
+//  - The signal's own amplitude (AmplitudeTrend) tells a growth from chaos and a decay from a
+//    contraction onto a persisting motion: it grows when its last third's RMS is at least
+//    kPersistentAmplitude x its first third's or its envelope rate at least persist_share x lambda
+//    (lambda > 0); it decays in the mirror case; it is steady when neither and the rate is below
+//    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
+//    oscillation (an instability such as ground resonance); unstable + steady: chaos; unstable +
+//    changes: diverging, growth and chaos not told apart. A curve that falls while the amplitude is
+//    steady measures the neighbours converging onto a limit cycle, whose largest exponent is 0
+//    (paper 001 Fig. 4): neutral.
+//  - A curve the fit rule found bounded or flat (the neighbours never separate to the attractor
+//    scale) on a motion that does not decay is a limit cycle or torus: neutral, whatever residual
+//    slope was fitted.
+//  - Undetermined when the curve does not resolve a divergence (plateau within one embedding
+//    window: uncorrelated noise), when lambda > 0 while the amplitude decays, or lambda < 0 while
+//    it grows. Measurement noise flagged by the curve's first step is named in the summary (it
+//    biases lambda, it does not make a clear sign unclear).
+#include <string>
+
+#include "mlce/estimate.hpp"
+
+namespace mlce {
+
+enum class Stability { stable, neutral, unstable, undetermined };
+/// The amplitude of the analysed signal over the run.
+enum class AmplitudeTrend { decays, persists, grows, changes, unknown };
+
+const char* to_string(Stability s);
+const char* to_string(AmplitudeTrend a);
+
+struct ReadingOptions {
+  /// Half-width of the neutral band, in log change per mean period (0.01: a perturbation that
+  /// grows or shrinks by less than 1 % per oscillation, an e-fold in 100 of them).
+  double neutral_per_period = 0.01;
+  /// An envelope rate at least this share of lambda (same sign) is the amplitude's own growth or
+  /// decay (FitOptions::persist_share).
+  double persist_share = 0.5;
+  /// An envelope rate below this share of |lambda| (or below the neutral band per mean period) is a
+  /// steady amplitude: chaos, or a limit cycle the neighbours converge onto.
+  double steady_share = 0.1;
+  void validate() const;  ///< throws OptionError naming the option
+};
+
+struct Reading {
+  Stability stability = Stability::undetermined;
+  AmplitudeTrend amplitude = AmplitudeTrend::unknown;
+  /// What the motion is, in words: "decays to rest", "growing oscillation", "chaotic",
+  /// "diverging", "limit cycle", "lightly damped", "slowly growing" or "undetermined" (the summary
+  /// says why).
+  std::string motion;
+  double mean_period = 0.0;  ///< T, time units (NaN when the spectrum has no mean frequency)
+  double lambda_per_period = 0.0, ci_low_per_period = 0.0, ci_high_per_period = 0.0;  ///< lambda T
+  std::string summary;  ///< one line for people
+};
+
+Reading read_stability(const MlceResult& result, const ReadingOptions& options = {});
+
+}  // namespace mlce

@@ -1,0 +1,173 @@
+#include "mlce/reading.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+
+#include "mlce/series.hpp"
+#include "mlce/transient.hpp"
+
+namespace mlce {
+
+const char* to_string(Stability s) {
+  switch (s) {
+    case Stability::stable: return "stable";
+    case Stability::neutral: return "neutral";
+    case Stability::unstable: return "unstable";
+    case Stability::undetermined: break;
+  }
+  return "undetermined";
+}
+
+const char* to_string(AmplitudeTrend a) {
+  switch (a) {
+    case AmplitudeTrend::decays: return "decays";
+    case AmplitudeTrend::persists: return "persists";
+    case AmplitudeTrend::grows: return "grows";
+    case AmplitudeTrend::changes: return "changes";
+    case AmplitudeTrend::unknown: break;
+  }
+  return "unknown";
+}
+
+void ReadingOptions::validate() const {
+  if (!(neutral_per_period >= 0.0) || !std::isfinite(neutral_per_period))
+    throw OptionError("reading.neutral_per_period: expected a finite value >= 0");
+  if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("reading.persist_share: expected (0, 1)");
+  if (!(steady_share > 0.0 && steady_share < persist_share))
+    throw OptionError("reading.steady_share: expected (0, persist_share)");
+}
+
+namespace {
+
+/// The amplitude's own trend over the run, judged against lambda: the RMS ratio of the run's thirds
+/// catches a change over the run, the envelope rate (per time unit) one as fast as the exponent.
+/// Steady: neither changes, the rate below steady_share x |lambda| or below the neutral band per
+/// mean period (chaos: Lorenz x and Roessler x below 0.005 |lambda|; Hammond's limit cycles, blade 3
+/// inoperative, below 0.07). Grows (decays): the ratio is kPersistentAmplitude or more (or 1/that or
+/// less), or the rate is at least persist_share x lambda of the same sign (the bundled growing
+/// MBDyn run's blade lags: 0.65-1.08; a decay: 1.3). In between: it changes (the same run's hub x,
+/// a decaying start and a growth: 0.38, ratio 0.75).
+AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptions& o) {
+  const double ratio = r.amplitude_ratio;
+  const double rate = r.envelope_rate / r.dt;  // per time unit, like lambda
+  const double lambda = r.lambda;
+  if (std::isnan(ratio) && std::isnan(rate)) return AmplitudeTrend::unknown;
+  // A rate within the neutral band per mean period is no trend, whatever lambda (a torus: lambda
+  // and the rate both ~1e-4 per period).
+  const bool beyond_band = std::abs(rate) * T > o.neutral_per_period;
+  if (ratio >= kPersistentAmplitude || (beyond_band && lambda > 0.0 && rate >= o.persist_share * lambda))
+    return AmplitudeTrend::grows;
+  if (ratio <= 1.0 / kPersistentAmplitude || (beyond_band && lambda < 0.0 && rate <= o.persist_share * lambda))
+    return AmplitudeTrend::decays;
+  if (std::isnan(rate) || std::abs(rate) <= o.steady_share * std::abs(lambda) || !beyond_band)
+    return AmplitudeTrend::persists;
+  return AmplitudeTrend::changes;
+}
+
+}  // namespace
+
+Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
+  options.validate();
+  Reading out;
+  const double f = r.mean_period.mean_frequency;  // cycles per time unit, unclamped
+  out.mean_period = f > 0.0 && std::isfinite(f) ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();
+  const double T = out.mean_period;
+  out.lambda_per_period = r.lambda * T;
+  out.ci_low_per_period = r.ci95_low * T;
+  out.ci_high_per_period = r.ci95_high * T;
+  out.amplitude = amplitude_trend(r, T, options);
+  const double band = options.neutral_per_period;
+  const std::string numbers =
+      fmt::format("lambda x mean period = {:+.3g} (95 % interval {:+.3g} .. {:+.3g}; neutral within +-{:g})",
+                  out.lambda_per_period, out.ci_low_per_period, out.ci_high_per_period, band);
+
+  auto undetermined = [&](const std::string& why) {
+    out.stability = Stability::undetermined;
+    out.motion = "undetermined";
+    out.summary = "undetermined: " + why;
+    return out;
+  };
+  if (!std::isfinite(T)) return undetermined("the spectrum has no mean frequency to measure the rate against");
+  if (!r.divergence_resolved)
+    return undetermined("the curve does not resolve a divergence (plateau within one embedding window)");
+  // Measurement noise biases lambda (the warnings say how much) but does not make a clear sign
+  // unclear: the reading stands, and says so.
+  const std::string noise =
+      std::isfinite(r.noise_level)
+          ? fmt::format("; measurement noise (~{:.2g} % of the signal's standard deviation) biases lambda",
+                        100.0 * r.noise_level)
+          : std::string();
+
+  const AmplitudeTrend a = out.amplitude;
+  // The fit rule's own finding that the neighbours never separate to the attractor scale (a bounded
+  // or flat curve, fit.hpp) is the limit cycle's signature, whatever residual slope was fitted
+  // (Hammond at 300 rpm, blade 3 inoperative, on its limit cycle: +0.055 per period on a bounded
+  // curve). Not when the motion decays to rest: then the interval decides.
+  const bool never_separate = r.fit.automatic && (r.fit.end == CurveEnd::bounded || r.fit.end == CurveEnd::flat);
+  if (never_separate && a != AmplitudeTrend::decays) {
+    out.stability = Stability::neutral;
+    out.motion = a == AmplitudeTrend::grows ? "slowly growing" : "limit cycle";
+    out.summary = std::string("neutral: the neighbours never separate to the attractor scale (curve end: ") +
+                  to_string(r.fit.end) + "): " +
+                  (a == AmplitudeTrend::grows ? "a motion that grows towards a larger bounded one"
+                                              : "a limit cycle or torus, largest exponent 0 (paper 001 Fig. 4)") +
+                  "; the fitted slope is the estimate's residue; " + numbers + noise;
+    return out;
+  }
+  if (out.ci_low_per_period > band) {
+    if (a == AmplitudeTrend::decays)
+      return undetermined("lambda > 0 while the amplitude decays (a transient? see the warnings; " + numbers + ")");
+    out.stability = Stability::unstable;
+    if (a == AmplitudeTrend::grows) {
+      out.motion = "growing oscillation";
+      out.summary = "unstable: nearby motions diverge and the amplitude grows: the motion leaves its equilibrium "
+                    "(paper 001: an instability, such as ground resonance); ";
+    } else if (a == AmplitudeTrend::persists) {
+      out.motion = "chaotic";
+      out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";
+    } else {
+      out.motion = "diverging";
+      out.summary = "unstable: nearby motions diverge while the amplitude changes: a growth and chaos are not told "
+                    "apart over this run (a longer run shows which); ";
+    }
+    out.summary += numbers + noise;
+    return out;
+  }
+  if (out.ci_high_per_period < -band) {
+    if (a == AmplitudeTrend::grows)
+      return undetermined("lambda < 0 while the amplitude grows (a transient towards a larger motion? see the "
+                          "warnings; " + numbers + ")");
+    if (a == AmplitudeTrend::persists) {  // the curve falls, the amplitude does not
+      out.stability = Stability::neutral;
+      out.motion = "limit cycle";
+      out.summary = "neutral: the neighbours converge onto a motion of steady amplitude, a stable limit cycle or torus, "
+                    "whose largest exponent is 0 (paper 001 Fig. 4); the negative slope is the contraction towards "
+                    "it; " + numbers + noise;
+      return out;
+    }
+    out.stability = Stability::stable;
+    out.motion = "decays to rest";
+    out.summary = "stable: perturbations decay (exponentially stable); " + numbers + noise;
+    return out;
+  }
+  out.stability = Stability::neutral;
+  switch (a) {
+    case AmplitudeTrend::decays:
+      out.motion = "lightly damped";
+      out.summary = "neutral within the band, while the amplitude decays: lightly damped; ";
+      break;
+    case AmplitudeTrend::grows:
+      out.motion = "slowly growing";
+      out.summary = "neutral within the band, while the amplitude grows: slowly growing; ";
+      break;
+    default:
+      out.motion = "limit cycle";
+      out.summary = "neutral: a periodic or quasi-periodic motion (limit cycle, or a torus), largest exponent 0; ";
+  }
+  out.summary += numbers + noise;
+  return out;
+}
+
+}  // namespace mlce

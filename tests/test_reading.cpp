@@ -1,0 +1,175 @@
+// What the estimate says about the motion (reading.hpp), against motions whose nature is known:
+// exact decays and growths (lambda = -zeta omega, +sigma), a limit cycle and a torus (lambda_1 = 0),
+// chaotic attractors, white noise; Hammond's rotor with blade 3's damper inoperative, where
+// Floquet's exponent of the linearisation (a second method) says which speeds are linearly unstable
+// (then the nonlinear motion settles on a limit cycle: paper 001 Figs. 4, 8) and which are stable.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "mlce/estimate.hpp"
+#include "mlce/models/dynamics.hpp"
+#include "mlce/models/scene.hpp"
+#include "mlce/models/simulate.hpp"
+#include "mlce/reading.hpp"
+#include "mlce/spectrum/floquet.hpp"
+#include "mlce/transient.hpp"
+#include "reference_systems.hpp"
+
+namespace {
+
+using namespace mlce;
+
+constexpr double kTwoPi = 6.283185307179586;
+
+Reading read(const std::vector<double>& x, double dt) {
+  return read_stability(estimate_mlce(make_series_with_step({x}, dt), {}));
+}
+
+/// e^(sigma t) sin(omega t): lambda = sigma exactly (negative sigma: a decay, positive: a growth).
+std::vector<double> exponential_sine(std::size_t n, double dt, double sigma, double omega) {
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = dt * static_cast<double>(i);
+    x[i] = std::exp(sigma * t) * std::sin(omega * t);
+  }
+  return x;
+}
+
+void expect_reading(const Reading& r, Stability s, const std::string& motion, const char* what) {
+  EXPECT_EQ(to_string(r.stability), std::string(to_string(s))) << what << ": " << r.summary;
+  EXPECT_EQ(r.motion, motion) << what << ": " << r.summary;
+}
+
+}  // namespace
+
+TEST(Reading, DecayAndGrowthOfKnownRateAreStableAndUnstable) {
+  // Damped oscillator zeta = 0.05, omega = 2 pi: lambda T = -zeta omega T = -0.314 per period.
+  const Reading decay = read(reference::damped_oscillator(2000, 0.01, 0.05, kTwoPi), 0.01);
+  expect_reading(decay, Stability::stable, "decays to rest", "damped oscillator");
+  EXPECT_NEAR(decay.lambda_per_period, -0.05 * kTwoPi, 0.01);
+  EXPECT_EQ(decay.amplitude, AmplitudeTrend::decays);
+  // Negative damping: e^(0.05 t) sin(2 pi t) over 40 s grows 7.4 times; lambda = +0.05.
+  const Reading growth = read(exponential_sine(4000, 0.01, 0.05, kTwoPi), 0.01);
+  expect_reading(growth, Stability::unstable, "growing oscillation", "negatively damped oscillator");
+  EXPECT_NEAR(growth.lambda_per_period, 0.05, 0.005);
+  EXPECT_EQ(growth.amplitude, AmplitudeTrend::grows);
+}
+
+TEST(Reading, TheNeutralBandIsOnePercentPerMeanPeriod) {
+  // zeta = 0.001: lambda T = -2 pi zeta = -0.0063, inside the band (and so is its amplitude's
+  // decay: at this resolution a limit cycle); zeta = 0.003: -0.019, beyond it.
+  const Reading light = read(exponential_sine(4000, 0.01, -0.001 * kTwoPi, kTwoPi), 0.01);
+  expect_reading(light, Stability::neutral, "limit cycle", "zeta = 0.001");
+  EXPECT_NEAR(light.lambda_per_period, -0.001 * kTwoPi, 0.002);
+  const Reading damped = read(exponential_sine(4000, 0.01, -0.003 * kTwoPi, kTwoPi), 0.01);
+  expect_reading(damped, Stability::stable, "decays to rest", "zeta = 0.003");
+  EXPECT_NEAR(damped.lambda_per_period, -0.003 * kTwoPi, 0.002);
+}
+
+TEST(Reading, LimitCycleAndTorusAreNeutral) {
+  expect_reading(read(reference::van_der_pol_x(10000, 0.01), 0.01), Stability::neutral, "limit cycle", "van der Pol");
+  std::vector<double> torus(20000);
+  for (std::size_t i = 0; i < torus.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    torus[i] = std::sin(t) + 0.7 * std::sin(std::sqrt(2.0) * t + 1.0);
+  }
+  expect_reading(read(torus, 0.01), Stability::neutral, "limit cycle", "two incommensurate frequencies");
+}
+
+TEST(Reading, ChaoticAttractorsAreUnstableWithSteadyAmplitude) {
+  const Reading lorenz = read(reference::lorenz_x(10000, 0.01), 0.01);
+  expect_reading(lorenz, Stability::unstable, "chaotic", "Lorenz x");
+  EXPECT_EQ(lorenz.amplitude, AmplitudeTrend::persists);
+  expect_reading(read(reference::roessler_x(10000, 0.1), 0.1), Stability::unstable, "chaotic", "Roessler x");
+  expect_reading(read(reference::henon_x(10000), 1.0), Stability::unstable, "chaotic", "Henon x");
+  // With white measurement noise of 10 % of its standard deviation the curve's first step jumps
+  // (flagged, lambda biased low): still chaotic, and the summary names the noise.
+  auto noisy = reference::lorenz_x(10000, 0.01);
+  double mean = 0.0, var = 0.0;
+  for (double v : noisy) mean += v / static_cast<double>(noisy.size());
+  for (double v : noisy) var += (v - mean) * (v - mean) / static_cast<double>(noisy.size());
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> g(0.0, 0.1 * std::sqrt(var));
+  for (double& v : noisy) v += g(rng);
+  const Reading r = read(noisy, 0.01);
+  expect_reading(r, Stability::unstable, "chaotic", "Lorenz x with 10 % noise");
+  EXPECT_NE(r.summary.find("measurement noise"), std::string::npos) << r.summary;
+}
+
+TEST(Reading, WhiteNoiseIsUndetermined) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> x(5000);
+  for (double& v : x) v = g(rng);
+  const Reading r = read(x, 1.0);
+  EXPECT_EQ(r.stability, Stability::undetermined) << r.summary;
+  EXPECT_NE(r.summary.find("does not resolve a divergence"), std::string::npos) << r.summary;
+}
+
+TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
+  // A result that says lambda > 0 while the signal's amplitude falls to a tenth: not a reading.
+  MlceResult r;
+  r.dt = 0.01;
+  r.mean_period.mean_frequency = 1.0;
+  r.lambda = 0.5, r.ci95_low = 0.4, r.ci95_high = 0.6;
+  r.amplitude_ratio = 0.1;
+  r.envelope_rate = -0.5 * r.dt;
+  r.fit.end = CurveEnd::saturation;
+  EXPECT_EQ(read_stability(r).stability, Stability::undetermined);
+  // And lambda < 0 while it grows tenfold.
+  r.lambda = -0.5, r.ci95_low = -0.6, r.ci95_high = -0.4;
+  r.amplitude_ratio = 10.0;
+  r.envelope_rate = 0.5 * r.dt;
+  EXPECT_EQ(read_stability(r).stability, Stability::undetermined);
+  // The band's edges: an interval reaching to -0.0099 per period is neutral, to -0.0101 stable.
+  r.amplitude_ratio = 0.3;
+  r.envelope_rate = -0.5 * r.dt;
+  r.fit.end = CurveEnd::floor;
+  r.ci95_high = -0.0099;
+  EXPECT_EQ(read_stability(r).stability, Stability::neutral);
+  r.ci95_high = -0.0101;
+  EXPECT_EQ(read_stability(r).stability, Stability::stable);
+  // No mean frequency (a constant spectrum): nothing to measure the rate against.
+  r.mean_period.mean_frequency = 0.0;
+  EXPECT_EQ(read_stability(r).stability, Stability::undetermined);
+  ReadingOptions o;
+  o.neutral_per_period = -1.0;
+  EXPECT_THROW(read_stability(r, o), OptionError);
+  o = {};
+  o.steady_share = 0.7;  // not below persist_share
+  EXPECT_THROW(read_stability(r, o), OptionError);
+}
+
+TEST(Reading, BladeThreeInoperativeIsALimitCycleWhereFloquetSaysUnstable) {
+  // Paper 001 sec. 5: with blade 3's damper inoperative, the trivial solution is linearly unstable
+  // between about 210 and 307 rpm (Floquet), and the nonlinear motion settles on a limit cycle
+  // there (MLCE ~ 0); outside the band it decays. The reading of the MLCE from blade 3's lag must
+  // follow the sign of Floquet's largest exponent: unstable linearisation -> neutral (limit cycle),
+  // stable -> stable.
+  for (const double rpm : {180.0, 250.0, 300.0, 340.0}) {
+    const models::Scene sc = models::load_scene(
+        "", {"--c", "4067.5,4067.5,0,4067.5", "--cy", "25539.35", "--rpm", std::to_string(rpm), "--x0", "0.1",
+             "--t_end", "90", "--dt_out", "0.02", "--rtol", "1e-8"});
+    const double floquet = spectrum::floquet(models::dynamical_system(sc), {}).exponents(0);
+    Series s;
+    s.dt = sc.dt_out;
+    s.time_unit = "s";
+    s.channels.emplace_back();
+    const std::size_t zeta3 = 2;  // zeta1 zeta2 zeta3 ...
+    ASSERT_EQ(models::state_names(sc)[zeta3], "zeta3");
+    models::simulate(sc, [&s, zeta3](std::size_t, double, const Eigen::VectorXd& x) {
+      s.channels[0].push_back(x(static_cast<Eigen::Index>(zeta3)));
+    });
+    MlceOptions o;
+    const Reading r = read_stability(estimate_mlce(skip_transient(s), o));
+    std::printf("%.0f rpm: Floquet %+.4f 1/s; reading %s (%s): %s\n", rpm, floquet, to_string(r.stability),
+                r.motion.c_str(), r.summary.c_str());
+    if (floquet > 0.0) {
+      expect_reading(r, Stability::neutral, "limit cycle", "blade 3 inoperative, linearly unstable");
+    } else {
+      expect_reading(r, Stability::stable, "decays to rest", "blade 3 inoperative, linearly stable");
+    }
+  }
+}
