@@ -372,6 +372,9 @@ TEST_F(Cli, EachChannelTableSaysWhereEveryChannelStarts) {
     return field;
   };
   ASSERT_EQ(column("channel", 6), "from") << r.out;  // the header: "lambda 1/s" and "95 % interval" are 5 words
+  // The last column reads each estimate (reading.hpp): Lorenz x on its attractor is chaotic.
+  EXPECT_EQ(column("settled", 11), "unstable") << r.out;
+  EXPECT_EQ(column("settled", 12), "(chaotic)") << r.out;
   const auto j = nlohmann::json::parse(run(base + " --json").out);
   const double raw_from = std::stod(column("raw", 5)), settled_from = std::stod(column("settled", 5));
   EXPECT_GT(raw_from, 0.0) << r.out;

@@ -380,8 +380,8 @@ std::string to_text(const EachChannelResult& r, double t0) {
     width = std::max(width, c.name.size());
   }
   const std::string u = rate_unit(*any);  // at least one channel was estimated (or it threw)
-  std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>10} {:>5} {:>3} {:>7} {:>11} {:>6}\n", "channel", width,
-                              "lambda " + u, "95 % interval", "from", "delay", "dim", "theiler", "fit", "R^2");
+  std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>10} {:>5} {:>3} {:>7} {:>11} {:>6}  {}\n", "channel", width,
+                              "lambda " + u, "95 % interval", "from", "delay", "dim", "theiler", "fit", "R^2", "reading");
   for (const auto& c : r.channels) {
     if (!c.result) {
       s += fmt::format("{:<{}}  not estimated (why: the warning below)\n", c.name, width);
@@ -389,9 +389,10 @@ std::string to_text(const EachChannelResult& r, double t0) {
     }
     const MlceResult& e = *c.result;
     const double from = t0 + static_cast<double>(e.skipped_start) * e.dt;
-    s += fmt::format("{:<{}}  {:>12.6g}  {:>12.6g} .. {:<12.6g}  {:>10.6g} {:>5} {:>3} {:>7} {:>11} {:>6.4f}\n", c.name,
-                     width, e.lambda, e.ci95_low, e.ci95_high, from, e.delay, e.dim, e.theiler,
-                     fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2);
+    const Reading reading = read_stability(e);  // reading.hpp: stability and the kind of motion
+    s += fmt::format("{:<{}}  {:>12.6g}  {:>12.6g} .. {:<12.6g}  {:>10.6g} {:>5} {:>3} {:>7} {:>11} {:>6.4f}  {} ({})\n",
+                     c.name, width, e.lambda, e.ci95_low, e.ci95_high, from, e.delay, e.dim, e.theiler,
+                     fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2, to_string(reading.stability), reading.motion);
   }
   s += "agreement       " + agreement_text(r.verdict, r.estimated, u) + "\n";
   for (const auto& c : r.channels)
