@@ -49,6 +49,7 @@ TEST(Reading, DecayAndGrowthOfKnownRateAreStableAndUnstable) {
   const Reading decay = read(reference::damped_oscillator(2000, 0.01, 0.05, kTwoPi), 0.01);
   expect_reading(decay, Stability::stable, "decays to rest", "damped oscillator");
   EXPECT_NEAR(decay.lambda_per_period, -0.05 * kTwoPi, 0.01);
+  EXPECT_EQ(decay.neutral_per_period, ReadingOptions{}.neutral_per_period);
   EXPECT_EQ(decay.amplitude, AmplitudeTrend::decays);
   // Negative damping: e^(0.05 t) sin(2 pi t) over 40 s grows 7.4 times; lambda = +0.05.
   const Reading growth = read(exponential_sine(4000, 0.01, 0.05, kTwoPi), 0.01);
@@ -131,6 +132,13 @@ TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
   EXPECT_EQ(read_stability(r).stability, Stability::neutral);
   r.ci95_high = -0.0101;
   EXPECT_EQ(read_stability(r).stability, Stability::stable);
+  // A wider band given in the options is the one applied and reported.
+  ReadingOptions wide;
+  wide.neutral_per_period = 0.02;
+  const Reading widened = read_stability(r, wide);
+  EXPECT_EQ(widened.stability, Stability::neutral);
+  EXPECT_EQ(widened.neutral_per_period, 0.02);
+  EXPECT_NE(widened.summary.find("neutral within +-0.02"), std::string::npos) << widened.summary;
   // No mean frequency (a constant spectrum): nothing to measure the rate against.
   r.mean_period.mean_frequency = 0.0;
   EXPECT_EQ(read_stability(r).stability, Stability::undetermined);

@@ -87,7 +87,7 @@ nlohmann::json to_json(const MlceResult& r) {
                   {"mean_period_time", finite_or_null(reading.mean_period)},
                   {"lambda_per_period", finite_or_null(reading.lambda_per_period)},
                   {"ci95_per_period", {finite_or_null(reading.ci_low_per_period), finite_or_null(reading.ci_high_per_period)}},
-                  {"neutral_per_period", ReadingOptions{}.neutral_per_period},
+                  {"neutral_per_period", reading.neutral_per_period},
                   {"summary", reading.summary}};
   j["warnings"] = r.warnings;
   return j;

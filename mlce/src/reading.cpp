@@ -78,7 +78,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   out.ci_low_per_period = r.ci95_low * T;
   out.ci_high_per_period = r.ci95_high * T;
   out.amplitude = amplitude_trend(r, T, options);
-  const double band = options.neutral_per_period;
+  const double band = out.neutral_per_period = options.neutral_per_period;
   const std::string numbers =
       fmt::format("lambda x mean period = {:+.3g} (95 % interval {:+.3g} .. {:+.3g}; neutral within +-{:g})",
                   out.lambda_per_period, out.ci_low_per_period, out.ci_high_per_period, band);

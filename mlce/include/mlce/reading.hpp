@@ -62,6 +62,7 @@ struct Reading {
   std::string motion;
   double mean_period = 0.0;  ///< T, time units (NaN when the spectrum has no mean frequency)
   double lambda_per_period = 0.0, ci_low_per_period = 0.0, ci_high_per_period = 0.0;  ///< lambda T
+  double neutral_per_period = 0.0;  ///< the band the interval was judged against (the options')
   std::string summary;  ///< one line for people
 };
 
