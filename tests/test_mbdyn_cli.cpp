@@ -94,9 +94,13 @@ TEST_F(MbdynCli, BladeAzimuthThatWrapsIsFlaggedAndItsLagIsNot) {
   bool said = false;
   for (const auto& w : a["warnings"]) said |= w.get<std::string>().find("and 41 time(s) in all, by a whole turn: an angle that wraps at +-180 deg") != std::string::npos;
   EXPECT_TRUE(said) << a["warnings"].dump();
+  // ... so its exponent is not read as a stability (reading.hpp), and the JSON says why.
+  EXPECT_EQ(a["unreliable"], "an angle that wraps by whole turns");
+  EXPECT_EQ(a["reading"]["stability"], "undetermined");
   const CliRun lag = run("estimate " + kC3 + " --channel rel:13:4:z --json");
   ASSERT_EQ(lag.status, 0) << lag.err;
   EXPECT_EQ(lag.out.find("whole turn"), std::string::npos);
+  EXPECT_TRUE(nlohmann::json::parse(lag.out)["unreliable"].is_null());
 }
 
 TEST_F(MbdynCli, ExtractWritesTimeAndChannelsAsCsv) {

@@ -109,6 +109,31 @@ TEST(Reading, WhiteNoiseIsUndetermined) {
   EXPECT_NE(r.summary.find("does not resolve a divergence"), std::string::npos) << r.summary;
 }
 
+TEST(Reading, WhatTheWarningsCallMeaninglessIsUndetermined) {
+  // Lorenz x embedded with m = 30 spans 3 mean periods (test_estimate_systems: 522 samples of 171);
+  // with m = 100 (10 periods) the curve reads flat, lambda 0.015, which would read as a limit cycle.
+  MlceOptions wide;
+  wide.dim = 30;
+  const Reading window = read_stability(estimate_mlce(make_series_with_step({reference::lorenz_x(10000, 0.01)}, 0.01), wide));
+  EXPECT_EQ(window.stability, Stability::undetermined) << window.summary;
+  EXPECT_NE(window.summary.find("embedding window"), std::string::npos) << window.summary;
+  // A sine on a ramp drifts: its neighbours are whatever lies closest across the drift.
+  std::vector<double> ramp_sine(10000), wrapped(10000);
+  for (std::size_t i = 0; i < ramp_sine.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    ramp_sine[i] = 0.3 * t + std::sin(kTwoPi * t);
+    // A blade azimuth as MBDyn prints it, in degrees wrapped to (-180, 180], 1.3 turns per second,
+    // with a small lag oscillation.
+    wrapped[i] = std::remainder(468.0 * t + 3.0 * std::sin(kTwoPi * 0.7 * t), 360.0);
+  }
+  const Reading drift = read(ramp_sine, 0.01);
+  EXPECT_EQ(drift.stability, Stability::undetermined) << drift.summary;
+  EXPECT_NE(drift.summary.find("drifts"), std::string::npos) << drift.summary;
+  const Reading angle = read(wrapped, 0.01);
+  EXPECT_EQ(angle.stability, Stability::undetermined) << angle.summary;
+  EXPECT_NE(angle.summary.find("wraps"), std::string::npos) << angle.summary;
+}
+
 TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
   // A result that says lambda > 0 while the signal's amplitude falls to a tenth: not a reading.
   MlceResult r;

@@ -67,6 +67,7 @@ nlohmann::json to_json(const MlceResult& r) {
     }
   }
   j["noise_level"] = finite_or_null(r.noise_level);  // of the signal's standard deviation
+  j["unreliable"] = r.unreliable.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.unreliable);
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
   j["dt"] = r.dt;

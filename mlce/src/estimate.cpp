@@ -51,7 +51,7 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // (Henon: window 2 steps, plateau from ~15; Lorenz x: 37 and ~600).
   const std::size_t window = (r.dim - 1) * r.delay + 1;
   if (const auto reached = plateau_reached(r.curve, r.fit); r.fit.automatic && reached && *reached <= window) {
-    r.divergence_resolved = false;
+    if (r.unreliable.empty()) r.unreliable = "the curve does not resolve a divergence (plateau within one embedding window)";
     r.warnings.push_back("divergence not resolved: the curve reaches its plateau at step " + std::to_string(*reached) +
                          ", within one embedding window ((m-1)*delay + 1 = " + std::to_string(window) +
                          " samples), as uncorrelated noise does; lambda measures the window, not an exponential "
@@ -167,6 +167,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
         "states: analyse a stationary channel (a rate, a relative angle) or remove the drift first",
         100.0 * d.share, channel_name(series, d.channel));
     r.warnings.push_back(drift_warning);
+    r.unreliable = "the series drifts";
   }
   if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
     r.warnings.push_back(fmt::format(
@@ -175,6 +176,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
         "angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
         channel_name(series, w.channel), w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
         w.degrees ? "180 deg" : "pi"));
+    if (r.unreliable.empty()) r.unreliable = "an angle that wraps by whole turns";
   }
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
@@ -279,12 +281,14 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // samples). Far beyond it, on a chaotic motion its first and last coordinates are as good as
   // independent: distances mix unrelated states, the neighbours are poor, and the curve can read
   // flat (Lorenz x with m = 100: 10 mean periods, "lambda" 0.015 against 0.91). Said, not changed.
-  if (const double window = static_cast<double>((r.dim - 1) * r.delay); window > kMaxWindowPeriods * own_period)
+  if (const double window = static_cast<double>((r.dim - 1) * r.delay); window > kMaxWindowPeriods * own_period) {
+    if (r.unreliable.empty()) r.unreliable = "an embedding window of several mean periods";
     r.warnings.push_back(fmt::format(
         "the embedding window (m-1)*delay = {:.0f} samples spans {:.3g} mean periods ({:.0f} samples each): its "
         "coordinates are too far apart in time to describe one state, and the exponent is unreliable; choose m and "
         "the delay so that (m-1)*delay is about one mean period or less",
         window, window / own_period, std::ceil(own_period)));
+  }
 
   RosensteinOptions ro;
   ro.dim = r.dim;

@@ -90,8 +90,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     return out;
   };
   if (!std::isfinite(T)) return undetermined("the spectrum has no mean frequency to measure the rate against");
-  if (!r.divergence_resolved)
-    return undetermined("the curve does not resolve a divergence (plateau within one embedding window)");
+  if (!r.unreliable.empty()) return undetermined(r.unreliable + ": lambda does not measure a divergence (see the warnings)");
   // Measurement noise biases lambda (the warnings say how much) but does not make a clear sign
   // unclear: the reading stands, and says so.
   const std::string noise =

@@ -108,9 +108,11 @@ struct MlceResult {
   /// RMS of the analysed signal's last third over its first third's (amplitude_ratio, transient.hpp):
   /// ~1 for a motion that persists; NaN when the first third has zero RMS.
   double amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
-  /// False when the curve reaches its plateau within one embedding window ((m-1) delay + 1 steps),
-  /// as uncorrelated noise does: lambda then measures the window, not a divergence (warned).
-  bool divergence_resolved = true;
+  /// Why lambda does not measure the motion's divergence, when one of the warnings says so (the
+  /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
+  /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise).
+  /// Empty otherwise. The reading (reading.hpp) is then undetermined.
+  std::string unreliable;
   /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
   /// standard deviation, white noise assumed, in units of the signal's standard deviation; NaN
   /// when not flagged.

@@ -23,9 +23,10 @@
 //  - A curve the fit rule found bounded or flat (the neighbours never separate to the attractor
 //    scale) on a motion that does not decay is a limit cycle or torus: neutral, whatever residual
 //    slope was fitted.
-//  - Undetermined when the curve does not resolve a divergence (plateau within one embedding
-//    window: uncorrelated noise), when lambda > 0 while the amplitude decays, or lambda < 0 while
-//    it grows. Measurement noise flagged by the curve's first step is named in the summary (it
+//  - Undetermined when a warning says lambda does not measure the motion's divergence
+//    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
+//    mean periods, a plateau within one embedding window as uncorrelated noise gives), when
+//    lambda > 0 while the amplitude decays, or lambda < 0 while it grows. Measurement noise flagged by the curve's first step is named in the summary (it
 //    biases lambda, it does not make a clear sign unclear).
 #include <string>
 
