@@ -302,12 +302,16 @@ TEST_F(Cli, ConvergenceTableInEveryForm) {
   EXPECT_EQ(j["points"][0]["samples"], 1000);
   for (const auto& p : j["points"]) EXPECT_NEAR(p["lambda"].get<double>(), -0.1 * M_PI, 0.003) << p;
   EXPECT_TRUE(j["converged"].get<bool>());
+  for (const auto& p : j["points"]) EXPECT_EQ(p["stability"], "stable") << p;  // lambda T = -0.314
+  EXPECT_TRUE(j["reading_settled"].get<bool>());
   EXPECT_EQ(j["lambda_unit"], "1/s");
-  expect_csv(csv, "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings", 5);
+  expect_csv(csv, "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion", 5);
   EXPECT_TRUE(fs::exists(png));
   r = run("convergence " + f + " --time-column 1 --column 2 --parts 2 --quiet");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("settled: every part"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("reading settled: stable (decays to rest) on every part of at least half the run"), std::string::npos)
+      << r.out;
   expect_one_line_error(run("convergence " + f + " --time-column 1 --column 2 --parts 1"), "convergence.parts = 1", 2);
   const auto tiny = series_file(mlce::reference::henon_x(12), 1.0);
   expect_one_line_error(run("convergence " + tiny + " --time-column 1 --column 2"), "series.txt: AMI needs at least 16 samples");

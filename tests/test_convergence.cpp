@@ -2,6 +2,7 @@
 // not settled where paper 001 Fig. 6's drift is left in (a decay into a noise floor, uncut).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -29,6 +30,9 @@ TEST(Convergence, DampedOscillatorIsSettledAtItsExactRateFromTheFirstEighth) {
     EXPECT_NEAR(r.points[k].lambda / lambda, 1.0, 0.01) << r.points[k].samples;
   }
   EXPECT_TRUE(r.converged);
+  // Every part reads the decay it is (lambda T = -0.314, far beyond the neutral band of 0.01).
+  for (const auto& p : r.points) EXPECT_EQ(p.stability, mlce::Stability::stable) << p.samples << " " << p.motion;
+  EXPECT_TRUE(r.reading_settled);
   // Floor: max(5 % of |lambda|, 1 % of the mean frequency, which is 1 Hz).
   EXPECT_NEAR(r.tolerance_floor, std::max(0.05 * std::abs(r.points.back().lambda), 0.01), 1e-3);
 }
@@ -43,14 +47,23 @@ TEST(Convergence, DecayIntoANoiseFloorDriftsWithTheRunUnlessTheFloorIsCut) {
   const auto drift = estimate_convergence(series, uncut);
   EXPECT_FALSE(drift.converged);
   EXPECT_GT(drift.points.back().lambda, -0.5);  // what the uncut run reports for lambda = -pi
-  ASSERT_FALSE(drift.warnings.empty());
-  EXPECT_NE(drift.warnings.back().find("lambda still moves with the run length"), std::string::npos)
-      << drift.warnings.back();
+  auto said = [](const auto& warnings, const std::string& what) {
+    return std::any_of(warnings.begin(), warnings.end(), [&](const std::string& w) { return w.find(what) != std::string::npos; });
+  };
+  EXPECT_TRUE(said(drift.warnings, "lambda still moves with the run length"));
+  // ... and so does its reading: the half run reads the decay it is, the whole run's flattened curve
+  // does not (-0.24 1/s over a mean period of ~1 s: within the neutral band's reach).
+  EXPECT_EQ(drift.points[3].stability, mlce::Stability::stable);
+  EXPECT_NE(drift.points.back().stability, mlce::Stability::stable);
+  EXPECT_FALSE(drift.reading_settled);
+  EXPECT_TRUE(said(drift.warnings, "the reading changes with the run length: stable (decays to rest) over the first 2000"));
   const auto cut = estimate_convergence(series, {});
   EXPECT_TRUE(cut.converged);
+  EXPECT_TRUE(cut.reading_settled);
   for (const auto& p : cut.points) {
     ASSERT_TRUE(p.estimated) << p.error;
     EXPECT_NEAR(p.lambda / -std::numbers::pi, 1.0, 0.02) << p.samples;
+    EXPECT_EQ(p.stability, mlce::Stability::stable) << p.samples;
   }
 }
 
@@ -64,8 +77,11 @@ TEST(Convergence, PartsTooShortAreRecordedAndTheLongerOnesStillEstimated) {
   for (std::size_t k = 1; k < 8; ++k) {
     ASSERT_TRUE(r.points[k].estimated) << r.points[k].error;
     EXPECT_LT(std::abs(r.points[k].lambda), 0.01) << r.points[k].samples;
+    EXPECT_EQ(r.points[k].stability, mlce::Stability::neutral) << r.points[k].samples;  // its largest exponent is 0
+    EXPECT_EQ(r.points[k].motion, "limit cycle");
   }
   EXPECT_TRUE(r.converged);
+  EXPECT_TRUE(r.reading_settled);  // the part too short to estimate does not count against it
 }
 
 TEST(Convergence, BadOptionsAndAWholeRunTooShortAreErrors) {
@@ -77,6 +93,9 @@ TEST(Convergence, BadOptionsAndAWholeRunTooShortAreErrors) {
   EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);
   o = {};
   o.relative_tolerance = -1;
+  EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);
+  o = {};
+  o.reading.neutral_per_period = -0.01;  // the reading's options are validated too
   EXPECT_THROW(estimate_convergence(series, o), mlce::OptionError);
   EXPECT_THROW(estimate_convergence(make_series_with_step({mlce::reference::henon_x(12)}, 1.0), {}), mlce::InputError);
 }

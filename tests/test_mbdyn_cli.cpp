@@ -84,6 +84,34 @@ TEST_F(MbdynCli, ReadingOfTheRealRunsFollowsTheirKnownStability) {
   }
 }
 
+TEST_F(MbdynCli, ConvergenceSaysWhetherTheReadingHoldsOverTheRun) {
+  // mlce convergence reads every part (reading.hpp) and says whether the reading holds from half the
+  // run on. Blade 3's lag of the growing run (0-10 s, ground resonance: the trivial solution is
+  // linearly unstable, Floquet +0.32 1/s at 242.4 rpm) reads a growing oscillation on every such part.
+  const std::string mbdyn = std::string(MLCE_DATA_DIR) + "/mbdyn/";
+  CliRun r = run("convergence " + mbdyn + "c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf --channel rel:13:4:z --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["points"].size(), 8u);
+  for (std::size_t k = 3; k < 8; ++k) {
+    EXPECT_EQ(j["points"][k]["stability"], "unstable") << j["points"][k];
+    EXPECT_EQ(j["points"][k]["motion"], "growing oscillation") << j["points"][k];
+  }
+  EXPECT_TRUE(j["reading_settled"].get<bool>());
+  // The 5 s isotropic run (stable, eigen -1.18 1/s) spans 4.5 mean periods: where a part of at
+  // least half of it reads otherwise than the whole, the verdict says so, naming that part.
+  r = run("convergence " + mbdyn + "iso_200rpm_5s/iso_200rpm --channel rel:13:4:z --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["points"].back()["stability"], "stable");
+  bool differs = false;
+  for (std::size_t k = 3; k < 8; ++k) differs |= j["points"][k]["stability"] != "stable";
+  EXPECT_EQ(j["reading_settled"].get<bool>(), !differs);
+  bool said = false;
+  for (const auto& w : j["warnings"]) said |= w.get<std::string>().find("the reading changes with the run length") != std::string::npos;
+  EXPECT_EQ(said, differs) << j["warnings"].dump();
+}
+
 TEST_F(MbdynCli, BladeAzimuthThatWrapsIsFlaggedAndItsLagIsNot) {
   // node:13:r3 is blade 3's absolute Euler angle about z: at 242 rpm it wraps at +-180 deg every
   // 0.25 s (41 times in 10 s, counted from the .mov). Its lag relative to the hub (rel:13:4:z) is

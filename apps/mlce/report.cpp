@@ -257,6 +257,7 @@ nlohmann::json to_json(const ConvergenceResult& r, const std::string& unit) {
       j["lambda"] = finite_or_null(p.lambda);
       j["ci95"] = {finite_or_null(p.ci95_low), finite_or_null(p.ci95_high)};
       j["delay"] = p.delay, j["dim"] = p.dim, j["theiler"] = p.theiler, j["warnings"] = p.warnings;
+      j["stability"] = to_string(p.stability), j["motion"] = p.motion;
     } else {
       j["error"] = p.error;
     }
@@ -265,18 +266,19 @@ nlohmann::json to_json(const ConvergenceResult& r, const std::string& unit) {
   return {{"points", points},
           {"lambda_unit", unit},
           {"converged", r.converged},
+          {"reading_settled", r.reading_settled},
           {"tolerance_floor", r.tolerance_floor},
           {"warnings", r.warnings}};
 }
 
 std::string to_text(const ConvergenceResult& r, const std::string& unit) {
   std::string s = fmt::format("# MLCE of the run's leading parts (lambda in {}, natural log)\n"
-                              "# samples t_end lambda ci95_low ci95_high delay dim theiler warnings\n",
+                              "# samples t_end lambda ci95_low ci95_high delay dim theiler warnings stability\n",
                               unit);
   for (const auto& p : r.points) {
     if (p.estimated)
-      s += fmt::format("{} {:.6g} {:.6g} {:.6g} {:.6g} {} {} {} {}\n", p.samples, p.t_end, p.lambda, p.ci95_low,
-                       p.ci95_high, p.delay, p.dim, p.theiler, p.warnings);
+      s += fmt::format("{} {:.6g} {:.6g} {:.6g} {:.6g} {} {} {} {} {}\n", p.samples, p.t_end, p.lambda, p.ci95_low,
+                       p.ci95_high, p.delay, p.dim, p.theiler, p.warnings, to_string(p.stability));
     else
       s += fmt::format("# {} samples (to {:.6g}): not estimated: {}\n", p.samples, p.t_end, p.error);
   }
@@ -285,18 +287,26 @@ std::string to_text(const ConvergenceResult& r, const std::string& unit) {
                      "of the whole run's lambda\n",
                      r.tolerance_floor, unit);
   else
-    s += "NOT settled (see the last warning)\n";
+    s += "NOT settled (see the warnings)\n";
+  if (!r.points.empty()) {
+    const auto& whole = r.points.back();
+    s += r.reading_settled ? fmt::format("reading settled: {} ({}) on every part of at least half the run\n",
+                                         to_string(whole.stability), whole.motion)
+                           : fmt::format("reading NOT settled: the whole run reads {} ({}), a part of at least half of it otherwise (see "
+                                         "the warnings)\n",
+                                         to_string(whole.stability), whole.motion);
+  }
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";
   return s;
 }
 
 std::string convergence_csv(const ConvergenceResult& r) {
-  std::string s = "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings\n";
+  std::string s = "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion\n";
   for (const auto& p : r.points) {
     s += fmt::format("{},{:.10g}", p.samples, p.t_end);
-    s += p.estimated ? fmt::format(",{:.10g},{:.10g},{:.10g},{},{},{},{}\n", p.lambda, p.ci95_low, p.ci95_high, p.delay,
-                                   p.dim, p.theiler, p.warnings)
-                     : std::string(",,,,,,,\n");
+    s += p.estimated ? fmt::format(",{:.10g},{:.10g},{:.10g},{},{},{},{},{},{}\n", p.lambda, p.ci95_low, p.ci95_high, p.delay,
+                                   p.dim, p.theiler, p.warnings, to_string(p.stability), p.motion)
+                     : std::string(",,,,,,,,,\n");
   }
   return s;
 }

@@ -10,6 +10,7 @@ void ConvergenceOptions::validate() const {
   if (parts < 2) throw OptionError("convergence.parts = " + std::to_string(parts) + ": expected >= 2");
   if (!(relative_tolerance >= 0.0)) throw OptionError("convergence.relative_tolerance: expected >= 0");
   if (!(frequency_tolerance >= 0.0)) throw OptionError("convergence.frequency_tolerance: expected >= 0");
+  reading.validate();
 }
 
 namespace {
@@ -22,12 +23,14 @@ Series leading_part(const Series& series, std::size_t samples) {
   return part;
 }
 
-ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end) {
+ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end, const ReadingOptions& reading) {
   ConvergencePoint p;
   p.samples = samples, p.t_end = t_end, p.estimated = true;
   p.lambda = r.lambda, p.ci95_low = r.ci95_low, p.ci95_high = r.ci95_high;
   p.delay = r.delay, p.dim = r.dim, p.theiler = r.theiler;
   p.warnings = r.warnings.size();
+  const Reading read = read_stability(r, reading);
+  p.stability = read.stability, p.motion = read.motion;
   return p;
 }
 
@@ -59,14 +62,14 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
     const std::size_t samples = n * k / options.parts;
     const double t_end = series.time(samples > 0 ? samples - 1 : 0);
     try {
-      result.points.push_back(point_of(estimate_mlce(leading_part(series, samples), quiet), samples, t_end));
+      result.points.push_back(point_of(estimate_mlce(leading_part(series, samples), quiet), samples, t_end, options.reading));
     } catch (const InputError& e) {  // too short for the estimator: recorded, the longer parts go on
       ConvergencePoint p;
       p.samples = samples, p.t_end = t_end, p.error = e.what();
       result.points.push_back(p);
     }
   }
-  result.points.push_back(point_of(whole, n, series.time(n - 1)));
+  result.points.push_back(point_of(whole, n, series.time(n - 1), options.reading));
 
   // Verdict over the parts k >= parts/2 (at least half the run, up to rounding).
   const double half_width = 0.5 * (whole.ci95_high - whole.ci95_low);
@@ -89,6 +92,25 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
       result.warnings.push_back(text);
       break;
     }
+  }
+  // Second verdict: does the reading (stable / neutral / unstable) hold from half the run on? A run
+  // can be long enough to tell the sign while lambda still moves by more than its tolerance, and
+  // the reverse on a rate near the neutral band's edge.
+  const ConvergencePoint& last = result.points.back();
+  result.reading_settled = true;
+  for (std::size_t k = 1; k < options.parts; ++k) {
+    const auto& p = result.points[k - 1];
+    if (2 * k < options.parts || !p.estimated || p.stability == last.stability) continue;
+    result.reading_settled = false;
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "the reading changes with the run length: %s (%s) over the first %zu samples (to t = %.6g), %s (%s) over "
+                  "all %zu: what the run says about the motion depends on how much of it is analysed (a run too short to "
+                  "resolve the rate, a motion still developing, or a noise floor reached; the parts' intervals show which)",
+                  to_string(p.stability), p.motion.c_str(), p.samples, p.t_end, to_string(last.stability),
+                  last.motion.c_str(), n);
+    result.warnings.push_back(text);
+    break;
   }
   if (options.estimate.progress) options.estimate.progress("done", 1.0);
   return result;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/reading.hpp"
 
 namespace mlce {
 
@@ -27,6 +28,10 @@ struct ConvergenceOptions {
   /// amplitude change of 1 % per cycle.
   double relative_tolerance = 0.05;
   double frequency_tolerance = 0.01;
+  /// How every part's estimate is read (reading.hpp). The second verdict: the parts k >= parts/2
+  /// read the same stability as the whole run, so the run is long enough to say stable, neutral or
+  /// unstable, whether or not lambda itself has settled to its tolerance.
+  ReadingOptions reading;
   void validate() const;
 };
 
@@ -37,6 +42,8 @@ struct ConvergencePoint {
   double lambda = 0.0, ci95_low = 0.0, ci95_high = 0.0;  ///< per time unit
   std::size_t delay = 0, dim = 0, theiler = 0;
   std::size_t warnings = 0;  ///< how many warnings its estimate carried
+  Stability stability = Stability::undetermined;  ///< read_stability of its estimate
+  std::string motion;                              ///< and the kind of motion it reads
   std::string error;
 };
 
@@ -45,6 +52,9 @@ struct ConvergenceResult {
   /// Every part of at least half the run that could be estimated agrees with the whole run's
   /// estimate (ConvergenceOptions' rule).
   bool converged = false;
+  /// Every part of at least half the run that could be estimated reads the whole run's stability
+  /// (an undetermined part counts as a different reading).
+  bool reading_settled = false;
   double tolerance_floor = 0.0;          ///< max(relative x |lambda|, frequency x mean frequency), per time unit
   std::vector<std::string> warnings;     ///< the whole run's estimate's, then the verdict's
 };
