@@ -175,6 +175,40 @@ TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
   EXPECT_THROW(read_stability(r, o), OptionError);
 }
 
+TEST(Reading, ALevelCurveHeldByNoiseReadsTheSignalsOwnDecay) {
+  // A curve held level by measurement noise (noise_level set on a bounded curve) with lambda T
+  // inside the band while the amplitude falls to a tenth at -0.05 per period: the decay is read
+  // (stable), and the summary says lambda is biased. Without the noise flag the interval decides
+  // (neutral, lightly damped); with a persisting amplitude it stays a limit cycle.
+  MlceResult r;
+  r.dt = 0.01;
+  r.mean_period.mean_frequency = 1.0;
+  r.lambda = -0.002, r.ci95_low = -0.003, r.ci95_high = -0.001;
+  r.amplitude_ratio = 0.1;
+  r.envelope_rate = -0.05 * r.dt;
+  r.fit.automatic = true;
+  r.fit.end = CurveEnd::bounded;
+  const Reading plain = read_stability(r);
+  EXPECT_EQ(plain.stability, Stability::neutral) << plain.summary;
+  EXPECT_EQ(plain.motion, "lightly damped");
+  r.noise_level = 0.05;
+  const Reading held = read_stability(r);
+  EXPECT_EQ(held.stability, Stability::stable) << held.summary;
+  EXPECT_EQ(held.motion, "decays to rest");
+  EXPECT_NE(held.summary.find("envelope rate x mean period = -0.05"), std::string::npos) << held.summary;
+  EXPECT_NE(held.summary.find("lambda is biased towards 0"), std::string::npos) << held.summary;
+  r.amplitude_ratio = 1.0;
+  r.envelope_rate = 0.0;
+  const Reading cycle = read_stability(r);
+  EXPECT_EQ(cycle.stability, Stability::neutral) << cycle.summary;
+  EXPECT_EQ(cycle.motion, "limit cycle");
+  // A curve that grows to a plateau is not held level: the rule does not apply there.
+  r.amplitude_ratio = 0.1;
+  r.envelope_rate = -0.05 * r.dt;
+  r.fit.end = CurveEnd::saturation;
+  EXPECT_EQ(read_stability(r).stability, Stability::neutral);
+}
+
 TEST(Reading, BladeThreeInoperativeIsALimitCycleWhereFloquetSaysUnstable) {
   // Paper 001 sec. 5: with blade 3's damper inoperative, the trivial solution is linearly unstable
   // between about 210 and 307 rpm (Floquet), and the nonlinear motion settles on a limit cycle

@@ -254,9 +254,51 @@ TEST(Transient, LastWindowAboveTheFloorLevelEndsNoFloor) {
     const double t = 0.01 * i;
     x.push_back(std::exp(-t) * std::sin(2 * M_PI * t) + 1e-12 * std::sin(7.3 * i) + (i >= 19850 ? 1e-7 * std::sin(3.1 * i) : 0.0));
   }
-  EXPECT_EQ(detect_floor(make_series_with_step({x}, 0.01), 1e-6), 0u);
+  EXPECT_EQ(detect_floor(make_series_with_step({x}, 0.01), 1e-6).index, 0u);
   x.resize(19800);  // without the kick it ends on its floor, found as before
-  EXPECT_GT(detect_floor(make_series_with_step({x}, 0.01), 1e-6), 0u);
+  EXPECT_GT(detect_floor(make_series_with_step({x}, 0.01), 1e-6).index, 0u);
+}
+
+TEST(Transient, DecayIntoWhiteMeasurementNoiseIsAFloorAtAnyLevel) {
+  // e^{-t} sin 2 pi t plus white noise of 1e-3 (1.4e-3 of the largest window RMS: far above the
+  // 1e-6 of the rounding floor): the last quarter is white and level, so it is a floor, cut where
+  // the window RMS is still 5x the noise's (windows of 2 s; e^{-t}/sqrt 2 = 5e-3 at t = 4.95 s).
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> g(0.0, 1e-3);
+  std::vector<double> x;
+  for (int i = 0; i < 20000; ++i) x.push_back(std::exp(-0.01 * i) * std::sin(2 * M_PI * 0.01 * i) + g(gen));
+  const Floor f = detect_floor(make_series_with_step({x}, 0.01), 1e-6);
+  EXPECT_TRUE(f.white_noise);
+  EXPECT_GE(f.index * 0.01, 4.0);
+  EXPECT_LE(f.index * 0.01, 8.0);
+  // The largest window RMS is the first's (0-2 s): sqrt(mean of e^{-2t} / 2) = sqrt((1 - e^{-4}) / 8).
+  EXPECT_NEAR(f.level, 1e-3 / std::sqrt((1.0 - std::exp(-4.0)) / 8.0), 0.1 * 2.86e-3) << "the last quarter's RMS over the largest";
+  EXPECT_NE(describe(f, 1e-6).find("white-noise floor"), std::string::npos);
+  EXPECT_EQ(detect_floor(make_series_with_step({x}, 0.01), 0.0).index, 0u);  // 0: never a floor
+  // detect_transient reports it and cuts nothing at the start.
+  TransientOptions o;
+  o.period = 100;
+  const auto r = detect_transient(make_series_with_step({x}, 0.01), o);
+  EXPECT_EQ(r.floor_index, f.index);
+  EXPECT_EQ(r.end_index, 0u);
+  EXPECT_NE(r.rule.find("white-noise floor"), std::string::npos) << r.rule;
+}
+
+TEST(Transient, SmallMotionsADecaySettlesOnAreNoWhiteFloor) {
+  // Settled on a limit cycle of 1e-3 (smooth: lag-1 autocorrelation ~1), or on one sampled at 4 and
+  // at 3 samples per cycle (lag 1 correlation 0 and -0.5, but lag 2 -1, lag 3 +1): motions, not noise.
+  for (const double cycle : {100.0, 4.0, 3.0}) {
+    std::vector<double> x;
+    for (int i = 0; i < 20000; ++i)
+      x.push_back((std::exp(-0.01 * i) + 1e-3) * std::sin(2 * M_PI * i / cycle + 0.3));
+    EXPECT_EQ(detect_floor(make_series_with_step({x}, 0.01), 1e-6).index, 0u) << cycle << " samples per cycle";
+  }
+  // A decay still falling through its last quarter is no floor either, however white its samples
+  // (2.1 samples per cycle, noise-free: its halves' RMS differ by e^{0.5 x 25} ~ 2.7e5).
+  std::vector<double> y;
+  for (int i = 0; i < 20000; ++i) y.push_back(std::exp(-0.002 * i) * std::sin(2 * M_PI * i / 2.1));
+  const Floor f = detect_floor(make_series_with_step({y}, 0.01), 1e-6);
+  EXPECT_FALSE(f.white_noise && f.index > 0) << f.index;
 }
 
 TEST(Transient, PureDecayIsNotCut) {

@@ -310,6 +310,12 @@ bool first_step_jumps(const std::vector<double>& y, double slope_per_step) {
   return jump >= kNoiseJump && jump >= kNoiseJumpRatio * std::abs(slope_per_step);
 }
 
+bool first_step_jumps_to_level(const std::vector<double>& y, double slope_per_step) {
+  if (y.size() < 4 || !first_step_jumps(y, slope_per_step)) return false;
+  const double jump = y[1] - y[0];
+  return std::abs(y[2] - y[1]) <= kNoiseLevelShare * jump && std::abs(y[3] - y[2]) <= kNoiseLevelShare * jump;
+}
+
 const char* to_string(CurveEnd end) {
   switch (end) {
     case CurveEnd::saturation: return "saturation plateau";

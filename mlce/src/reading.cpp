@@ -100,6 +100,23 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
           : std::string();
 
   const AmplitudeTrend a = out.amplitude;
+  // Noise flagged on a curve that grows to no plateau (estimate.cpp, first_step_jumps_to_level)
+  // holds the curve level: a decay slower than the noise resolves reads closer to 0 than it is
+  // (e^{-0.025 t} sin 2 pi t plus 1 % noise: -0.0026 1/s, within the band). Where the interval
+  // does not already say stable, the signal's own decay does: the motion is itself a perturbation
+  // of its equilibrium, and it dies out.
+  const bool held_by_noise =
+      std::isfinite(r.noise_level) && r.fit.end != CurveEnd::saturation && r.fit.end != CurveEnd::floor;
+  if (held_by_noise && a == AmplitudeTrend::decays && !(out.ci_high_per_period < -band)) {
+    out.stability = Stability::stable;
+    out.motion = "decays to rest";
+    out.summary = fmt::format(
+        "stable: the amplitude decays (envelope rate x mean period = {:+.3g}, the last third's RMS {:.3g} of the "
+        "first's): the motion dies out; measurement noise (~{:.2g} % of the signal's standard deviation) holds the "
+        "divergence curve level, so lambda is biased towards 0 and is not that rate; {}",
+        r.envelope_rate / r.dt * T, r.amplitude_ratio, 100.0 * r.noise_level, numbers);
+    return out;
+  }
   // The fit rule's own finding that the neighbours never separate to the attractor scale (a bounded
   // or flat curve, fit.hpp) is the limit cycle's signature, whatever residual slope was fitted
   // (Hammond at 300 rpm, blade 3 inoperative, on its limit cycle: +0.055 per period on a bounded

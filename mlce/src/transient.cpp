@@ -16,6 +16,19 @@
 
 namespace mlce {
 
+namespace {
+/// A tail of white measurement noise below this share of the largest window RMS is a floor too
+/// (white_and_level_tail), and the series is analysed up to where its window RMS stays within
+/// kWhiteFloorCut x the noise's. Measured on e^{-zeta w t} sin(w t) plus white noise of 0.1-3 % of
+/// its start (zeta 0.01-0.05, 2000 and 8000 samples, scratch): a cut at 3x the noise level kept
+/// noise-dominated pairs (zeta 0.05, 3 %: 0.30 lambda, read neutral), at 10x it left 2-3 periods
+/// (read neutral, a limit cycle); at 5x every cut case read stable, at 0.83-1.01 lambda with noise
+/// up to 1 % of the start and 0.39-0.82 with 3 %.
+constexpr double kWhiteFloorShare = 0.1;
+constexpr double kWhiteLagCorrelation = 0.3;
+constexpr double kWhiteFloorCut = 5.0;
+}  // namespace
+
 void TransientOptions::validate() const {
   if (!(band >= 0.0)) throw OptionError("transient.band: expected >= 0 (0 = automatic)");
   if (!(band_min > 0.0 && band_min <= band_max)) throw OptionError("transient.band_min/band_max: expected 0 < min <= max");
@@ -50,22 +63,65 @@ std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size
   }
   return sums;
 }
+
+/// Is the last quarter of the 100 windows white noise at a steady level, i.e. measurement noise a
+/// decay has sunk into rather than a small motion it settled on? Level: the median window RMS of
+/// the quarter's two halves within 2x of each other (a decay still falling is no floor). White:
+/// every channel's autocorrelation at lags 1, 2 and 3 over the quarter, about its mean, below
+/// kWhiteLagCorrelation in magnitude. A sampled periodic or smooth motion fails at one of the
+/// three lags for any sampling of 2 or more samples per cycle (a sine at 4 per cycle: lag 2 gives
+/// -1; at 3: lag 3 gives +1), white noise passes (|rho| ~ 1/sqrt(samples)).
+bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::size_t w) {
+  const double first = upper_median({rms.begin() + 75, rms.begin() + 88}), second = upper_median({rms.begin() + 88, rms.end()});
+  if (!(first <= 2.0 * second && second <= 2.0 * first)) return false;
+  const std::size_t from = 75 * w, to = 100 * w;
+  for (const auto& channel : s.channels) {
+    // Divided by the tail's peak |x| first: squares of 1e300 would overflow.
+    double peak = 0.0;
+    for (std::size_t i = from; i < to; ++i) peak = std::max(peak, std::abs(channel[i]));
+    if (!(peak > 0.0)) continue;
+    std::vector<double> x(channel.begin() + static_cast<std::ptrdiff_t>(from), channel.begin() + static_cast<std::ptrdiff_t>(to));
+    double mean = 0.0;
+    for (double& v : x) mean += (v /= peak);
+    mean /= static_cast<double>(x.size());
+    double var = 0.0;
+    for (double& v : x) {
+      v -= mean;
+      var += v * v;
+    }
+    if (!(var > 0.0)) continue;  // a constant tail: the underflow rule's case
+    for (std::size_t lag = 1; lag <= 3; ++lag) {
+      double c = 0.0;
+      for (std::size_t i = 0; i + lag < x.size(); ++i) c += x[i] * x[i + lag];
+      if (std::abs(c / var) >= kWhiteLagCorrelation) return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
-std::size_t detect_floor(const Series& s, double floor_ratio) {
+std::string describe(const Floor& f, double floor_ratio) {
+  return f.white_noise ? fmt::format("white-noise floor (its last quarter white, at {:.2g} of its largest RMS)", f.level)
+                       : fmt::format("noise/underflow floor (RMS below {:g} of its largest)", floor_ratio);
+}
+
+Floor detect_floor(const Series& s, double floor_ratio) {
   const std::size_t n = s.size(), windows = 100, w = n / windows;
-  if (w < 2 || floor_ratio <= 0.0) return 0;
+  if (w < 2 || floor_ratio <= 0.0) return {};
   // In place, no standardised copy; about the last quarter's mean (the level the series settles at).
   std::vector<double> rms = window_square_sums(s, w, windows, 75 * w);
   for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
   const double level = upper_median({rms.begin() + 75, rms.end()}), peak = *std::max_element(rms.begin(), rms.end());
-  if (!(level < floor_ratio * peak)) return 0;
+  const bool underflow = level < floor_ratio * peak;
+  if (!underflow && !(level < kWhiteFloorShare * peak && white_and_level_tail(s, rms, w))) return {};
+  const double above = underflow ? 10.0 : kWhiteFloorCut;
   std::size_t k = windows;
-  while (k > 0 && rms[k - 1] <= 10.0 * level) --k;
+  while (k > 0 && rms[k - 1] <= above * level) --k;
   // A last window above that level ends no floor: a cut there would leave out only the samples
   // past the 100 windows (the iso_200rpm run's rel:11:4:z: "floor from sample 4000", 1 sample).
-  if (k == windows) return 0;
-  return k * w;
+  if (k == windows) return {};
+  return {k * w, !underflow, level / peak};
 }
 
 TransientResult detect_transient(const Series& series, const TransientOptions& options) {
@@ -76,12 +132,12 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   TransientResult r;
   // The raw series: detect_floor scales it itself, and a shift by the mean would round a tail far
   // below the mean's last digit onto it (an early, false floor).
-  if (const std::size_t f = detect_floor(series, options.floor_ratio); f > 0) {
+  if (const Floor f = detect_floor(series, options.floor_ratio); f.index > 0) {
     r.settled = false;
-    r.floor_index = f;
+    r.floor_index = f.index;
     r.end_time = s.time(0);
-    r.rule = "decays into the noise/underflow floor from sample " + std::to_string(f) + " (RMS below " +
-             fmt::format("{:g}", options.floor_ratio) + " of its largest): nothing cut at the start";
+    r.rule = "decays into the " + describe(f, options.floor_ratio) + " from sample " + std::to_string(f.index) +
+             ": nothing cut at the start";
     return r;
   }
   // Window RMS about the last quarter's mean (the centre of the settled motion), the median window

@@ -76,9 +76,9 @@ struct MlceOptions {
   /// comes from splitmix64 seeded with dither_seed (a rerun gives the same lambda).
   double dither = 0.0;
   std::uint64_t dither_seed = 1;
-  /// A series that decays into a noise/underflow floor below this fraction of its largest RMS is
-  /// analysed only up to the floor (detect_floor; paper 001 Fig. 6: otherwise the estimate drifts
-  /// with the run length). 0 = never cut.
+  /// A series that decays into a noise/underflow floor below this fraction of its largest RMS, or
+  /// into white measurement noise below 0.1 of it, is analysed only up to the floor (detect_floor;
+  /// paper 001 Fig. 6: otherwise the estimate drifts with the run length). 0 = never cut.
   double floor_ratio = 1e-6;
   ProgressCallback progress;
 };

@@ -14,14 +14,23 @@ namespace mlce {
 /// by at least kNoiseJump (natural log) and by at least kNoiseJumpRatio x its fitted slope per step,
 /// is flagged as dominated by measurement noise, with an estimate of the noise level
 /// (estimate.cpp). Deterministic curves rise at about their slope in their first step (up to 6x
-/// where the start-up is quick); noise of 1 % makes it 60x. Limit cycles (flat or bounded curves)
-/// are not judged: their slope is ~0.
+/// where the start-up is quick); noise of 1 % makes it 60x. Other curves (first_step_jumps_to_level)
+/// must also be level after the jump: a limit cycle's slope is ~0.
 inline constexpr double kNoiseJump = 0.25;
 inline constexpr double kNoiseJumpRatio = 10.0;
 
 /// Does curve y's first step jump as measurement noise makes it (kNoiseJump, kNoiseJumpRatio),
 /// against a slope of `slope_per_step`?
 bool first_step_jumps(const std::vector<double>& y, double slope_per_step);
+
+/// A curve that does not grow to a plateau (a decay, a limit cycle: slope ~0) is judged by the
+/// jump's shape instead: noise is matched at step 0 and fresh at every later step, so the curve
+/// jumps in one step and is level after it (the next two steps each move by at most
+/// kNoiseLevelShare x the jump: e^{-zeta w t} sin w t plus 1-3 % noise, 0.25-1.27 then below 0.04);
+/// the selection of the best-matching pass on a noise-free limit cycle relaxes over several steps
+/// (Hammond at 224 rpm, blade 3 inoperative: 0.31, then 0.25).
+inline constexpr double kNoiseLevelShare = 0.2;
+bool first_step_jumps_to_level(const std::vector<double>& y, double slope_per_step);
 
 enum class CurveEnd { none, saturation, floor, flat, bounded };
 

@@ -23,6 +23,10 @@
 //  - A curve the fit rule found bounded or flat (the neighbours never separate to the attractor
 //    scale) on a motion that does not decay is a limit cycle or torus: neutral, whatever residual
 //    slope was fitted.
+//  - A curve held level by measurement noise (flagged, MlceResult::noise_level, on a curve that
+//    grows to no plateau) cannot show a decay slower than the noise: when the amplitude decays
+//    and the interval does not already say stable, the motion, itself a perturbation of its
+//    equilibrium, dies out: stable.
 //  - Undetermined when a warning says lambda does not measure the motion's divergence
 //    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
 //    mean periods, a plateau within one embedding window as uncorrelated noise gives), when

@@ -46,16 +46,27 @@ struct TransientResult {
 /// Rule: RMS about the last quarter's mean in consecutive windows (at least 8); the transient ends at
 /// the start of the first window from which every later window's RMS is within `band` of the last
 /// quarter's median window RMS. If the last quarter itself drifts (its first and last window RMS differ by
-/// more than `band`) the motion is a decay or a growth and nothing is cut. First, in 100 windows:
-/// a last quarter whose median RMS is below floor_ratio x the largest window RMS is the floor of
-/// a decay; floor_index = the first window after which the RMS stays within 10x that level.
+/// more than `band`) the motion is a decay or a growth and nothing is cut. First, a decay into a
+/// noise/underflow floor (detect_floor) cuts nothing at the start and sets floor_index.
 TransientResult detect_transient(const Series& series, const TransientOptions& options);
 
-/// Start of the noise/underflow floor a decay ends in, or 0 (none): RMS in 100 windows about the
-/// last quarter's mean; when the last quarter's median window RMS is below floor_ratio x the
-/// largest, the floor starts at the first window after which every window stays within 10x that
-/// level (paper 001 Fig. 6: past it the series carries no dynamics).
-std::size_t detect_floor(const Series& series, double floor_ratio);
+/// The floor a decay ends in (paper 001 Fig. 6: past it the series carries no dynamics).
+struct Floor {
+  std::size_t index = 0;     ///< first sample of the floor; 0 = no floor
+  bool white_noise = false;  ///< found by the white-noise rule (else: below floor_ratio)
+  double level = 0.0;        ///< the last quarter's median window RMS / the largest window RMS
+};
+
+/// The noise/underflow floor a decay ends in: RMS in 100 windows about the last quarter's mean.
+/// A floor when the last quarter's median window RMS is below floor_ratio x the largest (rounding,
+/// solver tolerance, underflow), or below 0.1 x the largest while the last quarter is white noise
+/// at a steady level (measurement noise: the two halves' median RMS within 2x, every channel's
+/// autocorrelation at lags 1-3 below 0.3 in magnitude, which a sampled smooth or periodic motion
+/// never is). It starts at the first window after which every window stays within 10x that level
+/// (5x for white noise: where the signal is still 5x the noise). floor_ratio 0: never a floor.
+Floor detect_floor(const Series& series, double floor_ratio);
+/// The floor in words for rules and warnings.
+std::string describe(const Floor& floor, double floor_ratio);
 
 /// Rate at which the signal's own amplitude changes, per sample (natural log): the least-squares
 /// slope of ln RMS over consecutive windows of 2 x `period` samples against the window centre (RMS
