@@ -79,6 +79,11 @@ TEST_F(MbdynVsAdHoc, IsotropicRunDecaysAtTheSlowestEigenvalueFromBothSources) {
     EXPECT_LT(std::abs(a - slowest), 0.05 * std::abs(slowest)) << ch;  // and of the eigenvalue
     EXPECT_TRUE(m["intervals_overlap"].get<bool>()) << ch;
     EXPECT_TRUE(m["agreement"]["agree"].get<bool>()) << ch;  // overlapping intervals agree at any resolution
+    // Both runs read the decay the eigenvalues say (every exponent negative: stable).
+    for (const auto& one : {m["a"], m["b"]}) {
+      EXPECT_EQ(one["reading"]["stability"], "stable") << ch << ": " << one["reading"].dump();
+      EXPECT_EQ(one["reading"]["motion"], "decays to rest") << ch;
+    }
   }
 }
 
@@ -117,8 +122,19 @@ TEST_F(MbdynVsAdHoc, FailedDamperRunLimitCycleRangeAndBoundedDivergence) {
         EXPECT_TRUE(contains_zero(a)) << a.dump();
         EXPECT_TRUE(contains_zero(b)) << b.dump();
       }
+      // Both runs read the limit cycle they are (paper 001 Fig. 8: Floquet +0.32 1/s about x = 0 at
+      // 242.4 rpm, so no decay to rest; the motion is bounded).
+      for (const auto& one : {a, b}) {
+        EXPECT_EQ(one["reading"]["stability"], "neutral") << ch << ": " << one["reading"].dump();
+        EXPECT_EQ(one["reading"]["motion"], "limit cycle") << ch;
+      }
     }
   }
+  // The text table says the same in its last column.
+  const CliRun text = run("compare " + adhoc + " " + kLco + " --channel rel:13:4:z --mlce --from 20");
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("reading A / B"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("neutral (limit cycle) / neutral (limit cycle)"), std::string::npos) << text.out;
 }
 
 TEST_F(MbdynVsAdHoc, TenSecondsOfSettledLimitCycleResolveZero) {

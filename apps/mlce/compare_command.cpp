@@ -12,6 +12,7 @@
 #include "mlce/compare.hpp"
 #include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
+#include "mlce/reading.hpp"
 #include "plot.hpp"
 #include "report.hpp"
 #include "series_input.hpp"
@@ -90,7 +91,8 @@ Agreement agreement(const MlcePair& e) { return judge_agreement({&e.a, &e.b}); }
 
 nlohmann::json mlce_json(const MlceResult& r) {
   return {{"lambda", r.lambda}, {"ci95", {r.ci95_low, r.ci95_high}}, {"curve_end", to_string(r.fit.end)},
-          {"delay", r.delay}, {"dim", r.dim}, {"n_points", r.n_points}, {"warnings", r.warnings}};
+          {"delay", r.delay}, {"dim", r.dim}, {"n_points", r.n_points}, {"reading", reading_json(r)},
+          {"warnings", r.warnings}};
 }
 
 }  // namespace
@@ -210,13 +212,17 @@ int cmd_compare(const std::vector<std::string>& args) {
     }
     if (!exponents.empty()) {
       std::cout << fmt::format("\nMLCE (Rosenstein, every parameter automatic), 1/{}\n", "s");
-      std::cout << fmt::format("{:<16} {:>17} {:>34} {:>34} {:>10} {:>8}\n", "channel", "window", "A [95 % CI]",
-                               "B [95 % CI]", "B - A", "agree");
+      std::cout << fmt::format("{:<16} {:>17} {:>34} {:>34} {:>10} {:>8}  {}\n", "channel", "window", "A [95 % CI]",
+                               "B [95 % CI]", "B - A", "agree", "reading A / B");
       for (std::size_t c = 0; c < exponents.size(); ++c) {
         const auto& e = exponents[c];
         auto cell = [](const MlceResult& r) { return fmt::format("{:.5g} [{:.4g}, {:.4g}]", r.lambda, r.ci95_low, r.ci95_high); };
-        std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}\n", channels[c], e.from, e.to,
-                                 cell(e.a), cell(e.b), e.b.lambda - e.a.lambda, agreement(e).agree ? "yes" : "NO");
+        // What each run says about the motion (reading.hpp): do the two runs reach one verdict?
+        const Reading ra = read_stability(e.a), rb = read_stability(e.b);
+        std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}  {} ({}) / {} ({})\n", channels[c],
+                                 e.from, e.to, cell(e.a), cell(e.b), e.b.lambda - e.a.lambda,
+                                 agreement(e).agree ? "yes" : "NO", to_string(ra.stability), ra.motion,
+                                 to_string(rb.stability), rb.motion);
       }
       for (std::size_t c = 0; c < exponents.size(); ++c)
         std::cout << fmt::format("# {}: window: {}; curve end A: {}, B: {}\n", channels[c], exponents[c].window_rule,

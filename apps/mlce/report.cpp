@@ -79,19 +79,23 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.fnn) j["fnn_points"] = r.fnn->points;  // kd-tree size per m (capped on long series)
   j["pairs"] = r.curve.pairs;
   j["references"] = r.curve.references;
-  // What the exponent says about the motion (reading.hpp): paper 001's reading of its sign.
-  const Reading reading = read_stability(r);
-  j["reading"] = {{"stability", to_string(reading.stability)},
-                  {"motion", reading.motion},
-                  {"amplitude", to_string(reading.amplitude)},
-                  {"amplitude_ratio", finite_or_null(r.amplitude_ratio)},
-                  {"mean_period_time", finite_or_null(reading.mean_period)},
-                  {"lambda_per_period", finite_or_null(reading.lambda_per_period)},
-                  {"ci95_per_period", {finite_or_null(reading.ci_low_per_period), finite_or_null(reading.ci_high_per_period)}},
-                  {"neutral_per_period", reading.neutral_per_period},
-                  {"summary", reading.summary}};
+  j["reading"] = reading_json(r);
   j["warnings"] = r.warnings;
   return j;
+}
+
+nlohmann::json reading_json(const MlceResult& r) {
+  // What the exponent says about the motion (reading.hpp): paper 001's reading of its sign.
+  const Reading reading = read_stability(r);
+  return {{"stability", to_string(reading.stability)},
+          {"motion", reading.motion},
+          {"amplitude", to_string(reading.amplitude)},
+          {"amplitude_ratio", finite_or_null(r.amplitude_ratio)},
+          {"mean_period_time", finite_or_null(reading.mean_period)},
+          {"lambda_per_period", finite_or_null(reading.lambda_per_period)},
+          {"ci95_per_period", {finite_or_null(reading.ci_low_per_period), finite_or_null(reading.ci_high_per_period)}},
+          {"neutral_per_period", reading.neutral_per_period},
+          {"summary", reading.summary}};
 }
 
 std::string to_text(const MlceResult& r) {

@@ -14,6 +14,8 @@
 namespace mlce::cli {
 
 nlohmann::json to_json(const MlceResult& r);
+/// The estimate's reading (read_stability): stability, motion, amplitude, rates per mean period, summary.
+nlohmann::json reading_json(const MlceResult& r);
 nlohmann::json to_json(const AmiResult& r);
 nlohmann::json to_json(const FnnResult& r);
 std::string to_text(const MlceResult& r);
