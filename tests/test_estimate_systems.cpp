@@ -326,12 +326,14 @@ TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
   }
 }
 
-// Noise holds a limit cycle's curve level (its first step jumps, then nothing moves: the noise
-// is fresh at every step) and is flagged with its level; the reading stays neutral. Van der Pol
-// (mu = 1, largest exponent 0) plus white noise of 0.3 %, 1 %, 3 % and 10 % of its standard
-// deviation: the estimated level within [0.95, 1.6] x the truth (the noise's share of the noisy
-// series' deviation, as for Lorenz above), |lambda| < 0.01, read neutral up to 3 %.
-TEST(EstimateSystems, NoiseOnALimitCycleIsFlaggedAndItStaysALimitCycle) {
+// Noise on a limit cycle also holds its curve level (it jumps in its first step, then nothing
+// moves: the noise is fresh at every step), but so does motion the embedding does not resolve on a
+// coarsely sampled noise-free one (Hammond at 290 rpm every 0.02 s): the shape is flagged only on a
+// decaying signal, where it hides the decay. Van der Pol (mu = 1, largest exponent 0) plus white
+// noise of 0.3 %, 1 %, 3 % of its standard deviation reads |lambda| < 0.01 and neutral (limit
+// cycle); at 10 % the noise keeps FNN's neighbours false up to m = 9, and the embedding window of
+// 2.1 mean periods voids the reading (undetermined, with that reason).
+TEST(EstimateSystems, NoiseOnALimitCycleLeavesALimitCycle) {
   const auto clean = reference::van_der_pol_x(10000, 0.01);
   double m = 0, var = 0;
   for (double a : clean) m += a / static_cast<double>(clean.size());
@@ -343,17 +345,9 @@ TEST(EstimateSystems, NoiseOnALimitCycleIsFlaggedAndItStaysALimitCycle) {
     for (double& v : x) v += g(gen);
     const auto r = run(x, 0.01);
     const auto reading = mlce::read_stability(r);
-    std::printf("van der Pol + noise %.3f: lambda %.5f, noise_level %.4f, %s\n", level, r.lambda, r.noise_level,
-                reading.summary.c_str());
-    for (const auto& warning : r.warnings) std::printf("  warning: %s\n", warning.c_str());
-    ASSERT_TRUE(std::isfinite(r.noise_level)) << level << ": " << r.fit.rule;
-    EXPECT_GE(r.noise_level, 0.95 * level / std::sqrt(1.0 + level * level)) << level;
-    EXPECT_LE(r.noise_level, 1.6 * level) << level;
-    EXPECT_TRUE(has_warning(r, "and is level after it")) << level;
+    std::printf("van der Pol + noise %.3f: lambda %.5f, %s\n", level, r.lambda, reading.summary.c_str());
     EXPECT_LT(std::abs(r.lambda), 0.01) << level;
     if (level > 0.05) {
-      // Noise of 10 % keeps FNN's neighbours false up to m = 9: an embedding window of 2.1 mean
-      // periods, which voids the reading (undetermined, with that reason).
       EXPECT_TRUE(reading.stability == mlce::Stability::neutral || !r.unreliable.empty()) << reading.summary;
       continue;
     }
@@ -382,7 +376,7 @@ TEST(EstimateSystems, NoiseThatHoldsALightDecayLevelIsFlaggedAndTheDecayRead) {
   ASSERT_TRUE(std::isfinite(r.noise_level)) << r.fit.rule;
   EXPECT_GE(r.noise_level, 0.95 * truth);
   EXPECT_LE(r.noise_level, 1.6 * truth);
-  EXPECT_TRUE(has_warning(r, "the noise holds the curve level"));
+  EXPECT_TRUE(has_warning(r, "holds the curve level"));
   EXPECT_EQ(reading.stability, mlce::Stability::stable) << reading.summary;
   EXPECT_EQ(reading.motion, "decays to rest");
   EXPECT_NEAR(r.envelope_rate / r.dt / lambda, 1.0, 0.10);

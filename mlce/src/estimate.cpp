@@ -67,14 +67,21 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // N(0, s^2), is sqrt(2) s chi_n, and E[ln chi_n] = (psi(n/2) + ln 2) / 2, so
   // ln s = y(1) - ln 2 - psi(n/2) / 2 (an upper bound: y(1) holds the deterministic separation too).
   // A curve that grows to a plateau or falls into a floor is judged by the jump alone. Any other
-  // (a decay without a floor, a limit cycle's flat or bounded curve) must also be level after it:
-  // a limit cycle's first steps rise by the selection of the best-matching pass alone, over
-  // several steps (Hammond at 224 rpm, blade 3 inoperative: 0.31 and 0.25, then level), while a
-  // lightly damped oscillation whose per-cycle amplitude change is below the noise is held level
-  // by it (e^{-0.025 t} sin 2 pi t plus 1 % noise, 16000 samples: lambda -0.0026 for -0.0251 1/s).
+  // (a decay without a floor, a flat or bounded curve) only on a signal whose amplitude decays (its
+  // last third's RMS at most 1/kPersistentAmplitude of its first's, or an envelope falling by more
+  // than 1 % per mean period), and only if the curve is level after the jump: a lightly damped
+  // oscillation whose per-cycle amplitude change is below the noise is held level by it
+  // (e^{-0.025 t} sin 2 pi t plus 1 % noise, 16000 samples: lambda -0.0026 for -0.0251 1/s), and
+  // the reading then takes the decay from the amplitude (reading.hpp). On a limit cycle the same
+  // shape also comes from motion the embedding does not resolve, decorrelating within one sample
+  // (Hammond at 290 rpm, blade 3 inoperative, sampled every 0.02 s: 0.648, then level; every
+  // 0.005 s it relaxes over 6 steps, as at 224 rpm: 0.31, 0.25, ...): not flagged there.
   const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
+  const double f = r.mean_period.mean_frequency;
+  const double period = f > 0.0 ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();  // time units
+  const bool decays = r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -0.01;
   if (const auto& y = r.curve.mean_log_distance; y.size() > 3) {
-    if (measures_rate ? first_step_jumps(y, r.fit.slope) : first_step_jumps_to_level(y, r.fit.slope)) {
+    if (measures_rate ? first_step_jumps(y, r.fit.slope) : decays && first_step_jumps_to_level(y, r.fit.slope)) {
       const double jump = y[1] - y[0];
       const std::size_t n = r.dim * channels;
       r.noise_level = std::exp(y[1] - std::numbers::ln2 - 0.5 * boost::math::digamma(0.5 * static_cast<double>(n)));
@@ -86,8 +93,9 @@ void flag_noise(MlceResult& r, std::size_t channels) {
                     jump, jump / std::max(std::abs(r.fit.slope), std::numeric_limits<double>::min()),
                     measures_rate ? "" : " and is level after it", 100.0 * r.noise_level,
                     measures_rate ? "a noise floor bends the curve, and lambda is biased"
-                                  : "the noise holds the curve level, so a decay or growth slower than the noise "
-                                    "resolves reads closer to 0 than it is (lambda biased towards 0)");
+                                  : "the noise (or motion the embedding does not resolve at this sampling) holds "
+                                    "the curve level, so a decay slower than the noise resolves reads closer to 0 "
+                                    "than it is (lambda biased towards 0)");
       r.warnings.push_back(text);
     }
   }

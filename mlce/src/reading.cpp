@@ -112,8 +112,9 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     out.motion = "decays to rest";
     out.summary = fmt::format(
         "stable: the amplitude decays (envelope rate x mean period = {:+.3g}, the last third's RMS {:.3g} of the "
-        "first's): the motion dies out; measurement noise (~{:.2g} % of the signal's standard deviation) holds the "
-        "divergence curve level, so lambda is biased towards 0 and is not that rate; {}",
+        "first's): the motion dies out; measurement noise (~{:.2g} % of the signal's standard deviation, if white) or "
+        "motion the embedding does not resolve holds the divergence curve level, so lambda is biased towards 0 and is "
+        "not that rate; {}",
         r.envelope_rate / r.dt * T, r.amplitude_ratio, 100.0 * r.noise_level, numbers);
     return out;
   }

@@ -15,7 +15,7 @@ namespace mlce {
 /// is flagged as dominated by measurement noise, with an estimate of the noise level
 /// (estimate.cpp). Deterministic curves rise at about their slope in their first step (up to 6x
 /// where the start-up is quick); noise of 1 % makes it 60x. Other curves (first_step_jumps_to_level)
-/// must also be level after the jump: a limit cycle's slope is ~0.
+/// must also be level after the jump, and are judged only on a decaying signal (estimate.cpp).
 inline constexpr double kNoiseJump = 0.25;
 inline constexpr double kNoiseJumpRatio = 10.0;
 
