@@ -23,6 +23,14 @@ using namespace mlce;
 namespace {
 MlceResult run(const std::vector<double>& x, double dt) { return estimate_mlce(make_series_with_step({x}, dt), {}); }
 
+/// Population standard deviation (the truth a noise level is measured against).
+double standard_deviation(const std::vector<double>& v) {
+  double m = 0, s = 0;
+  for (double a : v) m += a / static_cast<double>(v.size());
+  for (double a : v) s += (a - m) * (a - m);
+  return std::sqrt(s / static_cast<double>(v.size()));
+}
+
 using mlce::testing::has_warning;
 
 /// A deterministic series on its attractor: its curve is neither flagged as noise-dominated nor
@@ -274,18 +282,12 @@ TEST(EstimateSystems, WhiteNoiseIsFlaggedAsUnresolved) {
 // at dt = 0.05: the first step rises at ~6 x the slope) is not noise.
 TEST(EstimateSystems, MeasurementNoiseIsFlaggedWithItsLevel) {
   const auto clean = reference::lorenz_x(10000, 0.01);
-  const auto sd = [](const std::vector<double>& v) {
-    double m = 0, s = 0;
-    for (double a : v) m += a / static_cast<double>(v.size());
-    for (double a : v) s += (a - m) * (a - m);
-    return std::sqrt(s / static_cast<double>(v.size()));
-  };
   for (double level : {0.01, 0.1, 0.3}) {
     std::mt19937_64 gen(3);
-    std::normal_distribution<double> g(0.0, level * sd(clean));
+    std::normal_distribution<double> g(0.0, level * standard_deviation(clean));
     std::vector<double> noise(clean.size()), x(clean.size());
     for (std::size_t i = 0; i < x.size(); ++i) noise[i] = g(gen), x[i] = clean[i] + noise[i];
-    const double truth = sd(noise) / sd(x);
+    const double truth = standard_deviation(noise) / standard_deviation(x);
     const auto r = run(x, 0.01);
     std::printf("Lorenz x + noise %.3f of its standard deviation: lambda %.3f, noise_level %.4f\n", truth, r.lambda,
                 r.noise_level);
@@ -313,16 +315,39 @@ TEST(EstimateSystems, MeasurementNoiseIsFlaggedWithItsLevel) {
 TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
   const double zeta = 0.05, w = 2 * M_PI, lambda = -zeta * w;
   for (const auto& [n, noise, tolerance] : {std::tuple{8000, 1e-3, 0.03}, std::tuple{2000, 1e-2, 0.10}, std::tuple{8000, 1e-2, 0.10}}) {
-    const auto r = run(reference::noisy_decay(n, 0.01, zeta, w, noise), 0.01);
+    const auto x = reference::noisy_decay(n, 0.01, zeta, w, noise);
+    const auto r = run(x, 0.01);
     const auto reading = mlce::read_stability(r);
-    std::printf("e^{-0.314 t} cos 2 pi t + noise %.0e, %d samples: lambda %.4f (truth %.4f), %zu analysed; %s\n", noise, n,
-                r.lambda, lambda, r.n_points, reading.summary.c_str());
+    // What the floor rule prevents: the same series analysed whole (floor_ratio 0).
+    MlceOptions uncut;
+    uncut.floor_ratio = 0.0;
+    const auto whole = estimate_mlce(make_series_with_step({x}, 0.01), uncut);
+    std::printf("e^{-0.314 t} cos 2 pi t + noise %.0e, %d samples: lambda %.4f (truth %.4f), %zu analysed; %s; "
+                "analysed whole: %.4f, %s\n",
+                noise, n, r.lambda, lambda, r.n_points, reading.summary.c_str(), whole.lambda,
+                mlce::to_string(mlce::read_stability(whole).stability));
     EXPECT_NEAR(r.lambda / lambda, 1.0, tolerance) << n << " " << noise << ": " << r.fit.rule;
     EXPECT_TRUE(has_warning(r, "decays into white measurement noise")) << n << " " << noise;
     // The cut leaves the part where the amplitude is above 5x the noise: e^{-0.314 t} / sqrt 2 > 5 noise.
     const double t_cut = std::log(1.0 / (std::sqrt(2.0) * 5.0 * noise)) / (zeta * w);
     EXPECT_NEAR(0.01 * static_cast<double>(r.n_points), t_cut, 0.25 * t_cut) << n << " " << noise;
     EXPECT_EQ(reading.stability, mlce::Stability::stable);
+  }
+}
+
+// Not resolved: a decay that ends above a white floor but whose neighbour distances the noise
+// dominates over part of the run reads low. Printed for README; asserted only where the truth is
+// known: lambda < 0, the noise flagged, the reading stable.
+TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsLowButStable) {
+  const double w = 2 * M_PI;
+  for (const auto& [zeta, noise, n] : {std::tuple{0.05, 3e-3, 2000}, std::tuple{0.01, 1e-2, 8000}}) {
+    const auto r = run(reference::noisy_decay(n, 0.01, zeta, w, noise), 0.01);
+    const auto reading = mlce::read_stability(r);
+    std::printf("zeta %.2f + noise %.0e over %d samples: lambda / (-zeta w) = %.3f, noise_level %.3f, %s\n", zeta, noise,
+                n, r.lambda / (-zeta * w), r.noise_level, mlce::to_string(reading.stability));
+    EXPECT_LT(r.lambda, 0.0);
+    EXPECT_TRUE(std::isfinite(r.noise_level)) << zeta;
+    EXPECT_EQ(reading.stability, mlce::Stability::stable) << reading.summary;
   }
 }
 
@@ -335,12 +360,9 @@ TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
 // 2.1 mean periods voids the reading (undetermined, with that reason).
 TEST(EstimateSystems, NoiseOnALimitCycleLeavesALimitCycle) {
   const auto clean = reference::van_der_pol_x(10000, 0.01);
-  double m = 0, var = 0;
-  for (double a : clean) m += a / static_cast<double>(clean.size());
-  for (double a : clean) var += (a - m) * (a - m) / static_cast<double>(clean.size());
   for (double level : {0.003, 0.01, 0.03, 0.1}) {
     std::mt19937_64 gen(3);
-    std::normal_distribution<double> g(0.0, level * std::sqrt(var));
+    std::normal_distribution<double> g(0.0, level * standard_deviation(clean));
     std::vector<double> x = clean;
     for (double& v : x) v += g(gen);
     const auto r = run(x, 0.01);
@@ -367,12 +389,9 @@ TEST(EstimateSystems, NoiseThatHoldsALightDecayLevelIsFlaggedAndTheDecayRead) {
   const auto x = reference::noisy_decay(16000, 0.01, zeta, w, 0.01);
   const auto r = run(x, 0.01);
   const auto reading = mlce::read_stability(r);
-  double m = 0, var = 0;
-  for (double a : x) m += a / static_cast<double>(x.size());
-  for (double a : x) var += (a - m) * (a - m) / static_cast<double>(x.size());
-  const double truth = 0.01 / std::sqrt(var);  // the noise over the noisy series' deviation (0.040)
-  std::printf("zeta 0.004 + 1 %% noise: lambda %.5f (truth %.5f), envelope %.5f, noise_level %.4f; %s\n", r.lambda, lambda,
-              r.envelope_rate / r.dt, r.noise_level, reading.summary.c_str());
+  const double truth = 0.01 / standard_deviation(x);  // the noise over the noisy series' deviation (0.040)
+  std::printf("zeta 0.004 + 1 %% noise: lambda %.5f (truth %.5f), envelope %.5f, noise_level %.4f (truth %.4f); %s\n",
+              r.lambda, lambda, r.envelope_rate / r.dt, r.noise_level, truth, reading.summary.c_str());
   ASSERT_TRUE(std::isfinite(r.noise_level)) << r.fit.rule;
   EXPECT_GE(r.noise_level, 0.95 * truth);
   EXPECT_LE(r.noise_level, 1.6 * truth);

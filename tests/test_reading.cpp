@@ -42,6 +42,12 @@ void expect_reading(const Reading& r, Stability s, const std::string& motion, co
   EXPECT_EQ(r.motion, motion) << what << ": " << r.summary;
 }
 
+/// Undetermined, and the summary names why.
+void expect_undetermined(const Reading& r, const std::string& why) {
+  EXPECT_EQ(r.stability, Stability::undetermined) << r.summary;
+  EXPECT_NE(r.summary.find(why), std::string::npos) << r.summary;
+}
+
 }  // namespace
 
 TEST(Reading, DecayAndGrowthOfKnownRateAreStableAndUnstable) {
@@ -104,9 +110,7 @@ TEST(Reading, WhiteNoiseIsUndetermined) {
   std::normal_distribution<double> g(0.0, 1.0);
   std::vector<double> x(5000);
   for (double& v : x) v = g(rng);
-  const Reading r = read(x, 1.0);
-  EXPECT_EQ(r.stability, Stability::undetermined) << r.summary;
-  EXPECT_NE(r.summary.find("does not resolve a divergence"), std::string::npos) << r.summary;
+  expect_undetermined(read(x, 1.0), "does not resolve a divergence");
 }
 
 TEST(Reading, WhatTheWarningsCallMeaninglessIsUndetermined) {
@@ -115,8 +119,7 @@ TEST(Reading, WhatTheWarningsCallMeaninglessIsUndetermined) {
   MlceOptions wide;
   wide.dim = 30;
   const Reading window = read_stability(estimate_mlce(make_series_with_step({reference::lorenz_x(10000, 0.01)}, 0.01), wide));
-  EXPECT_EQ(window.stability, Stability::undetermined) << window.summary;
-  EXPECT_NE(window.summary.find("embedding window"), std::string::npos) << window.summary;
+  expect_undetermined(window, "embedding window");
   // A sine on a ramp drifts: its neighbours are whatever lies closest across the drift.
   std::vector<double> ramp_sine(10000), wrapped(10000);
   for (std::size_t i = 0; i < ramp_sine.size(); ++i) {
@@ -126,12 +129,8 @@ TEST(Reading, WhatTheWarningsCallMeaninglessIsUndetermined) {
     // with a small lag oscillation.
     wrapped[i] = std::remainder(468.0 * t + 3.0 * std::sin(kTwoPi * 0.7 * t), 360.0);
   }
-  const Reading drift = read(ramp_sine, 0.01);
-  EXPECT_EQ(drift.stability, Stability::undetermined) << drift.summary;
-  EXPECT_NE(drift.summary.find("drifts"), std::string::npos) << drift.summary;
-  const Reading angle = read(wrapped, 0.01);
-  EXPECT_EQ(angle.stability, Stability::undetermined) << angle.summary;
-  EXPECT_NE(angle.summary.find("wraps"), std::string::npos) << angle.summary;
+  expect_undetermined(read(ramp_sine, 0.01), "drifts");
+  expect_undetermined(read(wrapped, 0.01), "wraps");
 }
 
 TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {

@@ -183,14 +183,9 @@ void AmiOptions::validate() const {
 }
 
 std::size_t autocorrelation_time(const std::vector<double>& x, std::size_t max_lag) {
-  CompensatedSum s0;
-  for (double v : x) s0.add(v * v);
-  const double target = std::exp(-1.0) * s0.value();
-  for (std::size_t lag = 1; lag <= max_lag && lag < x.size(); ++lag) {
-    CompensatedSum s;
-    for (std::size_t t = 0; t + lag < x.size(); ++t) s.add(x[t] * x[t + lag]);
-    if (s.value() <= target) return lag;
-  }
+  const double target = std::exp(-1.0) * lagged_product_sum(x, 0);
+  for (std::size_t lag = 1; lag <= max_lag && lag < x.size(); ++lag)
+    if (lagged_product_sum(x, lag) <= target) return lag;
   return std::max<std::size_t>(1, std::min(max_lag, x.size() - 1));
 }
 

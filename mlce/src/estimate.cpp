@@ -71,7 +71,7 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // last third's RMS at most 1/kPersistentAmplitude of its first's, or an envelope falling by more
   // than 1 % per mean period), and only if the curve is level after the jump: a lightly damped
   // oscillation whose per-cycle amplitude change is below the noise is held level by it
-  // (e^{-0.025 t} sin 2 pi t plus 1 % noise, 16000 samples: lambda -0.0026 for -0.0251 1/s), and
+  // (e^{-0.025 t} cos 2 pi t plus 1 % noise, 16000 samples: lambda -0.0024 for -0.0251 1/s), and
   // the reading then takes the decay from the amplitude (reading.hpp). On a limit cycle the same
   // shape also comes from motion the embedding does not resolve, decorrelating within one sample
   // (Hammond at 290 rpm, blade 3 inoperative, sampled every 0.02 s: 0.648, then level; every
@@ -79,7 +79,8 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
   const double f = r.mean_period.mean_frequency;
   const double period = f > 0.0 ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();  // time units
-  const bool decays = r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -0.01;
+  constexpr double kDecayPerPeriod = 0.01;  // 1 % per mean period: the reading's default neutral band
+  const bool decays = r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -kDecayPerPeriod;
   if (const auto& y = r.curve.mean_log_distance; y.size() > 3) {
     if (measures_rate ? first_step_jumps(y, r.fit.slope) : decays && first_step_jumps_to_level(y, r.fit.slope)) {
       const double jump = y[1] - y[0];
@@ -153,8 +154,8 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     // committed) moved Hammond's at 155-170 rpm (studies/fig4_5) up to 0.6 % further from their
     // Floquet exponents. The warning names both.
     // Measurement noise is a floor at any level: a decay that sinks into it leaves pairs whose
-    // distances are the noise's, and the curve flattens (e^{-0.314 t} sin 2 pi t with 0.1 % noise,
-    // 8000 samples: +2.55 1/s uncut, -0.314 cut).
+    // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
+    // 8000 samples: +3.24 1/s uncut, -0.3155 cut; test_estimate_systems prints both).
     floor_warning = floor.white_noise
         ? fmt::format("the signal decays into white measurement noise (its last quarter white, at {:.2g} of its largest "
                       "RMS) from sample {} (t = {:g}): analysed up to there, where it is still 5x the noise ({} floor "

@@ -58,6 +58,12 @@ double student_t95(std::size_t dof) {
   return 1.960;
 }
 
+double lagged_product_sum(const std::vector<double>& x, std::size_t lag) {
+  CompensatedSum s;
+  for (std::size_t t = 0; t + lag < x.size(); ++t) s.add(x[t] * x[t + lag]);
+  return s.value();
+}
+
 double upper_median(std::vector<double> v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());

@@ -102,7 +102,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   const AmplitudeTrend a = out.amplitude;
   // Noise flagged on a curve that grows to no plateau (estimate.cpp, first_step_jumps_to_level)
   // holds the curve level: a decay slower than the noise resolves reads closer to 0 than it is
-  // (e^{-0.025 t} sin 2 pi t plus 1 % noise: -0.0026 1/s, within the band). Where the interval
+  // (e^{-0.025 t} cos 2 pi t plus 1 % noise: -0.0024 1/s, within the band). Where the interval
   // does not already say stable, the signal's own decay does: the motion is itself a perturbation
   // of its equilibrium, and it dies out.
   const bool held_by_noise =

@@ -84,17 +84,11 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
     double mean = 0.0;
     for (double& v : x) mean += (v /= peak);
     mean /= static_cast<double>(x.size());
-    double var = 0.0;
-    for (double& v : x) {
-      v -= mean;
-      var += v * v;
-    }
+    for (double& v : x) v -= mean;
+    const double var = lagged_product_sum(x, 0);
     if (!(var > 0.0)) continue;  // a constant tail: the underflow rule's case
-    for (std::size_t lag = 1; lag <= 3; ++lag) {
-      double c = 0.0;
-      for (std::size_t i = 0; i + lag < x.size(); ++i) c += x[i] * x[i + lag];
-      if (std::abs(c / var) >= kWhiteLagCorrelation) return false;
-    }
+    for (std::size_t lag = 1; lag <= 3; ++lag)
+      if (std::abs(lagged_product_sum(x, lag) / var) >= kWhiteLagCorrelation) return false;
   }
   return true;
 }

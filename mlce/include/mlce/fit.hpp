@@ -26,7 +26,8 @@ bool first_step_jumps(const std::vector<double>& y, double slope_per_step);
 /// A curve that does not grow to a plateau (a decay, a limit cycle: slope ~0) is judged by the
 /// jump's shape instead: noise is matched at step 0 and fresh at every later step, so the curve
 /// jumps in one step and is level after it (the next two steps each move by at most
-/// kNoiseLevelShare x the jump: e^{-zeta w t} sin w t plus 1-3 % noise, 0.25-1.27 then below 0.04);
+/// kNoiseLevelShare x the jump: e^{-zeta w t} sin w t plus 1-3 % noise, 0.25-1.27 then below 0.04
+/// in scratch runs);
 /// the selection of the best-matching pass on a noise-free limit cycle relaxes over several steps
 /// (Hammond at 224 rpm, blade 3 inoperative: 0.31, then 0.25).
 inline constexpr double kNoiseLevelShare = 0.2;

@@ -51,6 +51,10 @@ inline std::uint64_t splitmix64(std::uint64_t& state) {
 /// Uniform in [0, 1) from the top 53 bits of splitmix64.
 inline double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
 
+/// sum over t of x[t] x[t + lag] (compensated): the unnormalised autocorrelation of a series
+/// centred by the caller (lag 0: its sum of squares). 0 when lag >= x.size().
+double lagged_product_sum(const std::vector<double>& x, std::size_t lag);
+
 /// The element of rank size/2 of v (the median for odd sizes, the upper of the middle two for even
 /// sizes); v non-empty, taken by value (nth_element reorders it).
 double upper_median(std::vector<double> v);
