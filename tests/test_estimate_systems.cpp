@@ -209,6 +209,33 @@ TEST(EstimateSystems, DampedOscillatorWithinThreePercent) {
   expect_clean(r);
 }
 
+TEST(EstimateSystems, SeveralDecayingModesReadTheLeastDampedOne) {
+  // The free response of a linear system of two modes: its exponent is the larger rate, the least
+  // damped mode, which the divergence curve follows only once the faster mode has died out (at close
+  // frequencies the two beat first). The growth rule's region read these 1.69, 1.18, 1.48 and 1.16
+  // times the exponent (build/decay_modes prints both).
+  using reference::DecayingMode;
+  struct Case {
+    std::size_t n;
+    std::vector<DecayingMode> modes;
+    double lambda1;
+  };
+  const std::vector<Case> cases{
+      {4000, {{-0.3, 1.0, 1.0}, {-0.5, 1.37, 1.0, 0.7}}, -0.3},
+      {4000, {{-0.3, 1.0, 0.2}, {-1.0, 3.3, 1.0, 0.7}}, -0.3},
+      {2000, {{-0.3, 1.0, 0.2}, {-1.0, 1.37, 1.0, 0.7}}, -0.3},
+      {3000, {{-2.0, 2.0, 1.0}, {-0.2, 1.0, 0.01, 0.7}}, -0.2},
+  };
+  for (const auto& c : cases) {
+    const auto r = run(reference::decaying_modes(c.n, 0.01, c.modes), 0.01);
+    EXPECT_NEAR(r.lambda, c.lambda1, 0.05 * std::abs(c.lambda1)) << c.n << ": " << r.fit.rule;
+    EXPECT_EQ(read_stability(r).stability, Stability::stable) << r.fit.rule;
+  }
+  // A weak slow mode under a strong fast one: the curve's fall slows, and the warning says why.
+  const auto r = run(reference::decaying_modes(3000, 0.01, cases.back().modes), 0.01);
+  EXPECT_TRUE(has_warning(r, "the decay slows along the divergence curve")) << r.fit.rule;
+}
+
 TEST(EstimateSystems, VanDerPolLimitCycleIsZero) {
   for (double dt : {0.01, 0.05}) {
     const auto r = run(reference::van_der_pol_x(10000, dt), dt);

@@ -364,6 +364,32 @@ TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   EXPECT_LE(r.last, 510u);
 }
 
+TEST(Fit, FallOfTwoModesIsFittedLateUnlessTheSignalHasAFloor) {
+  // ln(20 e^{-0.05 i} + e^{-0.003 i}): pairs whose separation holds a fast and a slow decaying mode.
+  // The exponent is the slow mode's -0.003 per step (the least negative); the fast one has died out
+  // by step ~120. Its fall flattens by 17x, which the growth rule's first stage takes for a floor.
+  std::vector<double> y;
+  for (int i = 0; i <= 600; ++i) y.push_back(std::log(20.0 * std::exp(-0.05 * i) + std::exp(-0.003 * i)));
+  FitOptions o;
+  o.period = 50;
+  const FitResult clean = fit_divergence(synthetic(y), o);
+  EXPECT_NEAR(clean.slope, -0.003, 0.03 * 0.003) << clean.rule;
+  EXPECT_EQ(clean.end, CurveEnd::none) << clean.rule;
+  EXPECT_NE(clean.rule.find("slower mode, not a floor"), std::string::npos) << clean.rule;
+  // A signal with a floor of its own (noise, tolerance, quantum): the flattening may be the pairs
+  // reaching it, so the steep fall before it is fitted, as for paper 001 Fig. 6.
+  o.signal_floor = true;
+  const FitResult floored = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(floored.end, CurveEnd::floor) << floored.rule;
+  EXPECT_LT(floored.slope, -0.01) << floored.rule;
+  // The late region's share is an option: 0 turns it off, and out of [0, 1] is refused.
+  o.signal_floor = false;
+  o.late_decay_share = 0.0;
+  EXPECT_LT(fit_divergence(synthetic(y), o).slope, -0.01);
+  o.late_decay_share = 1.5;
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+}
+
 TEST(Fit, FallTheSignalDoesNotShareIsAConvergenceOntoALimitCycle) {
   // The curve of Hammond's rotor at 300 rpm (blade 3 inoperative, lag rate 1 rad/s, 51-90 s): it
   // falls by 0.26 at -0.0026 per step, then stays level. A motion that does not come to rest has

@@ -326,6 +326,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // a motion that persists, not lambda_1 (FitOptions::signal_rate).
   r.envelope_rate = envelope_rate(series, period);
   if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
+  fo.signal_floor = fo.signal_floor || !floor_warning.empty();  // FitOptions::signal_floor
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
   NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs

@@ -293,6 +293,41 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
 }
 
+/// A fall whose second half is less steep than this fraction of its first half's slows along the
+/// curve: a warning names the slopes (modes of different damping, or a floor the signal does not show).
+constexpr double kSlowingDecay = 0.8;
+/// A "floor" piece of a signal without a floor of its own that still falls by more than this (natural
+/// log) is a slower mode, not a floor: it is fitted with the fall.
+constexpr double kSlowModeFall = 1.0;
+
+/// Stage 2 for the fall of a signal without a floor of its own (FitOptions::signal_floor,
+/// late_decay_share): the last late_decay_share of the fall from the curve's highest point in the
+/// first half of y[0..stop] to `stop`. False, with r untouched, when the fall is too short for a
+/// region of a period (2 minimum pieces): the growth rule fits it then.
+bool choose_late_decay_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len,
+                              const FitOptions& options, FitResult& r, std::ostringstream& rule) {
+  const auto top = static_cast<std::size_t>(
+      std::max_element(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop / 2) + 1) - y.begin());
+  const auto length = static_cast<std::size_t>(options.late_decay_share * static_cast<double>(stop - top));
+  if (length + 1 < 2 * min_len) return false;
+  r.first = stop - length;
+  r.last = stop;
+  rule << "; a fall on a signal without a floor of its own: fitted its last " << options.late_decay_share
+       << " from the curve's highest point (step " << top << ") to step " << stop
+       << ", where the faster modes have died out most";
+  if (stop - top + 1 >= 4 * min_len) {
+    const HalfSlopes h = half_slopes(y, top, stop);
+    if (h.first < 0.0 && h.second > kSlowingDecay * h.first)
+      r.warnings.push_back(fmt::format(
+          "the decay slows along the divergence curve: steps {}..{} fall at {:.3g} per step, steps {}..{} at {:.3g}: "
+          "modes of different damping, of which the least damped (the largest exponent) dominates only late, or a "
+          "floor the signal does not show; the fit takes the later steps {}..{}, and a longer run resolves the slowest "
+          "mode better",
+          top, h.mid, h.first, h.mid, stop, h.second, r.first, r.last));
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<double> local_slopes(const std::vector<double>& y, std::size_t period) {
@@ -340,6 +375,7 @@ void FitOptions::validate() const {
   if (!(bend_warning >= 0.0 && bend_warning < 1.0)) throw OptionError("fit.bend_warning: expected [0, 1) (0 = never warn)");
   if (std::isinf(signal_rate)) throw OptionError("fit.signal_rate: expected a finite rate or NaN (unknown)");
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
+  if (!(late_decay_share >= 0.0 && late_decay_share <= 1.0)) throw OptionError("fit.late_decay_share: expected [0, 1] (0 = off)");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
@@ -411,7 +447,22 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
              << options.signal_rate << " (not " << options.persist_share << " x the fall): the neighbours converge "
              << "onto a motion that persists (limit cycle; lambda_1 >= 0); fitted the level it settles at";
       } else {
-        choose_linear_region(y, stop, min_len, options, r, rule);
+        // A decay of a signal with no floor of its own has none to bend into: it flattens as its faster
+        // modes die out (FitOptions::signal_floor), and a "floor" that still falls is its slowest mode.
+        bool late = false;
+        // Measurement noise is such a floor too: it lifts the curve's first step (first_step_jumps).
+        if (fall < 0.0 && options.late_decay_share > 0.0 && !options.signal_floor && curve.zero_distance_terms == 0 &&
+            !first_step_jumps(y, fall)) {
+          const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
+          late = choose_late_decay_region(y, slower_mode ? n - 1 : stop, min_len, options, r, rule);
+          if (late && slower_mode) {
+            rule << "; the flatter fall from step " << r.end_index << " is a slower mode, not a floor (it falls by "
+                 << y[r.end_index] - y[n - 1] << ")";
+            r.end = CurveEnd::none;
+            r.end_index = 0;
+          }
+        }
+        if (!late) choose_linear_region(y, stop, min_len, options, r, rule);
       }
     }
   }

@@ -3,6 +3,7 @@
 // (never read from files): a fixed-step RK4 for flows, direct iteration for maps.
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <cstddef>
 #include <random>
 #include <vector>
@@ -120,6 +121,24 @@ inline std::vector<double> damped_oscillator(std::size_t n, double dt, double ze
   for (std::size_t i = 0; i < n; ++i) {
     const double t = dt * static_cast<double>(i);
     out[i] = std::exp(-zeta * omega * t) * (std::cos(wd * t) + zeta * omega / wd * std::sin(wd * t));
+  }
+  return out;
+}
+
+/// One mode of a linear system's free response: amplitude x e^{rate t} cos(2 pi frequency t + phase).
+struct DecayingMode {
+  double rate, frequency, amplitude, phase = 0.0;
+};
+
+/// The free response of a linear system with these modes, sampled n times every dt: the sum of the
+/// modes. Its largest Lyapunov exponent is exactly the largest rate (the least damped mode), whatever
+/// the amplitudes; the other modes die out faster and, at close frequencies, beat with it first.
+inline std::vector<double> decaying_modes(std::size_t n, double dt, const std::vector<DecayingMode>& modes) {
+  std::vector<double> out(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = dt * static_cast<double>(i);
+    for (const auto& m : modes)
+      out[i] += m.amplitude * std::exp(m.rate * t) * std::cos(2.0 * std::numbers::pi * m.frequency * t + m.phase);
   }
   return out;
 }

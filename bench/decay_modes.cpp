@@ -1,0 +1,101 @@
+// Decays of several modes: the free response of a linear system, e^{-0.3 t} cos 2 pi t (the least
+// damped mode: lambda_1 = -0.3 1/s exactly) plus one faster-decaying mode (rate -0.5, -1 or -3 1/s, at
+// 0.45, 1.37 or 3.3 Hz, the slow mode's amplitude 0.2, 1 or 5 times the fast one's), dt = 0.01 s,
+// 2000 and 4000 samples; then two three-mode decays and a weak slow mode under a strong fast one.
+// Every parameter automatic; each series is estimated with the fit rule's late region for decays
+// (FitOptions::late_decay_share = 0.75, the default) and with it off (0: the growth rule's region,
+// the rule before), and the warning that the decay slows along the curve is counted.
+//   build/decay_modes        (about 10 s)
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "mlce/estimate.hpp"
+#include "reference_systems.hpp"
+
+namespace {
+
+using mlce::reference::DecayingMode;
+
+struct Tally {
+  int count = 0, within5 = 0, within10 = 0;
+  double max_error = 0.0, sum_squares = 0.0;
+  void add(double ratio) {
+    const double e = std::abs(ratio - 1.0);
+    ++count;
+    within5 += e <= 0.05;
+    within10 += e <= 0.10;
+    max_error = std::max(max_error, e);
+    sum_squares += e * e;
+  }
+  void print(const char* label) const {
+    std::printf("%-34s within 5 %% / 10 %%: %d / %d of %d, max error %.1f %%, rms error %.1f %%\n", label, within5,
+                within10, count, 100.0 * max_error, 100.0 * std::sqrt(sum_squares / count));
+  }
+};
+
+bool warns_slowing(const mlce::MlceResult& r) {
+  for (const auto& w : r.warnings)
+    if (w.find("the decay slows") != std::string::npos) return true;
+  return false;
+}
+
+struct Row {
+  double late, before;
+  bool slowing;
+};
+
+Row estimate_both(const std::vector<double>& x, double dt) {
+  const auto series = mlce::make_series_with_step({x}, dt);
+  mlce::MlceOptions late, before;
+  before.fit.late_decay_share = 0.0;
+  const auto a = mlce::estimate_mlce(series, late);
+  const auto b = mlce::estimate_mlce(series, before);
+  return {a.lambda, b.lambda, warns_slowing(a)};
+}
+
+}  // namespace
+
+int main() {
+  const double dt = 0.01, truth = -0.3;
+  Tally late, before;
+  int slowing = 0;
+  std::printf("%5s %6s %5s %4s %10s %10s %9s\n", "N", "rate2", "f2", "a1", "late", "before", "warning");
+  for (std::size_t n : {2000u, 4000u})
+    for (double rate : {-0.5, -1.0, -3.0})
+      for (double f : {0.45, 1.37, 3.3})
+        for (double a1 : {0.2, 1.0, 5.0}) {
+          const auto x = mlce::reference::decaying_modes(n, dt, {DecayingMode{truth, 1.0, a1, 0.0}, DecayingMode{rate, f, 1.0, 0.7}});
+          const Row r = estimate_both(x, dt);
+          late.add(r.late / truth);
+          before.add(r.before / truth);
+          slowing += r.slowing;
+          std::printf("%5zu %6.2f %5.2f %4.1f %10.4f %10.4f %9s\n", n, rate, f, a1, r.late, r.before,
+                      r.slowing ? "slows" : "");
+        }
+  std::printf("two modes, lambda_1 = -0.3 1/s (%d of %d warn that the decay slows):\n", slowing, late.count);
+  late.print("  late region (default)");
+  before.print("  growth rule's region (before)");
+
+  struct Case {
+    const char* name;
+    std::size_t n;
+    std::vector<DecayingMode> modes;
+  };
+  const std::vector<Case> others{
+      {"-0.3@1 Hz x0.5, -0.4@1.2 x1, -1.5@3 x1", 3000, {{-0.3, 1.0, 0.5}, {-0.4, 1.2, 1.0, 0.7}, {-1.5, 3.0, 1.0, 1.4}}},
+      {"-0.3@1 Hz x1, -0.35@0.8 x1, -2@2.5 x2", 3000, {{-0.3, 1.0, 1.0}, {-0.35, 0.8, 1.0, 0.7}, {-2.0, 2.5, 2.0, 1.4}}},
+      {"-2@2 Hz x1, -0.2@1 x0.01", 3000, {{-2.0, 2.0, 1.0}, {-0.2, 1.0, 0.01, 0.7}}},
+      {"-3@1 Hz x1, -0.4@1.37 x0.05", 3000, {{-3.0, 1.0, 1.0}, {-0.4, 1.37, 0.05, 0.7}}},
+  };
+  std::printf("other decays (lambda_1 = the largest rate):\n");
+  for (const auto& c : others) {
+    double lambda1 = -INFINITY;
+    for (const auto& m : c.modes) lambda1 = std::max(lambda1, m.rate);
+    const Row r = estimate_both(mlce::reference::decaying_modes(c.n, dt, c.modes), dt);
+    std::printf("  %-42s N %zu: lambda_1 %.3f, late %.4f (%.3f), before %.4f (%.3f)%s\n", c.name, c.n, lambda1, r.late,
+                r.late / lambda1, r.before, r.before / lambda1, r.slowing ? ", warns that the decay slows" : "");
+  }
+  return 0;
+}
