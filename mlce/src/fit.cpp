@@ -312,8 +312,8 @@ bool choose_late_decay_region(const std::vector<double>& y, std::size_t stop, st
   if (length + 1 < 2 * min_len) return false;
   r.first = stop - length;
   r.last = stop;
-  rule << "; a fall on a signal without a floor of its own: fitted its last " << options.late_decay_share
-       << " from the curve's highest point (step " << top << ") to step " << stop
+  rule << "; a fall on a signal without a floor of its own: fitted the last " << options.late_decay_share
+       << " of the fall from the curve's highest point (step " << top << ") to step " << stop
        << ", where the faster modes have died out most";
   if (stop - top + 1 >= 4 * min_len) {
     const HalfSlopes h = half_slopes(y, top, stop);
@@ -461,6 +461,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
             r.end = CurveEnd::none;
             r.end_index = 0;
           }
+          if (late && r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
         }
         if (!late) choose_linear_region(y, stop, min_len, options, r, rule);
       }

@@ -182,6 +182,11 @@ struct FitResult {
 ///     `straightness` x its first half's slope, its last quarter is dropped. A region of a curve
 ///     that saturates is then extended to min_periods periods when it is shorter and the curve
 ///     reaches that far before the plateau.
+///  2b. Instead of 2, when the curve falls (the largest change of stage 1) on a signal without a floor
+///     of its own (signal_floor unset, no zero distances, no noise jump at the first step): the last
+///     late_decay_share of the fall from the curve's highest point in its first half to the cut; a
+///     stage-1 floor that still falls by more than 1 is a slower mode and the fall runs to the
+///     curve's end. A warning when the fall's second half is less than 0.8 x as steep as its first.
 /// The 95 % interval comes from batch means: the slope of each batch's curve over the same region,
 /// t-distributed over the batches.
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
