@@ -64,6 +64,29 @@ TEST(Reading, DecayAndGrowthOfKnownRateAreStableAndUnstable) {
   EXPECT_EQ(growth.amplitude, AmplitudeTrend::grows);
 }
 
+TEST(Reading, SlowGrowthWhoseCurveLooksBoundedIsStillAGrowingOscillation) {
+  // A slow growth's divergence curve rises by less than the fit rule's bounded and flat tests
+  // (0.25 over the horizon): e^{0.05 t} cos 2 pi t over 30 s reads lambda 0.0500 on a "bounded" curve,
+  // e^{0.02 t} on a "flat" one. The amplitude grows and the interval lies above the band: a growing
+  // oscillation (read neutral, "slowly growing", until the bounded-curve clause let the interval
+  // decide), also under a faster decaying mode beside it (the onset of ground resonance: one mode
+  // crosses into instability while the others still decay). Truth: the rate itself, per period.
+  using reference::DecayingMode;
+  const std::vector<std::pair<double, std::vector<DecayingMode>>> growths{
+      {0.05, {{0.05, 1.0, 0.1}}},
+      {0.02, {{0.02, 1.0, 1.0}}},
+      {0.05, {{0.05, 1.0, 0.1}, {-0.5, 1.37, 1.0, 0.7}}},
+  };
+  for (const auto& [rate, modes] : growths) {
+    const Reading r = read(reference::decaying_modes(3000, 0.01, modes), 0.01);
+    expect_reading(r, Stability::unstable, "growing oscillation", "slow growth");
+    EXPECT_NEAR(r.lambda_per_period, rate, 0.1 * rate) << r.summary;
+  }
+  // Within the band (e^{0.01 t}: lambda T = 0.01, its interval not above it) the clause stands.
+  const Reading edge = read(reference::decaying_modes(3000, 0.01, {{0.01, 1.0, 1.0}}), 0.01);
+  EXPECT_EQ(edge.stability, Stability::neutral) << edge.summary;
+}
+
 TEST(Reading, TheNeutralBandIsOnePercentPerMeanPeriod) {
   // zeta = 0.001: lambda T = -2 pi zeta = -0.0063, inside the band (and so is its amplitude's
   // decay: at this resolution a limit cycle); zeta = 0.003: -0.019, beyond it.

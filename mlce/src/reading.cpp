@@ -121,9 +121,13 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // The fit rule's own finding that the neighbours never separate to the attractor scale (a bounded
   // or flat curve, fit.hpp) is the limit cycle's signature, whatever residual slope was fitted
   // (Hammond at 300 rpm, blade 3 inoperative, on its limit cycle: +0.055 per period on a bounded
-  // curve). Not when the motion decays to rest: then the interval decides.
+  // curve). Not when the motion decays to rest, nor when it grows at a rate the interval places above
+  // the band: then the interval decides. A slow growth's curve rises by less than the bounded and
+  // flat tests' 0.25 over its horizon (e^{0.05 t} cos 2 pi t over 30 s: lambda 0.0500 on a "bounded"
+  // curve, read neutral until this clause), and a growing oscillation is the instability itself.
   const bool never_separate = r.fit.automatic && (r.fit.end == CurveEnd::bounded || r.fit.end == CurveEnd::flat);
-  if (never_separate && a != AmplitudeTrend::decays) {
+  const bool growth_beyond_band = a == AmplitudeTrend::grows && out.ci_low_per_period > band;
+  if (never_separate && a != AmplitudeTrend::decays && !growth_beyond_band) {
     out.stability = Stability::neutral;
     out.motion = a == AmplitudeTrend::grows ? "slowly growing" : "limit cycle";
     out.summary = std::string("neutral: the neighbours never separate to the attractor scale (curve end: ") +
