@@ -1,7 +1,8 @@
 // Decays of several modes: the free response of a linear system, e^{-0.3 t} cos 2 pi t (the least
 // damped mode: lambda_1 = -0.3 1/s exactly) plus one faster-decaying mode (rate -0.5, -1 or -3 1/s, at
 // 0.45, 1.37 or 3.3 Hz, the slow mode's amplitude 0.2, 1 or 5 times the fast one's), dt = 0.01 s,
-// 2000 and 4000 samples; then two three-mode decays and a weak slow mode under a strong fast one.
+// 2000 and 4000 samples; then two three-mode decays, a weak slow mode under a strong fast one, and
+// growths of several modes (not fitted like decays yet).
 // Every parameter automatic; each series is estimated with the fit rule's late region for decays
 // (FitOptions::late_decay_share = 0.75, the default) and with it off (0: the growth rule's region,
 // the rule before), and the warning that the decay slows along the curve is counted.
@@ -97,5 +98,15 @@ int main() {
     std::printf("  %-42s N %zu: lambda_1 %.3f, late %.4f (%.3f), before %.4f (%.3f)%s\n", c.name, c.n, lambda1, r.late,
                 r.late / lambda1, r.before, r.before / lambda1, r.slowing ? ", warns that the decay slows" : "");
   }
+  // Growths of several modes (README, known limitations): e^{0.3 t} cos 2 pi t at amplitude 0.01, 0.1
+  // and 1 beside a second growing or a decaying mode; lambda_1 = 0.3. Not fitted like decays yet.
+  std::printf("growths (lambda_1 = 0.3 1/s, N 3000; not yet fitted late):\n");
+  for (double a1 : {0.01, 0.1, 1.0})
+    for (const DecayingMode& other : {DecayingMode{-0.5, 1.37, 1.0, 0.7}, DecayingMode{-1.0, 3.3, 1.0, 0.7},
+                                      DecayingMode{-0.5, 0.45, 1.0, 0.7}, DecayingMode{0.1, 1.37, 1.0, 0.7}}) {
+      const Row r = estimate_both(mlce::reference::decaying_modes(3000, dt, {DecayingMode{0.3, 1.0, a1, 0.0}, other}), dt);
+      std::printf("  0.3@1 Hz x%-4g beside %+.1f@%.2f Hz x1: %.4f (%.3f)\n", a1, other.rate, other.frequency, r.late,
+                  r.late / 0.3);
+    }
   return 0;
 }
