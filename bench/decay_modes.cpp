@@ -13,28 +13,13 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "ratio_tally.hpp"
 #include "reference_systems.hpp"
 
 namespace {
 
+using mlce::bench::Tally;
 using mlce::reference::DecayingMode;
-
-struct Tally {
-  int count = 0, within5 = 0, within10 = 0;
-  double max_error = 0.0, sum_squares = 0.0;
-  void add(double ratio) {
-    const double e = std::abs(ratio - 1.0);
-    ++count;
-    within5 += e <= 0.05;
-    within10 += e <= 0.10;
-    max_error = std::max(max_error, e);
-    sum_squares += e * e;
-  }
-  void print(const char* label) const {
-    std::printf("%-34s within 5 %% / 10 %%: %d / %d of %d, max error %.1f %%, rms error %.1f %%\n", label, within5,
-                within10, count, 100.0 * max_error, 100.0 * std::sqrt(sum_squares / count));
-  }
-};
 
 bool warns_slowing(const mlce::MlceResult& r) {
   for (const auto& w : r.warnings)
@@ -75,9 +60,10 @@ int main() {
           std::printf("%5zu %6.2f %5.2f %4.1f %10.4f %10.4f %9s\n", n, rate, f, a1, r.late, r.before,
                       r.slowing ? "slows" : "");
         }
-  std::printf("two modes, lambda_1 = -0.3 1/s (%d of %d warn that the decay slows):\n", slowing, late.count);
-  late.print("  late region (default)");
-  before.print("  growth rule's region (before)");
+  std::printf("two modes, lambda_1 = -0.3 1/s, estimate / lambda_1 (%d of %zu warn that the decay slows):\n", slowing,
+              late.values.size());
+  late.print("late region (default)");
+  before.print("growth rule's region (before)");
 
   struct Case {
     const char* name;

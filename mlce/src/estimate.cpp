@@ -157,14 +157,12 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
     // 8000 samples: +3.24 1/s uncut, -0.3155 cut; test_estimate_systems prints both).
     floor_warning = floor.white_noise
-        ? fmt::format("the signal decays into white measurement noise (its last quarter white, at {:.2g} of its largest "
-                      "RMS) from sample {} (t = {:g}): analysed up to there, where it is still 5x the noise ({} floor "
-                      "samples left out)",
-                      floor.level, f, input.time(f), input.size() - f)
-        : fmt::format("the signal decays into a noise/underflow floor from sample {} (t = {:g}), or so far (its last "
-                      "quarter below {:g} of its largest RMS) that solver tolerance and rounding dominate there: "
-                      "analysed up to there ({} floor samples left out)",
-                      f, input.time(f), options.floor_ratio, input.size() - f);
+        ? fmt::format("the signal decays into white measurement noise ({}) from sample {} (t = {:g}): analysed up to "
+                      "there, where it is still 5x the noise ({} floor samples left out)",
+                      floor_evidence(floor, options.floor_ratio), f, input.time(f), input.size() - f)
+        : fmt::format("the signal decays into a noise/underflow floor from sample {} (t = {:g}), or so far ({}) that "
+                      "solver tolerance and rounding dominate there: analysed up to there ({} floor samples left out)",
+                      f, input.time(f), floor_evidence(floor, options.floor_ratio), input.size() - f);
   }
   const Series& series = floor_warning.empty() ? input : cut;
   validate_series(series);

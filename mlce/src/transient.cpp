@@ -95,9 +95,13 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
 
 }  // namespace
 
+std::string floor_evidence(const Floor& f, double floor_ratio) {
+  return f.white_noise ? fmt::format("its last quarter white, at {:.2g} of its largest RMS", f.level)
+                       : fmt::format("RMS below {:g} of its largest", floor_ratio);
+}
+
 std::string describe(const Floor& f, double floor_ratio) {
-  return f.white_noise ? fmt::format("white-noise floor (its last quarter white, at {:.2g} of its largest RMS)", f.level)
-                       : fmt::format("noise/underflow floor (RMS below {:g} of its largest)", floor_ratio);
+  return (f.white_noise ? "white-noise floor (" : "noise/underflow floor (") + floor_evidence(f, floor_ratio) + ")";
 }
 
 Floor detect_floor(const Series& s, double floor_ratio) {

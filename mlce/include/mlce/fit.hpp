@@ -123,10 +123,11 @@ struct FitOptions {
   /// frequencies they beat with it first: the curve oscillates at the difference frequency). The
   /// region is the last late_decay_share of the fall, from the curve's highest point (the pairs'
   /// selection-bias rise) to its end: shorter regions take the phase of the beat for the trend,
-  /// longer ones the faster modes. 0.75: two-mode decays e^{-0.3 t} cos 2 pi t plus a mode of rate
-  /// -0.5, -1 or -3 at 0.45, 1.37 or 3.3 Hz, amplitude ratios 0.2, 1 and 5, 2000 and 4000 samples
-  /// (dt 0.01): 48 of 56 within 5 % of -0.3, max error 29 % (the rule before: 35, 275 %; the whole
-  /// fall 43, 34 %; its second half 49, 87 %). 0 = off (the growth rule fits decays too).
+  /// longer ones the faster modes. 0.75: `build/decay_modes`, 54 two-mode decays e^{-0.3 t} cos 2 pi t
+  /// plus a mode of rate -0.5, -1 or -3 at 0.45, 1.37 or 3.3 Hz, amplitude ratios 0.2, 1 and 5, 2000
+  /// and 4000 samples (dt 0.01): 48 within 5 % of -0.3, 0.893..1.163 x (the rule before, share 0: 33,
+  /// up to 3.75 x). In a scratch comparison on their curves (and two three-mode decays) the whole fall
+  /// and its second half did worse (max error 34 % and 87 %). 0 = off (the growth rule fits decays too).
   double late_decay_share = 0.75;
   void validate() const;
 };

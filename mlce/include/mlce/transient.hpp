@@ -65,7 +65,9 @@ struct Floor {
 /// never is). It starts at the first window after which every window stays within 10x that level
 /// (5x for white noise: where the signal is still 5x the noise). floor_ratio 0: never a floor.
 Floor detect_floor(const Series& series, double floor_ratio);
-/// The floor in words for rules and warnings.
+/// What found the floor, in words: the white tail's level, or the ratio it fell below.
+std::string floor_evidence(const Floor& floor, double floor_ratio);
+/// The floor in words for rules and warnings: its kind and floor_evidence.
 std::string describe(const Floor& floor, double floor_ratio);
 
 /// Rate at which the signal's own amplitude changes, per sample (natural log): the least-squares
