@@ -87,7 +87,7 @@ TEST_F(MbdynCli, ReadingOfTheRealRunsFollowsTheirKnownStability) {
 TEST_F(MbdynCli, ConvergenceSaysWhetherTheReadingHoldsOverTheRun) {
   // mlce convergence reads every part (reading.hpp) and says whether the reading holds from half the
   // run on. Blade 3's lag of the growing run (0-10 s, ground resonance: the trivial solution is
-  // linearly unstable, Floquet +0.32 1/s at 242.4 rpm) reads a growing oscillation on every such part.
+  // linearly unstable, Floquet +0.2985 1/s at 242.4 rpm) reads a growing oscillation on every such part.
   const std::string mbdyn = std::string(MLCE_DATA_DIR) + "/mbdyn/";
   CliRun r = run("convergence " + mbdyn + "c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf --channel rel:13:4:z --json --quiet");
   ASSERT_EQ(r.status, 0) << r.err;

@@ -122,7 +122,7 @@ TEST_F(MbdynVsAdHoc, FailedDamperRunLimitCycleRangeAndBoundedDivergence) {
         EXPECT_TRUE(contains_zero(a)) << a.dump();
         EXPECT_TRUE(contains_zero(b)) << b.dump();
       }
-      // Both runs read the limit cycle they are (paper 001 Fig. 8: Floquet +0.32 1/s about x = 0 at
+      // Both runs read the limit cycle they are (paper 001 Fig. 8: Floquet +0.2985 1/s about x = 0 at
       // 242.4 rpm, so no decay to rest; the motion is bounded).
       for (const auto& one : {a, b}) {
         EXPECT_EQ(one["reading"]["stability"], "neutral") << ch << ": " << one["reading"].dump();

@@ -390,6 +390,46 @@ TEST(Fit, FallOfTwoModesIsFittedLateUnlessTheSignalHasAFloor) {
   EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
+TEST(Fit, RiseOfASignalThatGrowsOnItsOwnHasNoPlateau) {
+  // ln(0.05 e^{0.008 i} + e^{0.002 i} (1 + 0.6 sin(2 pi i / 250))): pairs whose separation holds a
+  // slow growing mode that beats and a weak fast one, which dominates from step ~500. The exponent is
+  // the fast mode's 0.008 per step. The beat's flat part after the first rise looks like a plateau.
+  std::vector<double> y;
+  for (int i = 0; i <= 900; ++i)
+    y.push_back(std::log(0.05 * std::exp(0.008 * i) + std::exp(0.002 * i) * (1.0 + 0.6 * std::sin(2.0 * M_PI * i / 250.0))));
+  FitOptions o;
+  o.period = 50;
+  // Signal's growth unknown: the growth rule, which cuts the rise at the beat's flat part.
+  const FitResult unknown = fit_divergence(synthetic(y), o);
+  // The signal grows on its own (at its end by 0.004 x 900 = 3.6 over the horizon): its pairs have no attractor
+  // to saturate on, a level that rises with the signal is not a plateau, and the rise is fitted late.
+  o.signal_end_rate = 0.004;
+  const FitResult grows = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(grows.end, CurveEnd::none) << grows.rule;
+  EXPECT_EQ(grows.last, 900u) << grows.rule;
+  EXPECT_NE(grows.rule.find("grows on its own"), std::string::npos) << grows.rule;
+  EXPECT_LT(std::abs(grows.slope - 0.008), std::abs(unknown.slope - 0.008)) << unknown.rule << " | " << grows.rule;
+  EXPECT_NEAR(grows.slope, 0.008, 0.25 * 0.008) << grows.rule;
+  // A signal that barely grows (0.0001 x 900 = 0.09 < 0.5: a chaotic or periodic one) keeps the rule.
+  o.signal_end_rate = 1e-4;
+  EXPECT_DOUBLE_EQ(fit_divergence(synthetic(y), o).slope, unknown.slope);
+  // A level that is flat while the signal grows is a saturation plateau after all (the pairs reach
+  // the motion's size, as in a growth that settles on a limit cycle): it is cut as before.
+  const auto saturates = piecewise(-3.0, {{150, 0.01}, {450, 0.0}});
+  o.signal_end_rate = 0.004;
+  const FitResult plateau = fit_divergence(synthetic(saturates), o);
+  EXPECT_EQ(plateau.end, CurveEnd::saturation) << plateau.rule;
+  EXPECT_NEAR(plateau.slope, 0.01, 1e-9) << plateau.rule;
+  // The share is an option: 0 turns it off, and out of [0, 1] is refused.
+  o.late_growth_share = 0.0;
+  EXPECT_DOUBLE_EQ(fit_divergence(synthetic(y), o).slope, unknown.slope);
+  o.late_growth_share = -0.1;
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+  o.late_growth_share = 0.75;
+  o.signal_end_rate = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+}
+
 TEST(Fit, FallTheSignalDoesNotShareIsAConvergenceOntoALimitCycle) {
   // The curve of Hammond's rotor at 300 rpm (blade 3 inoperative, lag rate 1 rad/s, 51-90 s): it
   // falls by 0.26 at -0.0026 per step, then stays level. A motion that does not come to rest has

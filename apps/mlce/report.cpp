@@ -56,6 +56,7 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.curve.phase_aligned) j["phase_interpolation"] = r.curve.cubic_pairs > 0 ? "cubic" : "linear";
   j["unaligned_lambda"] = finite_or_null(r.unaligned_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
+  j["end_envelope_rate"] = finite_or_null(r.end_envelope_rate / r.dt);  // the second half's (FitOptions::signal_end_rate)
   j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
   // The recurrence test's windows (recurrence.hpp), when it ran: their length and scores.
   if (!r.recurrence.ratio.empty()) {

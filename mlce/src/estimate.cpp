@@ -324,6 +324,9 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   // a motion that persists, not lambda_1 (FitOptions::signal_rate).
   r.envelope_rate = envelope_rate(series, period);
   if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
+  // Does it still grow at its end? Then its pairs have no attractor to saturate on (FitOptions::signal_end_rate).
+  r.end_envelope_rate = envelope_rate(time_window(series, series.time(series.size() / 2), series.time(series.size() - 1)), period);
+  if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
   fo.signal_floor = fo.signal_floor || !floor_warning.empty();  // FitOptions::signal_floor
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);

@@ -295,35 +295,50 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
 
 /// A fall whose second half is less steep than this fraction of its first half's slows along the
 /// curve: a warning names the slopes (modes of different damping, or a floor the signal does not show).
+/// Rises get no such warning: their start-up and beats hide the steepening (on build/decay_modes'
+/// growths the fitted region's halves differ by 1..22 %, the flatter half second).
 constexpr double kSlowingDecay = 0.8;
 /// A "floor" piece of a signal without a floor of its own that still falls by more than this (natural
 /// log) is a slower mode, not a floor: it is fitted with the fall.
 constexpr double kSlowModeFall = 1.0;
+/// A signal whose amplitude, at its end, grows by at least this (natural log, e^0.5 = 1.65 x) over the
+/// curve's horizon (FitOptions::signal_end_rate x steps) grows on its own: it has no attractor of fixed size for
+/// its pairs to saturate on. Chaotic and limit-cycle series change by < 0.01 (Lorenz x, Roessler x,
+/// Henon x, van der Pol at N = 10^4: |rate x horizon| < 0.004); the multi-mode growths of
+/// `build/decay_modes` by 1.2 .. 2.9 (it prints them).
+constexpr double kGrowingSignal = 0.5;
 
-/// Stage 2 for the fall of a signal without a floor of its own (FitOptions::signal_floor,
-/// late_decay_share): the last late_decay_share of the fall from the curve's highest point in the
-/// first half of y[0..stop] to `stop`. False, with r untouched, when the fall is too short for a
-/// region of a period (2 minimum pieces): the growth rule fits it then.
-bool choose_late_decay_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len,
-                              const FitOptions& options, FitResult& r, std::ostringstream& rule) {
-  const auto top = static_cast<std::size_t>(
-      std::max_element(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(stop / 2) + 1) - y.begin());
-  const auto length = static_cast<std::size_t>(options.late_decay_share * static_cast<double>(stop - top));
+/// Stage 2b/2c for a curve with no plateau or floor of the signal's own to bend into (decays of a
+/// signal without a floor, FitOptions::late_decay_share; growths of a signal that grows on its own,
+/// late_growth_share): the last `share` of the change from the curve's extreme point (highest for a
+/// fall, lowest for a rise) in the first half of y[0..stop] to `stop`. False, with r untouched, when
+/// the change is too short for a region of a period (2 minimum pieces): the growth rule fits it then.
+bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls, double share,
+                        FitResult& r, std::ostringstream& rule) {
+  const auto half_end = y.begin() + static_cast<std::ptrdiff_t>(stop / 2) + 1;
+  const auto start = static_cast<std::size_t>(
+      (falls ? std::max_element(y.begin(), half_end) : std::min_element(y.begin(), half_end)) - y.begin());
+  const auto length = static_cast<std::size_t>(share * static_cast<double>(stop - start));
   if (length + 1 < 2 * min_len) return false;
   r.first = stop - length;
   r.last = stop;
-  rule << "; a fall on a signal without a floor of its own: fitted the last " << options.late_decay_share
-       << " of the fall from the curve's highest point (step " << top << ") to step " << stop
-       << ", where the faster modes have died out most";
-  if (stop - top + 1 >= 4 * min_len) {
-    const HalfSlopes h = half_slopes(y, top, stop);
+  if (falls)
+    rule << "; a fall on a signal without a floor of its own: fitted the last " << share
+         << " of the fall from the curve's highest point (step " << start << ") to step " << stop
+         << ", where the faster modes have died out most";
+  else
+    rule << "; a rise on a signal whose amplitude grows on its own (no attractor to saturate on): fitted the last "
+         << share << " of the rise from the curve's lowest point (step " << start << ") to step " << stop
+         << ", where the fastest mode dominates most";
+  if (falls && stop - start + 1 >= 4 * min_len) {
+    const HalfSlopes h = half_slopes(y, start, stop);
     if (h.first < 0.0 && h.second > kSlowingDecay * h.first)
       r.warnings.push_back(fmt::format(
           "the decay slows along the divergence curve: steps {}..{} fall at {:.3g} per step, steps {}..{} at {:.3g}: "
           "modes of different damping, of which the least damped (the largest exponent) dominates only late, or a "
           "floor the signal does not show; the fit takes the later steps {}..{}, and a longer run resolves the slowest "
           "mode better",
-          top, h.mid, h.first, h.mid, stop, h.second, r.first, r.last));
+          start, h.mid, h.first, h.mid, stop, h.second, r.first, r.last));
   }
   return true;
 }
@@ -374,8 +389,10 @@ void FitOptions::validate() const {
   if (!(min_periods >= 0.0 && min_periods <= 100.0)) throw OptionError("fit.min_periods: expected [0, 100] (0 = off)");
   if (!(bend_warning >= 0.0 && bend_warning < 1.0)) throw OptionError("fit.bend_warning: expected [0, 1) (0 = never warn)");
   if (std::isinf(signal_rate)) throw OptionError("fit.signal_rate: expected a finite rate or NaN (unknown)");
+  if (std::isinf(signal_end_rate)) throw OptionError("fit.signal_end_rate: expected a finite rate or NaN (unknown)");
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
   if (!(late_decay_share >= 0.0 && late_decay_share <= 1.0)) throw OptionError("fit.late_decay_share: expected [0, 1] (0 = off)");
+  if (!(late_growth_share >= 0.0 && late_growth_share <= 1.0)) throw OptionError("fit.late_growth_share: expected [0, 1] (0 = off)");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {
@@ -454,7 +471,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         if (fall < 0.0 && options.late_decay_share > 0.0 && !options.signal_floor && curve.zero_distance_terms == 0 &&
             !first_step_jumps(y, fall)) {
           const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
-          late = choose_late_decay_region(y, slower_mode ? n - 1 : stop, min_len, options, r, rule);
+          late = choose_late_region(y, slower_mode ? n - 1 : stop, min_len, true, options.late_decay_share, r, rule);
           if (late && slower_mode) {
             rule << "; the flatter fall from step " << r.end_index << " is a slower mode, not a floor (it falls by "
                  << y[r.end_index] - y[n - 1] << ")";
@@ -462,6 +479,26 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
             r.end_index = 0;
           }
           if (late && r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
+        }
+        // A rise of a signal whose amplitude grows on its own has no attractor of fixed size to saturate
+        // on: its pairs' distances grow with the signal, and a "plateau" that still rises as fast as the
+        // signal grows is a beat or a slower mode. Its fastest mode dominates late (late_growth_share).
+        const double grows = options.signal_end_rate;
+        if (fall > 0.0 && options.late_growth_share > 0.0 && std::isfinite(grows) &&
+            grows * static_cast<double>(n - 1) >= kGrowingSignal) {
+          const double level_rate = r.end == CurveEnd::saturation && r.end_index + 2 < n
+                                        ? fit_line(y.data(), r.end_index, n - 1).slope
+                                        : 0.0;
+          if (r.end == CurveEnd::none || level_rate >= options.persist_share * grows) {
+            const std::size_t cut = r.end_index;
+            late = choose_late_region(y, n - 1, min_len, false, options.late_growth_share, r, rule);
+            if (late && r.end == CurveEnd::saturation) {
+              rule << "; the level from step " << cut << " rises at " << level_rate << " per step, as the signal grows ("
+                   << grows << "): not a saturation plateau";
+              r.end = CurveEnd::none;
+              r.end_index = 0;
+            }
+          }
         }
         if (!late) choose_linear_region(y, stop, min_len, options, r, rule);
       }

@@ -111,6 +111,9 @@ struct FitOptions {
   /// limit cycle read -0.094 1/s on the fall, +0.005 on the level).
   double signal_rate = std::numeric_limits<double>::quiet_NaN();
   double persist_share = 0.5;
+  /// The same rate over the signal's second half (per sample; NaN = unknown): a signal that still
+  /// grows at its end grows on its own (late_growth_share).
+  double signal_end_rate = std::numeric_limits<double>::quiet_NaN();
   /// The analysed signal ends at a floor of its own (estimate.cpp sets it when a noise, underflow or
   /// solver-tolerance floor was cut off the series). A falling curve then bends into that floor as
   /// the pairs' distances reach it, and its early steep part is the decay (stage 2). A curve that
@@ -129,6 +132,15 @@ struct FitOptions {
   /// up to 3.75 x). In a scratch comparison on their curves (and two three-mode decays) the whole fall
   /// and its second half did worse (max error 34 % and 87 %). 0 = off (the growth rule fits decays too).
   double late_decay_share = 0.75;
+  /// Growths of a signal whose amplitude grows on its own (signal_end_rate x the curve's steps >= 0.5:
+  /// it still grows at its end, a linear instability's response, not a growth that settles on a
+  /// bounded attractor): the exponent is the largest rate, the fastest-growing mode, which the curve
+  /// follows only once it dominates the others (with close frequencies they beat first). Such a curve
+  /// has no saturation plateau (the pairs' distances grow with the signal), and a level that still
+  /// rises at persist_share x the signal's end rate is a beat or a slower mode, not a plateau. The region is the last late_growth_share of the rise from the
+  /// curve's lowest point in its first half to its end. 0.75, as for decays (`build/decay_modes`,
+  /// growths section). 0 = off (the growth rule's region).
+  double late_growth_share = 0.75;
   void validate() const;
 };
 
@@ -188,6 +200,10 @@ struct FitResult {
 ///     late_decay_share of the fall from the curve's highest point in its first half to the cut; a
 ///     stage-1 floor that still falls by more than 1 is a slower mode and the fall runs to the
 ///     curve's end. A warning when the fall's second half is less than 0.8 x as steep as its first.
+///  2c. Instead of 2, when the curve rises (the largest change of stage 1) on a signal that still grows
+///     at its end (signal_end_rate x the curve's steps >= 0.5) and no saturation plateau was cut, or
+///     the cut level still rises at persist_share x signal_end_rate: the last late_growth_share of
+///     the rise from the curve's lowest point in its first half to the curve's end.
 /// The 95 % interval comes from batch means: the slope of each batch's curve over the same region,
 /// t-distributed over the batches.
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options);
