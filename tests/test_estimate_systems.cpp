@@ -236,6 +236,26 @@ TEST(EstimateSystems, SeveralDecayingModesReadTheLeastDampedOne) {
   EXPECT_TRUE(has_warning(r, "the decay slows along the divergence curve")) << r.fit.rule;
 }
 
+TEST(EstimateSystems, NoisyDecayOfTwoModesWhoseCurveShowsNoFloorIsFittedLate) {
+  // e^{-0.3 t} cos 2 pi t + e^{-t} cos(2 pi 1.37 t + 0.7) plus white noise of 0.1 % of the start: the
+  // estimator cuts the floor the decay sinks into off the series (its last part white), and what is
+  // left shows no floor on the curve, only the fast mode dying out. The signal's floor then explains
+  // nothing, and the late region reads the least damped mode; step 3 read the fast modes' part.
+  using reference::DecayingMode;
+  auto x = reference::decaying_modes(4000, 0.01, {{-0.3, 1.0, 1.0}, {-1.0, 1.37, 1.0, 0.7}});
+  std::mt19937_64 gen(1);
+  std::normal_distribution<double> white(0.0, 2e-3);
+  for (double& v : x) v += white(gen);
+  const auto series = make_series_with_step({x}, 0.01);
+  const auto r = estimate_mlce(series, {});
+  EXPECT_TRUE(has_warning(r, "decays into white measurement noise")) << r.fit.rule;
+  EXPECT_EQ(r.fit.end, CurveEnd::none) << r.fit.rule;
+  EXPECT_NEAR(r.lambda, -0.3, 0.05 * 0.3) << r.fit.rule;
+  mlce::MlceOptions step3;
+  step3.fit.late_decay_share = 0.0;
+  EXPECT_LT(estimate_mlce(series, step3).lambda, -1.2 * 0.3);
+}
+
 TEST(EstimateSystems, SeveralGrowingModesReadTheFastestOne) {
   // The response of a linear system with a growing mode: its exponent is the largest rate, which the
   // divergence curve follows only once that mode dominates (at close frequencies the modes beat

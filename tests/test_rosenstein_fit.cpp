@@ -364,7 +364,7 @@ TEST(Fit, DecayIntoFloorStopsBeforeTheFloor) {
   EXPECT_LE(r.last, 510u);
 }
 
-TEST(Fit, FallOfTwoModesIsFittedLateUnlessTheSignalHasAFloor) {
+TEST(Fit, FallOfTwoModesIsFittedLateUnlessItEndsInTheSignalsFloor) {
   // ln(20 e^{-0.05 i} + e^{-0.003 i}): pairs whose separation holds a fast and a slow decaying mode.
   // The exponent is the slow mode's -0.003 per step (the least negative); the fast one has died out
   // by step ~120. Its fall flattens by 17x, which the growth rule's first stage takes for a floor.
@@ -382,6 +382,16 @@ TEST(Fit, FallOfTwoModesIsFittedLateUnlessTheSignalHasAFloor) {
   const FitResult floored = fit_divergence(synthetic(y), o);
   EXPECT_EQ(floored.end, CurveEnd::floor) << floored.rule;
   EXPECT_LT(floored.slope, -0.01) << floored.rule;
+  // A curve that shows no floor is fitted late whatever the signal's own floor (the estimator cut
+  // that off the series): ln(e^{-0.006 i} + 0.5 e^{-0.003 i}) flattens by 2x only, no floor.
+  std::vector<double> no_floor;
+  for (int i = 0; i <= 600; ++i) no_floor.push_back(std::log(std::exp(-0.006 * i) + 0.5 * std::exp(-0.003 * i)));
+  const FitResult late = fit_divergence(synthetic(no_floor), o);
+  EXPECT_EQ(late.end, CurveEnd::none) << late.rule;
+  EXPECT_NE(late.rule.find("without a floor of its own"), std::string::npos) << late.rule;
+  o.late_decay_share = 0.0;
+  EXPECT_LT(std::abs(late.slope + 0.003), std::abs(fit_divergence(synthetic(no_floor), o).slope + 0.003)) << late.rule;
+  o.late_decay_share = 0.75;
   // The late region's share is an option: 0 turns it off, and out of [0, 1] is refused.
   o.signal_floor = false;
   o.late_decay_share = 0.0;

@@ -466,10 +466,11 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
       } else {
         // A decay of a signal with no floor of its own has none to bend into: it flattens as its faster
         // modes die out (FitOptions::signal_floor), and a "floor" that still falls is its slowest mode.
+        // A signal with a floor of its own explains a floor of the curve, not a curve that has none.
         bool late = false;
         // Measurement noise is such a floor too: it lifts the curve's first step (first_step_jumps).
-        if (fall < 0.0 && options.late_decay_share > 0.0 && !options.signal_floor && curve.zero_distance_terms == 0 &&
-            !first_step_jumps(y, fall)) {
+        if (fall < 0.0 && options.late_decay_share > 0.0 && (!options.signal_floor || r.end != CurveEnd::floor) &&
+            curve.zero_distance_terms == 0 && !first_step_jumps(y, fall)) {
           const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
           late = choose_late_region(y, slower_mode ? n - 1 : stop, min_len, true, options.late_decay_share, r, rule);
           if (late && slower_mode) {

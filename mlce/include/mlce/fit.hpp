@@ -115,11 +115,14 @@ struct FitOptions {
   /// grows at its end grows on its own (late_growth_share).
   double signal_end_rate = std::numeric_limits<double>::quiet_NaN();
   /// The analysed signal ends at a floor of its own (estimate.cpp sets it when a noise, underflow or
-  /// solver-tolerance floor was cut off the series). A falling curve then bends into that floor as
-  /// the pairs' distances reach it, and its early steep part is the decay (stage 2). A curve that
-  /// falls on a signal without such a floor, without zero distances (quantisation) and whose first
-  /// step does not jump as measurement noise makes it (first_step_jumps) has no floor to bend into: it flattens only as its faster modes die out, and is fitted late
-  /// (late_decay_share).
+  /// solver-tolerance floor was cut off the series). A falling curve that flattens into a floor
+  /// (stage 1) may then have reached it with its pairs' distances, and its early steep part is the
+  /// decay (stage 2). A curve that shows no floor, or falls on a signal without one, without zero
+  /// distances (quantisation) and whose first step does not jump as measurement noise makes it
+  /// (first_step_jumps), has no floor to bend into: it flattens only as its faster modes die out,
+  /// and is fitted late (late_decay_share). `build/decay_modes`, its 54 two-mode decays with 0.1 %
+  /// white noise: within 5 % / 10 % 18 / 28, rms error 33 %; when the signal's floor also kept
+  /// stage 2 for curves without one, 12 / 21, rms 67 %.
   bool signal_floor = false;
   /// Decays of a signal without a floor: the exponent is the least negative one, the least damped
   /// mode, which the curve follows only once the faster modes have died out (with close
@@ -195,8 +198,9 @@ struct FitResult {
 ///     `straightness` x its first half's slope, its last quarter is dropped. A region of a curve
 ///     that saturates is then extended to min_periods periods when it is shorter and the curve
 ///     reaches that far before the plateau.
-///  2b. Instead of 2, when the curve falls (the largest change of stage 1) on a signal without a floor
-///     of its own (signal_floor unset, no zero distances, no noise jump at the first step): the last
+///  2b. Instead of 2, when the curve falls (the largest change of stage 1), and neither stage 1 found a
+///     floor on a signal with a floor of its own (signal_floor), nor has the curve zero distances or a
+///     noise jump at its first step: the last
 ///     late_decay_share of the fall from the curve's highest point in its first half to the cut; a
 ///     stage-1 floor that still falls by more than 1 is a slower mode and the fall runs to the
 ///     curve's end. A warning when the fall's second half is less than 0.8 x as steep as its first.
