@@ -303,14 +303,14 @@ constexpr double kSlowingDecay = 0.8;
 constexpr double kSlowModeFall = 1.0;
 /// A signal whose amplitude, at its end, grows by at least this (natural log, e^0.5 = 1.65 x) over the
 /// curve's horizon (FitOptions::signal_end_rate x steps) grows on its own: it has no attractor of fixed size for
-/// its pairs to saturate on. Chaotic and limit-cycle series change by < 0.01 (Lorenz x, Roessler x,
-/// Henon x, van der Pol at N = 10^4: |rate x horizon| < 0.004); the multi-mode growths of
-/// `build/decay_modes` by 1.2 .. 2.9 (it prints them).
+/// its pairs to saturate on. Chaotic series change by far less (second half's rate x horizon at
+/// N = 10^4: Lorenz x 0.09, Roessler x -0.003, Henon x 0.0002; `mlce estimate --json`,
+/// end_envelope_rate x dt x horizon); the multi-mode growths of `build/decay_modes` by 1.7 .. 2.9
+/// (it prints them). Fewer than 4 windows of 2 mean periods in the second half: NaN, not applied.
 constexpr double kGrowingSignal = 0.5;
 
-/// Stage 2b/2c for a curve with no plateau or floor of the signal's own to bend into (decays of a
-/// signal without a floor, FitOptions::late_decay_share; growths of a signal that grows on its own,
-/// late_growth_share): the last `share` of the change from the curve's extreme point (highest for a
+/// Stage 2b/2c for a curve with no plateau or floor to bend into (decays whose curve or signal has no
+/// floor, FitOptions::late_decay_share; growths of a signal that grows on its own, late_growth_share): the last `share` of the change from the curve's extreme point (highest for a
 /// fall, lowest for a rise) in the first half of y[0..stop] to `stop`. False, with r untouched, when
 /// the change is too short for a region of a period (2 minimum pieces): the growth rule fits it then.
 bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls, double share,
@@ -323,7 +323,7 @@ bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::siz
   r.first = stop - length;
   r.last = stop;
   if (falls)
-    rule << "; a fall on a signal without a floor of its own: fitted the last " << share
+    rule << "; a fall with no floor to bend into (none on the curve, or none of the signal's own): fitted the last " << share
          << " of the fall from the curve's highest point (step " << start << ") to step " << stop
          << ", where the faster modes have died out most";
   else
@@ -454,23 +454,23 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         }
       describe(rule, "curve pieces", pieces);
       // A fall the signal itself does not share: the neighbours converge onto a motion that persists.
-      const double fall = pieces[pick].slope;
-      const bool persists = std::isfinite(options.signal_rate) && options.signal_rate > options.persist_share * fall;
+      const double change = pieces[pick].slope;  // per step: < 0 a fall, > 0 a rise
+      const bool persists = std::isfinite(options.signal_rate) && options.signal_rate > options.persist_share * change;
       if (r.end == CurveEnd::floor && persists) {
         r.first = r.end_index;
         r.last = n - 1;
         r.end = CurveEnd::bounded;
-        rule << "; the curve falls at " << fall << " per step, the signal's amplitude changes at "
+        rule << "; the curve falls at " << change << " per step, the signal's amplitude changes at "
              << options.signal_rate << " (not " << options.persist_share << " x the fall): the neighbours converge "
              << "onto a motion that persists (limit cycle; lambda_1 >= 0); fitted the level it settles at";
       } else {
         // A decay of a signal with no floor of its own has none to bend into: it flattens as its faster
         // modes die out (FitOptions::signal_floor), and a "floor" that still falls is its slowest mode.
-        // A signal with a floor of its own explains a floor of the curve, not a curve that has none.
+        // A signal with a floor of its own explains a floor of the curve, not a curve that shows none.
         bool late = false;
         // Measurement noise is such a floor too: it lifts the curve's first step (first_step_jumps).
-        if (fall < 0.0 && options.late_decay_share > 0.0 && (!options.signal_floor || r.end != CurveEnd::floor) &&
-            curve.zero_distance_terms == 0 && !first_step_jumps(y, fall)) {
+        if (change < 0.0 && options.late_decay_share > 0.0 && (!options.signal_floor || r.end != CurveEnd::floor) &&
+            curve.zero_distance_terms == 0 && !first_step_jumps(y, change)) {
           const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
           late = choose_late_region(y, slower_mode ? n - 1 : stop, min_len, true, options.late_decay_share, r, rule);
           if (late && slower_mode) {
@@ -485,7 +485,7 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
         // on: its pairs' distances grow with the signal, and a "plateau" that still rises as fast as the
         // signal grows is a beat or a slower mode. Its fastest mode dominates late (late_growth_share).
         const double grows = options.signal_end_rate;
-        if (fall > 0.0 && options.late_growth_share > 0.0 && std::isfinite(grows) &&
+        if (change > 0.0 && options.late_growth_share > 0.0 && std::isfinite(grows) &&
             grows * static_cast<double>(n - 1) >= kGrowingSignal) {
           const double level_rate = r.end == CurveEnd::saturation && r.end_index + 2 < n
                                         ? fit_line(y.data(), r.end_index, n - 1).slope

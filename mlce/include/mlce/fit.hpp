@@ -140,9 +140,10 @@ struct FitOptions {
   /// bounded attractor): the exponent is the largest rate, the fastest-growing mode, which the curve
   /// follows only once it dominates the others (with close frequencies they beat first). Such a curve
   /// has no saturation plateau (the pairs' distances grow with the signal), and a level that still
-  /// rises at persist_share x the signal's end rate is a beat or a slower mode, not a plateau. The region is the last late_growth_share of the rise from the
-  /// curve's lowest point in its first half to its end. 0.75, as for decays (`build/decay_modes`,
-  /// growths section). 0 = off (the growth rule's region).
+  /// rises at persist_share x the signal's end rate is a beat or a slower mode, not a plateau. The
+  /// region is the last late_growth_share of the rise from the curve's lowest point in its first half
+  /// to its end. 0.75, as for decays: `build/decay_modes`, growths section, 11 of 12 within 5 % (the
+  /// growth rule's region 8, up to 3.1 x). 0 = off (the growth rule's region).
   double late_growth_share = 0.75;
   void validate() const;
 };
