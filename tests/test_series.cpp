@@ -315,13 +315,37 @@ TEST(Envelope, RateOfADecayingOscillationIsItsExponent) {
   // x = e^{-zeta omega t} cos(omega_d t): the envelope's rate is -zeta omega exactly, per sample -zeta omega dt.
   const double dt = 0.01, zeta = 0.05, omega = 2 * M_PI;
   const auto x = reference::damped_oscillator(4000, dt, zeta, omega);
-  EXPECT_NEAR(envelope_rate(make_series_with_step({x}, dt), 100), -zeta * omega * dt, 0.01 * zeta * omega * dt);
+  EXPECT_NEAR(envelope_rates(make_series_with_step({x}, dt), 100).whole, -zeta * omega * dt, 0.01 * zeta * omega * dt);
   // Its scale does not matter (no square of 1e200 overflows, none of 1e-200 underflows).
   for (double scale : {1e-200, 1e200}) {
     auto y = x;
     for (double& v : y) v *= scale;
-    EXPECT_NEAR(envelope_rate(make_series_with_step({y}, dt), 100), -zeta * omega * dt, 0.01 * zeta * omega * dt);
+    EXPECT_NEAR(envelope_rates(make_series_with_step({y}, dt), 100).whole, -zeta * omega * dt, 0.01 * zeta * omega * dt);
   }
+}
+
+TEST(Envelope, EndRateIsTheSecondHalfsRate) {
+  // A growth that settles: amplitude e^{0.3 t} up to t = 10 s, then constant to t = 40 s (1 Hz, dt
+  // 0.01). Over the second half the rate is 0 exactly; over the whole record it is the least-squares
+  // slope of 0.3 min(t, 10) over the 40 one-second windows' centres, 0.0469 1/s. A free growth
+  // e^{0.3 t}: 0.3 over both. Per sample: x dt.
+  const double dt = 0.01;
+  std::vector<double> settles(4000), grows(4000);
+  for (std::size_t i = 0; i < settles.size(); ++i) {
+    const double t = dt * static_cast<double>(i), phase = std::cos(2.0 * M_PI * t);
+    settles[i] = std::exp(0.3 * std::min(t, 10.0)) * phase;
+    grows[i] = std::exp(0.3 * t) * phase;
+  }
+  const EnvelopeRates s = envelope_rates(make_series_with_step({settles}, dt), 50);
+  EXPECT_NEAR(s.whole / dt, 0.046857, 1e-3);  // the window RMS of a cosine under e^{0.3 t}: within 1e-3
+  EXPECT_NEAR(s.end / dt, 0.0, 1e-9);
+  const EnvelopeRates g = envelope_rates(make_series_with_step({grows}, dt), 50);
+  EXPECT_NEAR(g.whole / dt, 0.3, 1e-3);
+  EXPECT_NEAR(g.end / dt, 0.3, 1e-3);
+  // Fewer than 4 windows in the second half: NaN there, the whole rate still known.
+  const EnvelopeRates few = envelope_rates(make_series_with_step({grows}, dt), 350);  // 5 windows of 700
+  EXPECT_TRUE(std::isfinite(few.whole));
+  EXPECT_TRUE(std::isnan(few.end));
 }
 
 TEST(Envelope, AmplitudeRatioOfTheLastThirdToTheFirst) {
@@ -359,10 +383,10 @@ TEST(Envelope, AmplitudeRatioOfTheLastThirdToTheFirst) {
 
 TEST(Envelope, SteadyMotionHasRateZeroAndTooShortOrConstantIsNaN) {
   const auto lc = reference::van_der_pol_x(20000, 0.01);  // limit cycle, period ~6.66 s = 666 samples
-  EXPECT_NEAR(envelope_rate(make_series_with_step({lc}, 0.01), 666), 0.0, 1e-6);
+  EXPECT_NEAR(envelope_rates(make_series_with_step({lc}, 0.01), 666).whole, 0.0, 1e-6);
   const std::vector<double> flat(1000, 3.0);
-  EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({flat}, 0.01), 10)));  // no log 0
-  EXPECT_TRUE(std::isnan(envelope_rate(make_series_with_step({lc}, 0.01), 3000)));   // 3 windows
+  EXPECT_TRUE(std::isnan(envelope_rates(make_series_with_step({flat}, 0.01), 10).whole));  // no log 0
+  EXPECT_TRUE(std::isnan(envelope_rates(make_series_with_step({lc}, 0.01), 3000).whole));   // 3 windows
 }
 
 TEST(WrappedAngle, AzimuthPrintedModuloATurnIsFoundAndSmoothOrMapSignalsAreNot) {

@@ -322,10 +322,10 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   if (fo.period == 0) fo.period = period;
   // Does the signal itself decay? A curve that falls while it does not measures a contraction onto
   // a motion that persists, not lambda_1 (FitOptions::signal_rate).
-  r.envelope_rate = envelope_rate(series, period);
-  if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
   // Does it still grow at its end? Then its pairs have no attractor to saturate on (FitOptions::signal_end_rate).
-  r.end_envelope_rate = envelope_rate(time_window(series, series.time(series.size() / 2), series.time(series.size() - 1)), period);
+  const EnvelopeRates envelope = envelope_rates(series, period);
+  r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
+  if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
   if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
   fo.signal_floor = fo.signal_floor || !floor_warning.empty();  // FitOptions::signal_floor
 

@@ -304,8 +304,8 @@ constexpr double kSlowModeFall = 1.0;
 /// A signal whose amplitude, at its end, grows by at least this (natural log, e^0.5 = 1.65 x) over the
 /// curve's horizon (FitOptions::signal_end_rate x steps) grows on its own: it has no attractor of fixed size for
 /// its pairs to saturate on. Chaotic series change by far less (second half's rate x horizon at
-/// N = 10^4: Lorenz x 0.09, Roessler x -0.003, Henon x 0.0002; `mlce estimate --json`,
-/// end_envelope_rate x dt x horizon); the multi-mode growths of `build/decay_modes` by 1.7 .. 2.9
+/// N = 10^4: Lorenz x 0.08, Roessler x -0.0002, Henon x 0.0002; `mlce estimate --json`,
+/// end_envelope_rate x dt x horizon); the multi-mode growths of `build/decay_modes` by 1.6 .. 2.9
 /// (it prints them). Fewer than 4 windows of 2 mean periods in the second half: NaN, not applied.
 constexpr double kGrowingSignal = 0.5;
 

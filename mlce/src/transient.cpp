@@ -230,17 +230,22 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
   return r;
 }
 
-double envelope_rate(const Series& s, std::size_t period) {
+EnvelopeRates envelope_rates(const Series& s, std::size_t period) {
   const std::size_t w = 2 * std::max<std::size_t>(period, 1), windows = s.size() / w;
   const std::vector<double> sums = window_square_sums(s, w, windows, std::nullopt);
   std::vector<double> centre, log_rms;
+  std::size_t end_from = 0;  // first collected window whose centre lies in the second half
   for (std::size_t k = 0; k < windows; ++k)
     if (sums[k] > 0.0) {  // no log 0
       centre.push_back((static_cast<double>(k) + 0.5) * static_cast<double>(w));
       log_rms.push_back(0.5 * std::log(sums[k] / static_cast<double>(w)));
+      if (2.0 * centre.back() < static_cast<double>(s.size())) end_from = centre.size();
     }
-  if (centre.size() < 4) return std::numeric_limits<double>::quiet_NaN();
-  return fit_line(centre.data(), log_rms.data(), centre.size()).slope;
+  EnvelopeRates r;
+  if (centre.size() >= 4) r.whole = fit_line(centre.data(), log_rms.data(), centre.size()).slope;
+  if (centre.size() >= end_from + 4)
+    r.end = fit_line(centre.data() + end_from, log_rms.data() + end_from, centre.size() - end_from).slope;
+  return r;
 }
 
 double amplitude_ratio(const Series& s) {

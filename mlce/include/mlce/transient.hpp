@@ -1,5 +1,6 @@
 #pragma once
 // End of the initial transient of a run started from a perturbation.
+#include <limits>
 #include <string>
 
 #include "mlce/series.hpp"
@@ -76,7 +77,13 @@ std::string describe(const Floor& floor, double floor_ratio);
 /// overflows). A motion decaying to rest has the rate of its slowest mode, its least negative
 /// exponent; a motion that persists (limit cycle, chaos) ~0. Windows of zero RMS are left out (no
 /// log 0). NaN when fewer than 4 windows with a positive RMS fit in the series.
-double envelope_rate(const Series& series, std::size_t period);
+/// `end`: the same slope over the windows whose centre lies in the series' second half (whether the
+/// signal still grows or decays at its end; NaN when fewer than 4 of them), from the same windows.
+struct EnvelopeRates {
+  double whole = std::numeric_limits<double>::quiet_NaN();
+  double end = std::numeric_limits<double>::quiet_NaN();
+};
+EnvelopeRates envelope_rates(const Series& series, std::size_t period);
 
 /// RMS of the series' last third over that of its first third, both about the whole series' mean
 /// (channels summed, each divided by its peak |x|): ~1 for a motion that persists, far below 1 for a
