@@ -162,8 +162,6 @@ void describe(std::ostringstream& rule, const char* stage, const std::vector<Pie
   rule << "]";
 }
 
-/// Stage 2 of the rule (fit.hpp): the linear region of y[0..stop], the part before the plateau or
-/// floor that stage 1 found (r.end, r.end_index); sets r.first and r.last and accounts in `rule`.
 /// The slopes of the region's two halves, [first, mid] and [mid, last] (they share mid): how
 /// straight it is (the straightness trim and the bend warning).
 struct HalfSlopes {
@@ -175,6 +173,8 @@ HalfSlopes half_slopes(const std::vector<double>& y, std::size_t first, std::siz
   return {mid, fit_line(y.data(), first, mid).slope, fit_line(y.data(), mid, last).slope};
 }
 
+/// Stage 2 of the rule (fit.hpp): the linear region of y[0..stop], the part before the plateau or
+/// floor that stage 1 found (r.end, r.end_index); sets r.first and r.last and accounts in `rule`.
 void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len,
                           const FitOptions& options, FitResult& r, std::ostringstream& rule) {
   // Stage 2: before that end, split off a start-up transient and the bend into the end.
@@ -343,6 +343,195 @@ bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::siz
   return true;
 }
 
+/// Rule 0: the distances change by less than a factor e^0.25 over the whole curve: lambda ~ 0
+/// (limit cycle, quasi-periodic motion). Any sub-region would fit wiggles: the whole curve is fitted.
+bool fit_flat(const std::vector<double>& y, FitResult& r, std::ostringstream& rule) {
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  if (*hi - *lo >= 0.25) return false;
+  r.first = 0;
+  r.last = y.size() - 1;
+  r.end = CurveEnd::flat;
+  r.end_index = y.size() - 1;
+  rule << "flat curve (range " << *hi - *lo << " < 0.25): whole curve fitted";
+  return true;
+}
+
+/// Rule 0b (bounded_kind). Settled: the second half, whose slope tends to 0 as the horizon grows.
+/// Falling back: from where the curve first reached its final level, so that the rise and the fall
+/// it fits end at the same level (the second half alone would be the residual decay, not the
+/// cycle's 0).
+bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitResult& r, std::ostringstream& rule) {
+  const auto& y = curve.mean_log_distance;
+  const std::size_t n = y.size();
+  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin) : Bounded::no;
+  if (kind == Bounded::no) return false;
+  std::size_t first = n / 2;
+  if (kind == Bounded::falls_back) {
+    first = 0;
+    while (first + 3 < n && y[first] < y[n - 1]) ++first;
+  }
+  const double highest = *std::max_element(y.begin(), y.end());
+  r.first = first;
+  r.last = n - 1;
+  r.end = CurveEnd::bounded;
+  r.end_index = first;
+  rule << "bounded divergence: the curve " << (kind == Bounded::settled ? "stops rising" : "rises and falls back")
+       << " at " << highest << ", " << curve.attractor_log_distance - highest
+       << " below the attractor scale (neighbours never separate: limit cycle or torus); "
+       << (kind == Bounded::settled ? "second half fitted" : "fitted from where it first reached its final level");
+  return true;
+}
+
+/// Stage 1's finding: the slope per step of the piece of largest change (< 0 a fall, > 0 a rise)
+/// and the last step before the plateau or floor (the curve's last step when there is none).
+struct CurveCut {
+  double change;
+  std::size_t stop;
+};
+
+/// Stage 1: where does the curve stop changing (plateau for lambda > 0, floor for lambda < 0)?
+/// Sets r.end and r.end_index when it does.
+CurveCut cut_curve_end(const std::vector<double>& y, std::size_t min_len, const FitOptions& options, FitResult& r,
+                       std::ostringstream& rule) {
+  const auto pieces = merge_collinear(segment(y, 3, min_len), y, options.merge_tolerance);
+  const std::size_t pick = pick_largest_change(pieces);
+  CurveCut cut{pieces[pick].slope, y.size() - 1};
+  for (std::size_t k = pick + 1; k < pieces.size(); ++k)
+    if (std::abs(pieces[k].slope) < options.end_tolerance * std::abs(pieces[pick].slope)) {
+      r.end = pieces[pick].slope > 0 ? CurveEnd::saturation : CurveEnd::floor;
+      r.end_index = pieces[k].a;
+      cut.stop = pieces[k].a - 1;
+      break;
+    }
+  describe(rule, "curve pieces", pieces);
+  return cut;
+}
+
+/// Stage 1, a floor the signal itself does not share (FitOptions::signal_rate): the neighbours
+/// converge onto a motion that persists; the level the curve settles at is fitted.
+bool fit_persisting_level(const std::vector<double>& y, const CurveCut& cut, const FitOptions& options, FitResult& r,
+                          std::ostringstream& rule) {
+  const bool persists = std::isfinite(options.signal_rate) && options.signal_rate > options.persist_share * cut.change;
+  if (r.end != CurveEnd::floor || !persists) return false;
+  r.first = r.end_index;
+  r.last = y.size() - 1;
+  r.end = CurveEnd::bounded;
+  rule << "; the curve falls at " << cut.change << " per step, the signal's amplitude changes at " << options.signal_rate
+       << " (not " << options.persist_share << " x the fall): the neighbours converge "
+       << "onto a motion that persists (limit cycle; lambda_1 >= 0); fitted the level it settles at";
+  return true;
+}
+
+/// Stage 2b: a decay of a signal with no floor of its own has none to bend into: it flattens as its
+/// faster modes die out (FitOptions::signal_floor), and a "floor" that still falls is its slowest
+/// mode. A signal with a floor of its own explains a floor of the curve, not a curve that shows
+/// none. Measurement noise is such a floor too: it lifts the curve's first step (first_step_jumps),
+/// and zero distances (quantisation) are one.
+bool fit_late_decay(const DivergenceCurve& curve, const CurveCut& cut, std::size_t min_len, const FitOptions& options,
+                    FitResult& r, std::ostringstream& rule) {
+  const auto& y = curve.mean_log_distance;
+  const std::size_t n = y.size();
+  if (!(cut.change < 0.0 && options.late_decay_share > 0.0 && (!options.signal_floor || r.end != CurveEnd::floor) &&
+        curve.zero_distance_terms == 0 && !first_step_jumps(y, cut.change)))
+    return false;
+  const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
+  if (!choose_late_region(y, slower_mode ? n - 1 : cut.stop, min_len, true, options.late_decay_share, r, rule))
+    return false;
+  if (slower_mode) {
+    rule << "; the flatter fall from step " << r.end_index << " is a slower mode, not a floor (it falls by "
+         << y[r.end_index] - y[n - 1] << ")";
+    r.end = CurveEnd::none;
+    r.end_index = 0;
+  }
+  if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
+  return true;
+}
+
+/// Stage 2c: a rise of a signal whose amplitude grows on its own has no attractor of fixed size to
+/// saturate on: its pairs' distances grow with the signal, and a "plateau" that still rises as fast
+/// as the signal grows is a beat or a slower mode. Its fastest mode dominates late
+/// (FitOptions::late_growth_share).
+bool fit_late_growth(const std::vector<double>& y, const CurveCut& cut, std::size_t min_len, const FitOptions& options,
+                     FitResult& r, std::ostringstream& rule) {
+  const std::size_t n = y.size();
+  const double grows = options.signal_end_rate;
+  if (!(cut.change > 0.0 && options.late_growth_share > 0.0 && std::isfinite(grows) &&
+        grows * static_cast<double>(n - 1) >= kGrowingSignal))
+    return false;
+  const double level_rate =
+      r.end == CurveEnd::saturation && r.end_index + 2 < n ? fit_line(y.data(), r.end_index, n - 1).slope : 0.0;
+  if (r.end != CurveEnd::none && level_rate < options.persist_share * grows) return false;
+  const std::size_t plateau = r.end_index;
+  if (!choose_late_region(y, n - 1, min_len, false, options.late_growth_share, r, rule)) return false;
+  if (r.end == CurveEnd::saturation) {
+    rule << "; the level from step " << plateau << " rises at " << level_rate << " per step, as the signal grows ("
+         << grows << "): not a saturation plateau";
+    r.end = CurveEnd::none;
+    r.end_index = 0;
+  }
+  return true;
+}
+
+/// The rule of fit.hpp: sets the region [r.first, r.last], r.end and r.end_index.
+void choose_region(const DivergenceCurve& curve, const FitOptions& options, FitResult& r, std::ostringstream& rule) {
+  const auto& y = curve.mean_log_distance;
+  if (fit_flat(y, r, rule) || fit_bounded(curve, options, r, rule)) return;
+  const std::size_t period = std::max<std::size_t>(1, options.period);
+  const std::size_t min_len = std::max<std::size_t>(3, period / 2 + 1);
+  const CurveCut cut = cut_curve_end(y, min_len, options, r, rule);
+  if (fit_persisting_level(y, cut, options, r, rule) || fit_late_decay(curve, cut, min_len, options, r, rule) ||
+      fit_late_growth(y, cut, min_len, options, r, rule))
+    return;
+  choose_linear_region(y, cut.stop, min_len, options, r, rule);
+}
+
+/// 95 % interval from batch means: the slope of every batch's curve over the region, t-distributed
+/// over the batches; the formal least-squares interval (with a warning) when fewer than two batches
+/// cover the region.
+void batch_means_interval(const DivergenceCurve& curve, const LineFit& f, FitResult& r) {
+  std::vector<double> slopes;
+  for (const auto& bm : curve.batch_mean) {
+    bool ok = true;
+    for (std::size_t i = r.first; i <= r.last && ok; ++i) ok = std::isfinite(bm[i]);
+    if (ok) slopes.push_back(fit_line(bm.data(), r.first, r.last).slope);
+  }
+  if (slopes.size() >= 2) {
+    double mean = 0.0;
+    for (double s : slopes) mean += s;
+    mean /= static_cast<double>(slopes.size());
+    double var = 0.0;
+    for (double s : slopes) var += (s - mean) * (s - mean);
+    var /= static_cast<double>(slopes.size() - 1);
+    const double half = student_t95(slopes.size() - 1) * std::sqrt(var / static_cast<double>(slopes.size()));
+    r.ci_low = r.slope - half;
+    r.ci_high = r.slope + half;
+  } else {
+    const double half = student_t95(f.n > 2 ? f.n - 2 : 1) * f.slope_stderr;
+    r.ci_low = r.slope - half;
+    r.ci_high = r.slope + half;
+    r.warnings.push_back("too few batches for a batch-means interval: formal least-squares interval reported");
+  }
+}
+
+/// Warnings about the fitted region: too short, not straight, or (a growth fitted by the rule,
+/// FitOptions::bend_warning) bending within itself. Said, not changed.
+void warn_about_region(const std::vector<double>& y, const FitOptions& options, FitResult& r) {
+  if (r.last - r.first + 1 < 5)
+    r.warnings.push_back("fit region has only " + std::to_string(r.last - r.first + 1) + " points");
+  if (r.r2 < 0.9 && std::abs(r.slope) * static_cast<double>(r.last - r.first) > 0.5)
+    r.warnings.push_back("the fitted region is not straight (R^2 = " + std::to_string(r.r2) + ")");
+  if (options.bend_warning > 0.0 && r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 &&
+      r.last - r.first + 1 >= 8) {
+    const HalfSlopes h = half_slopes(y, r.first, r.last);
+    if (h.first > 0.0 && h.second < options.bend_warning * h.first)
+      r.warnings.push_back(fmt::format(
+          "the divergence curve bends within the fit region: its first half (steps {}..{}) rises at {:.2f} x the fitted "
+          "slope, its second half ({}..{}) at {:.2f} x; there is no straight stretch, and the exponent depends on the "
+          "region more than its 95 % interval says (--fit A:B fits another region)",
+          r.first, h.mid, h.first / r.slope, h.mid, r.last, h.second / r.slope));
+  }
+}
+
 }  // namespace
 
 std::vector<double> local_slopes(const std::vector<double>& y, std::size_t period) {
@@ -411,142 +600,14 @@ FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options
     r.automatic = false;
     rule << "given range";
   } else {
-    const std::size_t period = std::max<std::size_t>(1, options.period);
-    const std::size_t min_len = std::max<std::size_t>(3, period / 2 + 1);
-    const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-    if (*hi - *lo < 0.25) {
-      // The distances change by less than a factor e^0.25 over the whole curve: lambda ~ 0
-      // (limit cycle, quasi-periodic motion). Any sub-region would fit wiggles: fit it all.
-      r.first = 0;
-      r.last = n - 1;
-      r.end = CurveEnd::flat;
-      r.end_index = n - 1;
-      rule << "flat curve (range " << *hi - *lo << " < 0.25): whole curve fitted";
-    } else if (const auto kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin) : Bounded::no;
-               kind != Bounded::no) {
-      // Settled: the second half, whose slope tends to 0 as the horizon grows. Falling back: from
-      // where the curve first reached its final level, so that the rise and the fall it fits end
-      // at the same level (the second half alone would be the residual decay, not the cycle's 0).
-      std::size_t first = n / 2;
-      if (kind == Bounded::falls_back) {
-        first = 0;
-        while (first + 3 < n && y[first] < y[n - 1]) ++first;
-      }
-      r.first = first;
-      r.last = n - 1;
-      r.end = CurveEnd::bounded;
-      r.end_index = first;
-      rule << "bounded divergence: the curve " << (kind == Bounded::settled ? "stops rising" : "rises and falls back")
-           << " at " << *hi << ", " << curve.attractor_log_distance - *hi
-           << " below the attractor scale (neighbours never separate: limit cycle or torus); "
-           << (kind == Bounded::settled ? "second half fitted" : "fitted from where it first reached its final level");
-    } else {
-      // Stage 1: where does the curve stop changing (plateau for lambda > 0, floor for lambda < 0)?
-      auto pieces = merge_collinear(segment(y, 3, min_len), y, options.merge_tolerance);
-      std::size_t pick = pick_largest_change(pieces);
-      std::size_t stop = n - 1;
-      for (std::size_t k = pick + 1; k < pieces.size(); ++k)
-        if (std::abs(pieces[k].slope) < options.end_tolerance * std::abs(pieces[pick].slope)) {
-          r.end = pieces[pick].slope > 0 ? CurveEnd::saturation : CurveEnd::floor;
-          r.end_index = pieces[k].a;
-          stop = pieces[k].a - 1;
-          break;
-        }
-      describe(rule, "curve pieces", pieces);
-      // A fall the signal itself does not share: the neighbours converge onto a motion that persists.
-      const double change = pieces[pick].slope;  // per step: < 0 a fall, > 0 a rise
-      const bool persists = std::isfinite(options.signal_rate) && options.signal_rate > options.persist_share * change;
-      if (r.end == CurveEnd::floor && persists) {
-        r.first = r.end_index;
-        r.last = n - 1;
-        r.end = CurveEnd::bounded;
-        rule << "; the curve falls at " << change << " per step, the signal's amplitude changes at "
-             << options.signal_rate << " (not " << options.persist_share << " x the fall): the neighbours converge "
-             << "onto a motion that persists (limit cycle; lambda_1 >= 0); fitted the level it settles at";
-      } else {
-        // A decay of a signal with no floor of its own has none to bend into: it flattens as its faster
-        // modes die out (FitOptions::signal_floor), and a "floor" that still falls is its slowest mode.
-        // A signal with a floor of its own explains a floor of the curve, not a curve that shows none.
-        bool late = false;
-        // Measurement noise is such a floor too: it lifts the curve's first step (first_step_jumps).
-        if (change < 0.0 && options.late_decay_share > 0.0 && (!options.signal_floor || r.end != CurveEnd::floor) &&
-            curve.zero_distance_terms == 0 && !first_step_jumps(y, change)) {
-          const bool slower_mode = r.end == CurveEnd::floor && y[r.end_index] - y[n - 1] > kSlowModeFall;
-          late = choose_late_region(y, slower_mode ? n - 1 : stop, min_len, true, options.late_decay_share, r, rule);
-          if (late && slower_mode) {
-            rule << "; the flatter fall from step " << r.end_index << " is a slower mode, not a floor (it falls by "
-                 << y[r.end_index] - y[n - 1] << ")";
-            r.end = CurveEnd::none;
-            r.end_index = 0;
-          }
-          if (late && r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
-        }
-        // A rise of a signal whose amplitude grows on its own has no attractor of fixed size to saturate
-        // on: its pairs' distances grow with the signal, and a "plateau" that still rises as fast as the
-        // signal grows is a beat or a slower mode. Its fastest mode dominates late (late_growth_share).
-        const double grows = options.signal_end_rate;
-        if (change > 0.0 && options.late_growth_share > 0.0 && std::isfinite(grows) &&
-            grows * static_cast<double>(n - 1) >= kGrowingSignal) {
-          const double level_rate = r.end == CurveEnd::saturation && r.end_index + 2 < n
-                                        ? fit_line(y.data(), r.end_index, n - 1).slope
-                                        : 0.0;
-          if (r.end == CurveEnd::none || level_rate >= options.persist_share * grows) {
-            const std::size_t cut = r.end_index;
-            late = choose_late_region(y, n - 1, min_len, false, options.late_growth_share, r, rule);
-            if (late && r.end == CurveEnd::saturation) {
-              rule << "; the level from step " << cut << " rises at " << level_rate << " per step, as the signal grows ("
-                   << grows << "): not a saturation plateau";
-              r.end = CurveEnd::none;
-              r.end_index = 0;
-            }
-          }
-        }
-        if (!late) choose_linear_region(y, stop, min_len, options, r, rule);
-      }
-    }
+    choose_region(curve, options, r, rule);
   }
   const LineFit f = fit_line(y.data(), r.first, r.last);
   r.slope = f.slope;
   r.intercept = f.intercept;
   r.r2 = f.r2;
-  // 95 % interval from batch means: slope of every batch's curve over the same region.
-  std::vector<double> slopes;
-  for (const auto& bm : curve.batch_mean) {
-    bool ok = true;
-    for (std::size_t i = r.first; i <= r.last && ok; ++i) ok = std::isfinite(bm[i]);
-    if (ok) slopes.push_back(fit_line(bm.data(), r.first, r.last).slope);
-  }
-  if (slopes.size() >= 2) {
-    double mean = 0.0;
-    for (double s : slopes) mean += s;
-    mean /= static_cast<double>(slopes.size());
-    double var = 0.0;
-    for (double s : slopes) var += (s - mean) * (s - mean);
-    var /= static_cast<double>(slopes.size() - 1);
-    const double half = student_t95(slopes.size() - 1) * std::sqrt(var / static_cast<double>(slopes.size()));
-    r.ci_low = r.slope - half;
-    r.ci_high = r.slope + half;
-  } else {
-    const double half = student_t95(f.n > 2 ? f.n - 2 : 1) * f.slope_stderr;
-    r.ci_low = r.slope - half;
-    r.ci_high = r.slope + half;
-    r.warnings.push_back("too few batches for a batch-means interval: formal least-squares interval reported");
-  }
-  if (r.last - r.first + 1 < 5)
-    r.warnings.push_back("fit region has only " + std::to_string(r.last - r.first + 1) + " points");
-  if (r.r2 < 0.9 && std::abs(r.slope) * static_cast<double>(r.last - r.first) > 0.5)
-    r.warnings.push_back("the fitted region is not straight (R^2 = " + std::to_string(r.r2) + ")");
-  // A growth whose fitted region bends (FitOptions::bend_warning): said, not changed.
-  if (options.bend_warning > 0.0 && r.automatic && r.end == CurveEnd::saturation && r.slope > 0.0 &&
-      r.last - r.first + 1 >= 8) {
-    const HalfSlopes h = half_slopes(y, r.first, r.last);
-    if (h.first > 0.0 && h.second < options.bend_warning * h.first)
-      r.warnings.push_back(fmt::format(
-          "the divergence curve bends within the fit region: its first half (steps {}..{}) rises at {:.2f} x the fitted "
-          "slope, its second half ({}..{}) at {:.2f} x; there is no straight stretch, and the exponent depends on the "
-          "region more than its 95 % interval says (--fit A:B fits another region)",
-          r.first, h.mid, h.first / r.slope, h.mid, r.last, h.second / r.slope));
-  }
+  batch_means_interval(curve, f, r);
+  warn_about_region(y, options, r);
   r.rule = rule.str();
   return r;
 }
