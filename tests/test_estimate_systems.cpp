@@ -380,12 +380,15 @@ TEST(EstimateSystems, MeasurementNoiseIsFlaggedWithItsLevel) {
 }
 
 // A decay into measurement noise (paper 001 Fig. 6 with a white floor): lambda = -zeta w = -0.3142
-// 1/s exactly. The floor is found by its whiteness (transient.hpp, detect_floor) and the series
-// analysed up to where the signal is still 5x the noise. Uncut, noise of 0.1 % read +2.55 1/s
-// (undetermined) on 8000 samples; 1 % read -0.185 on 2000 (41 % off, no warning).
+// 1/s exactly. The floor is found by its whiteness (transient.hpp, detect_floor: of the last
+// quarter's samples, or of their increments when the noise holds only its end, 0.3 % over 2000
+// samples) and the series analysed up to where the signal is still 5x the noise. Uncut, noise of
+// 0.1 % read +2.55 1/s (undetermined) on 8000 samples; 1 % read -0.185 on 2000 (41 % off, no
+// warning); 0.3 % on 2000, before the increments rule, 0.737 lambda.
 TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
   const double zeta = 0.05, w = 2 * M_PI, lambda = -zeta * w;
-  for (const auto& [n, noise, tolerance] : {std::tuple{8000, 1e-3, 0.03}, std::tuple{2000, 1e-2, 0.10}, std::tuple{8000, 1e-2, 0.10}}) {
+  for (const auto& [n, noise, tolerance] : {std::tuple{8000, 1e-3, 0.03}, std::tuple{2000, 3e-3, 0.05},
+                                           std::tuple{2000, 1e-2, 0.10}, std::tuple{8000, 1e-2, 0.10}}) {
     const auto x = reference::noisy_decay(n, 0.01, zeta, w, noise);
     const auto r = run(x, 0.01);
     const auto reading = mlce::read_stability(r);
@@ -406,16 +409,17 @@ TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
   }
 }
 
-// Not resolved: a decay that ends above a white floor but whose neighbour distances the noise
-// dominates over part of the run reads low. Printed for README; asserted only where the truth is
+// Not resolved: a slow decay whose neighbour distances the noise dominates over much of what is
+// left before its floor reads low (zeta 0.01, 1 % noise: the signal is at most 70x the noise, and
+// the cut at 5x leaves a decay by e^{-2.7}). Printed for README; asserted only where the truth is
 // known: lambda < 0, the noise flagged, the reading stable.
 TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsLowButStable) {
   const double w = 2 * M_PI;
-  for (const auto& [zeta, noise, n] : {std::tuple{0.05, 3e-3, 2000}, std::tuple{0.01, 1e-2, 8000}}) {
+  for (const auto& [zeta, noise, n] : {std::tuple{0.01, 1e-2, 8000}}) {
     const auto r = run(reference::noisy_decay(n, 0.01, zeta, w, noise), 0.01);
     const auto reading = mlce::read_stability(r);
-    std::printf("zeta %.2f + noise %.0e over %d samples: lambda / (-zeta w) = %.3f, noise_level %.3f, %s\n", zeta, noise,
-                n, r.lambda / (-zeta * w), r.noise_level, mlce::to_string(reading.stability));
+    std::printf("zeta %.2f + noise %.0e over %d samples: lambda / (-zeta w) = %.3f, %zu analysed, noise_level %.3f, %s\n",
+                zeta, noise, n, r.lambda / (-zeta * w), r.n_points, r.noise_level, mlce::to_string(reading.stability));
     EXPECT_LT(r.lambda, 0.0);
     EXPECT_TRUE(std::isfinite(r.noise_level)) << zeta;
     EXPECT_EQ(reading.stability, mlce::Stability::stable) << reading.summary;

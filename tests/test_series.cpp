@@ -284,6 +284,40 @@ TEST(Transient, DecayIntoWhiteMeasurementNoiseIsAFloorAtAnyLevel) {
   EXPECT_NE(r.rule.find("white-noise floor"), std::string::npos) << r.rule;
 }
 
+TEST(Transient, NoiseThatHoldsOnlyTheEndOfADecayIsFoundByItsIncrements) {
+  // e^{-0.3 t} cos 2 pi t plus white noise of 1e-5 over 40 s: the signal falls below the noise only
+  // at t = 38 s, so the last quarter (30-40 s) is signal and noise mixed, its samples correlated at
+  // lag 1 (the samples' whiteness rule finds no floor). Its increments are the noise's (the signal
+  // moves by ~2 pi dt x 1e-4 per sample): they correlate -1/2, 0, 0 at lags 1-3, and the third
+  // differences give the noise's RMS. The floor starts where the window RMS (0.4 s windows) stays
+  // within 5x it: sqrt(S^2 + noise^2) = 5 noise at S = 0.707 e^{-0.3 t} = 4.9e-5, t = 31.9 s.
+  std::mt19937_64 gen(11);
+  std::normal_distribution<double> g(0.0, 1e-5);
+  std::vector<double> x;
+  for (int i = 0; i < 4000; ++i) x.push_back(std::exp(-0.003 * i) * std::cos(2 * M_PI * 0.01 * i) + g(gen));
+  const Floor f = detect_floor(make_series_with_step({x}, 0.01), 1e-6);
+  EXPECT_TRUE(f.white_noise && f.from_increments);
+  EXPECT_NEAR(f.index * 0.01, 31.9, 1.2);
+  // The largest window RMS is the first's, 0.707 x sqrt((1 - e^{-0.24}) / 0.24) = 0.667.
+  EXPECT_NEAR(f.level, 1e-5 / 0.667, 0.1 * 1.5e-5) << "the noise's RMS over the largest window's";
+  EXPECT_NE(describe(f, 1e-6).find("increments white"), std::string::npos) << describe(f, 1e-6);
+  // Without the noise the increments are the smooth signal's (lag-1 correlation ~1): no floor.
+  std::vector<double> clean;
+  for (int i = 0; i < 4000; ++i) clean.push_back(std::exp(-0.003 * i) * std::cos(2 * M_PI * 0.01 * i));
+  EXPECT_EQ(detect_floor(make_series_with_step({clean}, 0.01), 1e-6).index, 0u);
+  // Series whose increments are white but which never decay into them are no floor: white noise
+  // itself, and the logistic map (r = 4: uncorrelated samples), with and without noise of 1 %.
+  std::vector<double> noise, logistic, noisy_logistic;
+  double u = 0.3;
+  for (int i = 0; i < 4000; ++i) {
+    noise.push_back(g(gen));
+    u = 4.0 * u * (1.0 - u);
+    logistic.push_back(u);
+    noisy_logistic.push_back(u + 1e3 * g(gen));
+  }
+  for (const auto* y : {&noise, &logistic, &noisy_logistic}) EXPECT_EQ(detect_floor(make_series_with_step({*y}, 1.0), 1e-6).index, 0u);
+}
+
 TEST(Transient, SmallMotionsADecaySettlesOnAreNoWhiteFloor) {
   // Settled on a limit cycle of 1e-3 (smooth: lag-1 autocorrelation ~1), or on one sampled at 4 and
   // at 3 samples per cycle (lag 1 correlation 0 and -0.5, but lag 2 -1, lag 3 +1): motions, not noise.

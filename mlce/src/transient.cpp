@@ -93,9 +93,50 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
   return true;
 }
 
+/// Measurement noise under a decay whose last quarter is not all noise, from the series' increments
+/// there (windows 75..99 of w samples). The increments of white noise e of variance s^2 correlate
+/// -1/2, 0 and 0 at lags 1, 2 and 3; a finely sampled smooth motion moves by ~omega dt x its amplitude
+/// per sample, so its increments drown in the noise's long before the motion itself does, and the
+/// increments of a sampled periodic motion correlate cos(k theta) at lag k, which cannot match all
+/// three (-1/2 at lag 1 forces |cos 2 theta| or |cos 3 theta| above 0.5). Noise when every channel's
+/// increments correlate within kWhiteIncrementTolerance of -1/2 at lag 1 and below
+/// kWhiteLagCorrelation in magnitude at lags 2 and 3, at a steady level (the mean square of the third
+/// differences in the quarter's two halves within 2x of each other). Its RMS is then
+/// sqrt(mean (third difference)^2 / 20) (Var of the third difference of e = C(6, 3) s^2 = 20 s^2: the
+/// smooth motion leaks in as (omega dt)^6, least of the low orders), summed in square over the
+/// channels each divided by its peak |x|, as window_square_sums scales them. nullopt: not noise.
+constexpr double kWhiteIncrementTolerance = 0.2;
+std::optional<double> increment_noise(const Series& s, std::size_t w) {
+  const std::size_t from = 75 * w, to = 100 * w, mid = from + (to - from) / 2;
+  if (to - from < 16) return std::nullopt;
+  double noise_square = 0.0;
+  for (const auto& channel : s.channels) {
+    double peak = 0.0;
+    for (double v : channel) peak = std::max(peak, std::abs(v));
+    if (!(peak > 0.0)) continue;
+    std::vector<double> dx(to - from - 1);
+    for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
+    const double var = lagged_product_sum(dx, 0);  // increments of a stationary tail have mean ~0
+    if (!(var > 0.0)) continue;                      // a constant tail: the underflow rule's case
+    if (std::abs(lagged_product_sum(dx, 1) / var + 0.5) >= kWhiteIncrementTolerance) return std::nullopt;
+    for (std::size_t lag = 2; lag <= 3; ++lag)
+      if (std::abs(lagged_product_sum(dx, lag) / var) >= kWhiteLagCorrelation) return std::nullopt;
+    double first = 0.0, second = 0.0;  // sums of (third difference)^2 in the two halves
+    for (std::size_t i = 0; i + 3 < dx.size(); ++i) {
+      const double d3 = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];
+      (from + i < mid ? first : second) += d3 * d3;
+    }
+    if (!(first <= 2.0 * second && second <= 2.0 * first)) return std::nullopt;
+    noise_square += (first + second) / (20.0 * static_cast<double>(dx.size() - 3));
+  }
+  if (!(noise_square > 0.0)) return std::nullopt;
+  return std::sqrt(noise_square);
+}
+
 }  // namespace
 
 std::string floor_evidence(const Floor& f, double floor_ratio) {
+  if (f.from_increments) return fmt::format("its last quarter's increments white, noise at {:.2g} of its largest RMS", f.level);
   return f.white_noise ? fmt::format("its last quarter white, at {:.2g} of its largest RMS", f.level)
                        : fmt::format("RMS below {:g} of its largest", floor_ratio);
 }
@@ -112,14 +153,31 @@ Floor detect_floor(const Series& s, double floor_ratio) {
   for (double& v : rms) v = std::sqrt(v / static_cast<double>(w));
   const double level = upper_median({rms.begin() + 75, rms.end()}), peak = *std::max_element(rms.begin(), rms.end());
   const bool underflow = level < floor_ratio * peak;
-  if (!underflow && !(level < kWhiteFloorShare * peak && white_and_level_tail(s, rms, w))) return {};
-  const double above = underflow ? 10.0 : kWhiteFloorCut;
+  Floor floor;
+  double cut_level = 0.0;  // the floor starts where every later window stays at or below this
+  if (underflow) {
+    cut_level = 10.0 * level;
+    floor.level = level / peak;
+  } else if (level < kWhiteFloorShare * peak && white_and_level_tail(s, rms, w)) {
+    cut_level = kWhiteFloorCut * level;
+    floor.white_noise = true;
+    floor.level = level / peak;
+  } else if (const auto noise = increment_noise(s, w); noise && *noise < kWhiteFloorShare * peak) {
+    // The noise holds only the end of the last quarter, or none of it yet (its samples not white):
+    // the same cut, at kWhiteFloorCut x the noise's RMS from the increments.
+    cut_level = kWhiteFloorCut * *noise;
+    floor.white_noise = floor.from_increments = true;
+    floor.level = *noise / peak;
+  } else {
+    return {};
+  }
   std::size_t k = windows;
-  while (k > 0 && rms[k - 1] <= above * level) --k;
+  while (k > 0 && rms[k - 1] <= cut_level) --k;
   // A last window above that level ends no floor: a cut there would leave out only the samples
   // past the 100 windows (the iso_200rpm run's rel:11:4:z: "floor from sample 4000", 1 sample).
   if (k == windows) return {};
-  return {k * w, !underflow, level / peak};
+  floor.index = k * w;
+  return floor;
 }
 
 TransientResult detect_transient(const Series& series, const TransientOptions& options) {

@@ -77,7 +77,8 @@ struct MlceOptions {
   double dither = 0.0;
   std::uint64_t dither_seed = 1;
   /// A series that decays into a noise/underflow floor below this fraction of its largest RMS, or
-  /// into white measurement noise below 0.1 of it, is analysed only up to the floor (detect_floor;
+  /// into white measurement noise below 0.1 of it (its last quarter or that quarter's increments
+  /// white), is analysed only up to the floor (detect_floor;
   /// paper 001 Fig. 6: otherwise the estimate drifts with the run length). 0 = never cut.
   double floor_ratio = 1e-6;
   ProgressCallback progress;

@@ -121,8 +121,8 @@ struct FitOptions {
   /// distances (quantisation) and whose first step does not jump as measurement noise makes it
   /// (first_step_jumps), has no floor to bend into: it flattens only as its faster modes die out,
   /// and is fitted late (late_decay_share). `build/decay_modes`, its 54 two-mode decays with 0.1 %
-  /// white noise: within 5 % / 10 % 18 / 28, rms error 33 %; when the signal's floor also kept
-  /// stage 2 for curves without one, 12 / 21, rms 67 % (scratch: the bench built against that rule).
+  /// white noise: within 5 % / 10 % 34 / 38, rms error 40 % (stage 2 throughout: 22 / 26, rms 92 %);
+  /// 18 / 28 before detect_floor read the noise from increments (f9f6749's bench).
   bool signal_floor = false;
   /// Decays of a signal without a floor: the exponent is the least negative one, the least damped
   /// mode, which the curve follows only once the faster modes have died out (with close

@@ -54,8 +54,9 @@ TransientResult detect_transient(const Series& series, const TransientOptions& o
 /// The floor a decay ends in (paper 001 Fig. 6: past it the series carries no dynamics).
 struct Floor {
   std::size_t index = 0;     ///< first sample of the floor; 0 = no floor
-  bool white_noise = false;  ///< found by the white-noise rule (else: below floor_ratio)
-  double level = 0.0;        ///< the last quarter's median window RMS / the largest window RMS
+  bool white_noise = false;  ///< found by a white-noise rule (else: below floor_ratio)
+  bool from_increments = false;  ///< the noise's level from the last quarter's increments (white_noise too)
+  double level = 0.0;        ///< the noise's (or last quarter's median window) RMS / the largest window RMS
 };
 
 /// The noise/underflow floor a decay ends in: RMS in 100 windows about the last quarter's mean.
@@ -64,7 +65,11 @@ struct Floor {
 /// at a steady level (measurement noise: the two halves' median RMS within 2x, every channel's
 /// autocorrelation at lags 1-3 below 0.3 in magnitude, which a sampled smooth or periodic motion
 /// never is). It starts at the first window after which every window stays within 10x that level
-/// (5x for white noise: where the signal is still 5x the noise). floor_ratio 0: never a floor.
+/// (5x for white noise: where the signal is still 5x the noise). Failing both, noise that holds
+/// only the end of the last quarter is read from the quarter's increments (white: correlated -1/2,
+/// 0, 0 at lags 1-3 in every channel, at a steady level; RMS from the third differences: transient.cpp,
+/// increment_noise): a floor when that RMS is below 0.1 x the largest window RMS, cut at 5x it.
+/// floor_ratio 0: never a floor.
 Floor detect_floor(const Series& series, double floor_ratio);
 /// What found the floor, in words: the white tail's level, or the ratio it fell below.
 std::string floor_evidence(const Floor& floor, double floor_ratio);
