@@ -102,6 +102,175 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   }
 }
 
+/// The part of the input that is analysed: `raw` dithered (MlceOptions::dither) and cut at the
+/// noise/underflow floor a decay ends in (detect_floor). Held in `storage` when it differs from
+/// `raw`; what was done is said in `warnings` (dither first, then the floor); `floor_cut` tells
+/// whether the floor was cut off (FitOptions::signal_floor).
+const Series& analysed_part(const Series& raw, const MlceOptions& options, Series& storage,
+                            std::vector<std::string>& warnings, bool& floor_cut) {
+  if (!(options.dither >= 0.0) || !std::isfinite(options.dither)) throw OptionError("dither: expected a finite width >= 0");
+  if (!(options.floor_ratio >= 0.0 && options.floor_ratio < 1.0)) throw OptionError("floor_ratio: expected [0, 1)");
+  floor_cut = false;
+  if (options.dither > 0.0) {
+    storage = raw;
+    std::uint64_t state = options.dither_seed;
+    for (auto& c : storage.channels)
+      for (double& v : c) v += options.dither * (uniform01(state) - 0.5);
+    validate_series(storage);  // a width beyond the double range would leave infinities
+    char text[200];
+    std::snprintf(text, sizeof text, "dithered: uniform noise of width %.6g added to every sample (seed %llu)",
+                  options.dither, static_cast<unsigned long long>(options.dither_seed));
+    warnings.push_back(text);
+  }
+  const Series& input = options.dither > 0.0 ? storage : raw;
+  const Floor floor = detect_floor(input, options.floor_ratio);
+  if (floor.index == 0) return input;
+  // A decay into the noise/underflow floor is analysed up to the floor only.
+  // A noise-free decay has no floor, but past 1e-6 of its largest RMS a solver's tolerance or
+  // rounding may already hold it: a trial rule that kept decays still falling at their end (not
+  // committed) moved Hammond's at 155-170 rpm (studies/fig4_5) up to 0.6 % further from their
+  // Floquet exponents. The warning names both.
+  // Measurement noise is a floor at any level: a decay that sinks into it leaves pairs whose
+  // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
+  // 8000 samples: +3.24 1/s uncut, -0.3167 cut; test_estimate_systems prints both).
+  const std::size_t f = floor.index;
+  warnings.push_back(
+      floor.white_noise
+          ? fmt::format("the signal decays into white measurement noise ({}) from sample {} (t = {:g}): analysed up to "
+                        "there, where it is still 5x the noise ({} floor samples left out)",
+                        floor_evidence(floor, options.floor_ratio), f, input.time(f), input.size() - f)
+          : fmt::format("the signal decays into a noise/underflow floor from sample {} (t = {:g}), or so far ({}) that "
+                        "solver tolerance and rounding dominate there: analysed up to there ({} floor samples left out)",
+                        f, input.time(f), floor_evidence(floor, options.floor_ratio), input.size() - f));
+  Series cut;
+  cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
+  for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
+  storage = std::move(cut);  // `input` may be `storage` (dithered): it is not read after this
+  floor_cut = true;
+  return storage;
+}
+
+/// Warnings about the analysed series itself (MlceResult::unreliable set with them): a drift (a
+/// quantity that keeps growing) and an angle that wraps by whole turns. Returns the drift's warning
+/// ("" when none): the short-run refusal names it, and the rest after a left-out start is judged again.
+std::string warn_about_series(const Series& series, MlceResult& r) {
+  // Delay vectors of a series that keeps drifting never come back near each other: the nearest
+  // neighbours are then whatever lies closest across the drift, and the spectrum's mean period is the
+  // drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
+  std::string drift_warning;
+  if (const Drift d = linear_drift(series); d.share > kDriftShare) {
+    drift_warning = fmt::format(
+        "the series drifts: a straight line through time explains {:.0f} % of {}'s variance (a quantity that keeps "
+        "growing, such as a rotation angle or a position?); the exponent assumes a motion that comes back near its past "
+        "states: analyse a stationary channel (a rate, a relative angle) or remove the drift first",
+        100.0 * d.share, channel_name(series, d.channel));
+    r.warnings.push_back(drift_warning);
+    r.unreliable = "the series drifts";
+  }
+  if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
+    r.warnings.push_back(fmt::format(
+        "{} jumps by {:.6g} between samples {} and {} (t = {:.6g}), and {} time(s) in all, by a whole turn: an angle "
+        "that wraps at +-{}; its delay vectors straddle the jumps and the exponent is meaningless: analyse a relative "
+        "angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
+        channel_name(series, w.channel), w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
+        w.degrees ? "180 deg" : "pi"));
+    if (r.unreliable.empty()) r.unreliable = "an angle that wraps by whole turns";
+  }
+  return drift_warning;
+}
+
+/// How many of its own mean periods (the spectrum's, not the clamped one: a series of 1.5 periods
+/// clamped to N/4 would otherwise be said to span 4) the series spans, and that period in samples.
+struct Span {
+  double own_period;  ///< samples
+  double periods;
+};
+Span span_of(const Series& series, const MeanPeriodResult& mean_period) {
+  const double f = mean_period.mean_frequency_per_sample;
+  const double own_period = f > 0.0 ? 1.0 / f : static_cast<double>(mean_period.mean_period);
+  return {own_period, static_cast<double>(series.size()) / own_period};
+}
+
+/// A series of fewer than 20 mean periods is warned about. Rosenstein's neighbours come from another
+/// pass of the orbit, more than a mean period away (eq. 20). A motion that persists (neither decays
+/// nor grows: its last third's RMS within a factor kPersistentAmplitude of its first third's) over
+/// less than two of its mean periods has no second pass: the automatic window would be cut below
+/// the period, and the "neighbours" are then points of the same pass (van der Pol over 1.5 cycles
+/// read +0.43 1/s on its limit cycle, over 1.8 cycles -0.14). Refused rather than estimated. A decay
+/// or a growth is a spiral whose later turns are the neighbours, and is estimated (a strongly damped
+/// oscillator reaches its noise floor within 1.7 of its mean periods); an explicit window is the
+/// user's decision.
+void check_span(const Series& series, const MlceOptions& options, const Span& span, bool persisting,
+                const std::string& drift_warning, MlceResult& r) {
+  if (r.mean_period.clamped || series.size() < 20 * r.mean_period.mean_period) {
+    char text[160];
+    std::snprintf(text, sizeof text, "the series spans only %.3g mean periods (%.0f samples each)", span.periods,
+                  std::ceil(span.own_period));
+    r.warnings.push_back(std::string(text) + ": too few for a reliable exponent; analyse a longer run");
+  }
+  if (!options.theiler && span.periods < kMinMeanPeriods && persisting) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
+                  "that persists; the nearest neighbours must come from another pass, more than a mean period away "
+                  "(eq. 20): at least %.0f samples needed (give --theiler N to override)",
+                  series.size(), span.periods, std::ceil(span.own_period), std::ceil(kMinMeanPeriods * span.own_period));
+    throw InputError(drift_warning.empty() ? std::string(text) : std::string(text) + "; but " + drift_warning);
+  }
+}
+
+/// A delay vector should span about a mean period or less (the window (m-1)J that the AMI delay
+/// and FNN dimension give: Lorenz x 36 samples of 171, Roessler x 0.5 of a period, maps 1-2
+/// samples). Far beyond it, on a chaotic motion its first and last coordinates are as good as
+/// independent: distances mix unrelated states, the neighbours are poor, and the curve can read
+/// flat (Lorenz x with m = 100: 10 mean periods, "lambda" 0.015 against 0.91). Said, not changed.
+void warn_about_window(MlceResult& r, double own_period) {
+  const double window = static_cast<double>((r.dim - 1) * r.delay);
+  if (window <= kMaxWindowPeriods * own_period) return;
+  if (r.unreliable.empty()) r.unreliable = "an embedding window of several mean periods";
+  r.warnings.push_back(fmt::format(
+      "the embedding window (m-1)*delay = {:.0f} samples spans {:.3g} mean periods ({:.0f} samples each): its "
+      "coordinates are too far apart in time to describe one state, and the exponent is unreliable; choose m and "
+      "the delay so that (m-1)*delay is about one mean period or less",
+      window, window / own_period, std::ceil(own_period)));
+}
+
+/// The fit's options with what the series tells (sets r.envelope_rate, r.end_envelope_rate): its mean
+/// period; does the signal itself decay? (a curve that falls while it does not measures a contraction
+/// onto a motion that persists, not lambda_1: FitOptions::signal_rate); does it still grow at its end?
+/// (then its pairs have no attractor to saturate on: FitOptions::signal_end_rate); was a floor of its
+/// own cut off? (FitOptions::signal_floor). Values the user set are kept.
+FitOptions fit_options_for(const Series& series, const MlceOptions& options, std::size_t period, bool floor_cut,
+                           MlceResult& r) {
+  FitOptions fo = options.fit;
+  if (fo.period == 0) fo.period = period;
+  const EnvelopeRates envelope = envelope_rates(series, period);
+  r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
+  if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
+  if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
+  fo.signal_floor = fo.signal_floor || floor_cut;
+  return fo;
+}
+
+/// The fitted slope per sample as lambda per time unit (eq. 23: y(i) / dt), with its interval, R^2 and
+/// Lyapunov time; a slope beyond a double per time unit is an error naming the sampling step.
+void express_per_time(MlceResult& r, double dt) {
+  r.lambda_per_sample = r.fit.slope;
+  r.lambda = r.fit.slope / dt;
+  r.ci95_low = r.fit.ci_low / dt;
+  r.ci95_high = r.fit.ci_high / dt;
+  if (!std::isfinite(r.lambda) || !std::isfinite(r.ci95_low) || !std::isfinite(r.ci95_high)) {
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "sampling step %.6g: the exponent, %.6g per sample, is beyond a double per unit time; give the "
+                  "time in a larger unit",
+                  dt, r.fit.slope);
+    throw InputError(what);
+  }
+  r.r2 = r.fit.r2;
+  r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
+}
+
 }  // namespace
 
 Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period) {
@@ -131,75 +300,16 @@ Embedding choose_embedding(const Series& series, const MlceOptions& options, std
 
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   validate_series(raw);
-  if (!(options.dither >= 0.0) || !std::isfinite(options.dither)) throw OptionError("dither: expected a finite width >= 0");
-  Series dithered;
-  if (options.dither > 0.0) {
-    dithered = raw;
-    std::uint64_t state = options.dither_seed;
-    for (auto& c : dithered.channels)
-      for (double& v : c) v += options.dither * (uniform01(state) - 0.5);
-    validate_series(dithered);  // a width beyond the double range would leave infinities
-  }
-  const Series& input = options.dither > 0.0 ? dithered : raw;
-  if (!(options.floor_ratio >= 0.0 && options.floor_ratio < 1.0)) throw OptionError("floor_ratio: expected [0, 1)");
-  // A decay into the noise/underflow floor is analysed up to the floor only.
-  Series cut;
-  std::string floor_warning;
-  if (const Floor floor = detect_floor(input, options.floor_ratio); floor.index > 0) {
-    const std::size_t f = floor.index;
-    cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
-    for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
-    // A noise-free decay has no floor, but past 1e-6 of its largest RMS a solver's tolerance or
-    // rounding may already hold it: a trial rule that kept decays still falling at their end (not
-    // committed) moved Hammond's at 155-170 rpm (studies/fig4_5) up to 0.6 % further from their
-    // Floquet exponents. The warning names both.
-    // Measurement noise is a floor at any level: a decay that sinks into it leaves pairs whose
-    // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
-    // 8000 samples: +3.24 1/s uncut, -0.3155 cut; test_estimate_systems prints both).
-    floor_warning = floor.white_noise
-        ? fmt::format("the signal decays into white measurement noise ({}) from sample {} (t = {:g}): analysed up to "
-                      "there, where it is still 5x the noise ({} floor samples left out)",
-                      floor_evidence(floor, options.floor_ratio), f, input.time(f), input.size() - f)
-        : fmt::format("the signal decays into a noise/underflow floor from sample {} (t = {:g}), or so far ({}) that "
-                      "solver tolerance and rounding dominate there: analysed up to there ({} floor samples left out)",
-                      f, input.time(f), floor_evidence(floor, options.floor_ratio), input.size() - f);
-  }
-  const Series& series = floor_warning.empty() ? input : cut;
+  MlceResult r;
+  Series storage;
+  bool floor_cut = false;
+  const Series& series = analysed_part(raw, options, storage, r.warnings, floor_cut);
   validate_series(series);
   if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
   if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
-  MlceResult r;
   r.n_points = series.size();
-  if (options.dither > 0.0) {
-    char text[200];
-    std::snprintf(text, sizeof text, "dithered: uniform noise of width %.6g added to every sample (seed %llu)",
-                  options.dither, static_cast<unsigned long long>(options.dither_seed));
-    r.warnings.push_back(text);
-  }
-  if (!floor_warning.empty()) r.warnings.push_back(floor_warning);
-  // Delay vectors of a series that keeps drifting never come back near each other: the nearest
-  // neighbours are then whatever lies closest across the drift, and the spectrum's mean period is the
-  // drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
-  std::string drift_warning;
-  if (const Drift d = linear_drift(series); d.share > kDriftShare) {
-    drift_warning = fmt::format(
-        "the series drifts: a straight line through time explains {:.0f} % of {}'s variance (a quantity that keeps "
-        "growing, such as a rotation angle or a position?); the exponent assumes a motion that comes back near its past "
-        "states: analyse a stationary channel (a rate, a relative angle) or remove the drift first",
-        100.0 * d.share, channel_name(series, d.channel));
-    r.warnings.push_back(drift_warning);
-    r.unreliable = "the series drifts";
-  }
-  if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
-    r.warnings.push_back(fmt::format(
-        "{} jumps by {:.6g} between samples {} and {} (t = {:.6g}), and {} time(s) in all, by a whole turn: an angle "
-        "that wraps at +-{}; its delay vectors straddle the jumps and the exponent is meaningless: analyse a relative "
-        "angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
-        channel_name(series, w.channel), w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
-        w.degrees ? "180 deg" : "pi"));
-    if (r.unreliable.empty()) r.unreliable = "an angle that wraps by whole turns";
-  }
+  const std::string drift_warning = warn_about_series(series, r);
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;
@@ -208,38 +318,12 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   r.mean_period = estimate_mean_period(series, options.mean_period);
   append(r.warnings, r.mean_period.warnings);
   const std::size_t period = r.mean_period.mean_period;
-  // Counted with the spectrum's own mean period, not the clamped one: a series of 1.5 periods
-  // clamped to N/4 would otherwise be said to span 4.
-  const double f = r.mean_period.mean_frequency_per_sample;
-  const double own_period = f > 0.0 ? 1.0 / f : static_cast<double>(period);
-  const double spanned = static_cast<double>(series.size()) / own_period;
-  if (r.mean_period.clamped || series.size() < 20 * period) {
-    char text[160];
-    std::snprintf(text, sizeof text, "the series spans only %.3g mean periods (%.0f samples each)",
-                  spanned, std::ceil(own_period));
-    r.warnings.push_back(std::string(text) + ": too few for a reliable exponent; analyse a longer run");
-  }
-  // Rosenstein's neighbours come from another pass of the orbit, more than a mean period away
-  // (eq. 20). A motion that persists (neither decays nor grows: its last third's RMS within a
-  // factor kPersistentAmplitude of its first third's) over less than two of its mean periods has no
-  // second pass: the automatic window would be cut below the period, and the "neighbours" are then
-  // points of the same pass (van der Pol over 1.5 cycles read +0.43 1/s on its limit cycle, over 1.8
-  // cycles -0.14). Refused rather than estimated. A decay or a growth is a spiral whose later turns
-  // are the neighbours, and is estimated (a strongly damped oscillator reaches its noise floor
-  // within 1.7 of its mean periods); an explicit window is the user's decision.
+  const Span span = span_of(series, r.mean_period);
   // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
   // first third's (transient.hpp). Read by the short-run refusal and by the recurrence test.
   r.amplitude_ratio = amplitude_ratio(series);
   const bool persisting = persists(r.amplitude_ratio);
-  if (!options.theiler && spanned < kMinMeanPeriods && persisting) {
-    char text[400];
-    std::snprintf(text, sizeof text,
-                  "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "
-                  "that persists; the nearest neighbours must come from another pass, more than a mean period away "
-                  "(eq. 20): at least %.0f samples needed (give --theiler N to override)",
-                  series.size(), spanned, std::ceil(own_period), std::ceil(kMinMeanPeriods * own_period));
-    throw InputError(drift_warning.empty() ? std::string(text) : std::string(text) + "; but " + drift_warning);
-  }
+  check_span(series, options, span, persisting, drift_warning, r);
   Embedding e = choose_embedding(series, options, period);
   r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
   r.ami = std::move(e.ami), r.fnn = std::move(e.fnn);
@@ -298,19 +382,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   };
   if (r.ami) append(r.warnings, r.ami->warnings);
   if (r.fnn) append(r.warnings, r.fnn->warnings);
-  // A delay vector should span about a mean period or less (the window (m-1)J that the AMI delay
-  // and FNN dimension give: Lorenz x 36 samples of 171, Roessler x 0.5 of a period, maps 1-2
-  // samples). Far beyond it, on a chaotic motion its first and last coordinates are as good as
-  // independent: distances mix unrelated states, the neighbours are poor, and the curve can read
-  // flat (Lorenz x with m = 100: 10 mean periods, "lambda" 0.015 against 0.91). Said, not changed.
-  if (const double window = static_cast<double>((r.dim - 1) * r.delay); window > kMaxWindowPeriods * own_period) {
-    if (r.unreliable.empty()) r.unreliable = "an embedding window of several mean periods";
-    r.warnings.push_back(fmt::format(
-        "the embedding window (m-1)*delay = {:.0f} samples spans {:.3g} mean periods ({:.0f} samples each): its "
-        "coordinates are too far apart in time to describe one state, and the exponent is unreliable; choose m and "
-        "the delay so that (m-1)*delay is about one mean period or less",
-        window, window / own_period, std::ceil(own_period)));
-  }
+  warn_about_window(r, span.own_period);
 
   RosensteinOptions ro;
   ro.dim = r.dim;
@@ -318,16 +390,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   ro.theiler = r.theiler;
   ro.max_references = options.max_references;
   ro.eps = options.eps;
-  FitOptions fo = options.fit;
-  if (fo.period == 0) fo.period = period;
-  // Does the signal itself decay? A curve that falls while it does not measures a contraction onto
-  // a motion that persists, not lambda_1 (FitOptions::signal_rate).
-  // Does it still grow at its end? Then its pairs have no attractor to saturate on (FitOptions::signal_end_rate).
-  const EnvelopeRates envelope = envelope_rates(series, period);
-  r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
-  if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
-  if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
-  fo.signal_floor = fo.signal_floor || !floor_warning.empty();  // FitOptions::signal_floor
+  const FitOptions fo = fit_options_for(series, options, period, floor_cut, r);
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
   NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs
@@ -401,21 +464,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   flag_noise(r, series.channels.size());
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
-
-  r.lambda_per_sample = r.fit.slope;
-  r.lambda = r.fit.slope / series.dt;  // eq. 23: y(i)/dt
-  r.ci95_low = r.fit.ci_low / series.dt;
-  r.ci95_high = r.fit.ci_high / series.dt;
-  if (!std::isfinite(r.lambda) || !std::isfinite(r.ci95_low) || !std::isfinite(r.ci95_high)) {
-    char what[200];
-    std::snprintf(what, sizeof what,
-                  "sampling step %.6g: the exponent, %.6g per sample, is beyond a double per unit time; give the "
-                  "time in a larger unit",
-                  series.dt, r.fit.slope);
-    throw InputError(what);
-  }
-  r.r2 = r.fit.r2;
-  r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
+  express_per_time(r, series.dt);
   report(options, "done", 1.0);
   return r;
 }
