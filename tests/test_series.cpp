@@ -301,6 +301,13 @@ TEST(Transient, NoiseThatHoldsOnlyTheEndOfADecayIsFoundByItsIncrements) {
   // The largest window RMS is the first's, 0.707 x sqrt((1 - e^{-0.24}) / 0.24) = 0.667.
   EXPECT_NEAR(f.level, 1e-5 / 0.667, 0.1 * 1.5e-5) << "the noise's RMS over the largest window's";
   EXPECT_NE(describe(f, 1e-6).find("increments white"), std::string::npos) << describe(f, 1e-6);
+  // Two channels, cos and sin of the same decay, each with its own noise: every channel's increments
+  // are white, and the floor is where the summed window RMS stays within 5x the summed noise's.
+  std::vector<double> sine;
+  for (int i = 0; i < 4000; ++i) sine.push_back(std::exp(-0.003 * i) * std::sin(2 * M_PI * 0.01 * i) + g(gen));
+  const Floor both = detect_floor(make_series_with_step({x, sine}, 0.01), 1e-6);
+  EXPECT_TRUE(both.from_increments);
+  EXPECT_NEAR(both.index * 0.01, f.index * 0.01, 1.2);
   // Without the noise the increments are the smooth signal's (lag-1 correlation ~1): no floor.
   std::vector<double> clean;
   for (int i = 0; i < 4000; ++i) clean.push_back(std::exp(-0.003 * i) * std::cos(2 * M_PI * 0.01 * i));
