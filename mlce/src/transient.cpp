@@ -98,10 +98,10 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
 /// -1/2, 0 and 0 at lags 1, 2 and 3; a finely sampled smooth motion moves by ~omega dt x its amplitude
 /// per sample, so its increments drown in the noise's long before the motion itself does, and the
 /// increments of a sampled periodic motion correlate cos(k theta) at lag k, which cannot match all
-/// three (-1/2 at lag 1 forces |cos 2 theta| or |cos 3 theta| above 0.5). Noise when every channel's
-/// increments correlate within kWhiteIncrementTolerance of -1/2 at lag 1 and below
-/// kWhiteLagCorrelation in magnitude at lags 2 and 3, at a steady level (the mean square of the third
-/// differences in the quarter's two halves within 2x of each other). Its RMS is then
+/// three (a lag-1 correlation within 0.2 of -1/2 puts theta in 1.88..2.35 rad, where cos 3 theta >
+/// 0.7). Noise when every channel's increments correlate within kWhiteIncrementTolerance of -1/2 at
+/// lag 1 and below kWhiteLagCorrelation in magnitude at lags 2 and 3, at a steady level (the mean
+/// square of the third differences in the quarter's two halves within 2x of each other). Its RMS is then
 /// sqrt(mean (third difference)^2 / 20) (Var of the third difference of e = C(6, 3) s^2 = 20 s^2: the
 /// smooth motion leaks in as (omega dt)^6, least of the low orders), summed in square over the
 /// channels each divided by its peak |x|, as window_square_sums scales them. nullopt: not noise.
