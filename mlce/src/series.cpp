@@ -1,5 +1,7 @@
 #include "mlce/series.hpp"
 
+#include "mlce/numerics.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -234,8 +236,7 @@ namespace {
 Series normalised(const Series& series, bool shift_to_zero_mean) {
   Series s = series;
   for (auto& x : s.channels) {
-    double peak = 0.0;
-    for (double v : x) peak = std::max(peak, std::abs(v));
+    const double peak = max_abs(x);
     if (peak == 0.0) continue;
     // Divide by the peak first: squares of 1e200 overflow, squares of 1e-200 underflow.
     double mean = 0.0;

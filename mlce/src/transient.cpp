@@ -47,8 +47,7 @@ std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size
                                        std::optional<std::size_t> about_from) {
   std::vector<double> sums(count, 0.0);
   for (const auto& x : s.channels) {
-    double peak = 0.0;
-    for (double v : x) peak = std::max(peak, std::abs(v));
+    const double peak = max_abs(x);
     if (!(peak > 0.0)) continue;
     auto mean_over = [&](std::size_t from, std::size_t to) {
       double mean = 0.0;
@@ -77,8 +76,7 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
   const std::size_t from = 75 * w, to = 100 * w;
   for (const auto& channel : s.channels) {
     // Divided by the tail's peak |x| first: squares of 1e300 would overflow.
-    double peak = 0.0;
-    for (std::size_t i = from; i < to; ++i) peak = std::max(peak, std::abs(channel[i]));
+    const double peak = max_abs(std::span<const double>(channel).subspan(from, to - from));
     if (!(peak > 0.0)) continue;
     std::vector<double> x(channel.begin() + static_cast<std::ptrdiff_t>(from), channel.begin() + static_cast<std::ptrdiff_t>(to));
     double mean = 0.0;
@@ -111,8 +109,7 @@ std::optional<double> increment_noise(const Series& s, std::size_t w) {
   if (to - from < 16) return std::nullopt;
   double noise_square = 0.0;
   for (const auto& channel : s.channels) {
-    double peak = 0.0;
-    for (double v : channel) peak = std::max(peak, std::abs(v));
+    const double peak = max_abs(channel);
     if (!(peak > 0.0)) continue;
     std::vector<double> dx(to - from - 1);
     for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
@@ -319,8 +316,7 @@ Drift linear_drift(const Series& s) {
   for (std::size_t c = 0; c < s.channels.size(); ++c) {
     const auto& x = s.channels[c];
     if (x.size() < 3) continue;
-    double peak = 0.0;
-    for (double v : x) peak = std::max(peak, std::abs(v));
+    const double peak = max_abs(x);
     if (!(peak > 0.0)) continue;
     scaled.resize(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) scaled[i] = x[i] / peak;

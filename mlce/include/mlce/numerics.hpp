@@ -1,9 +1,11 @@
 #pragma once
 // Small numerical helpers shared by the estimators.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace mlce {
@@ -50,6 +52,14 @@ inline std::uint64_t splitmix64(std::uint64_t& state) {
 }
 /// Uniform in [0, 1) from the top 53 bits of splitmix64.
 inline double uniform01(std::uint64_t& state) { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; }
+
+/// The largest |x[i]| (0 for an empty x). Series are divided by it before squares are taken: squares
+/// of 1e200 overflow, squares of 1e-200 underflow.
+inline double max_abs(std::span<const double> x) {
+  double peak = 0.0;
+  for (double v : x) peak = std::max(peak, std::abs(v));
+  return peak;
+}
 
 /// sum over t of x[t] x[t + lag] (compensated): the unnormalised autocorrelation of a series
 /// centred by the caller (lag 0: its sum of squares). 0 when lag >= x.size().
