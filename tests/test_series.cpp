@@ -291,10 +291,8 @@ TEST(Transient, NoiseThatHoldsOnlyTheEndOfADecayIsFoundByItsIncrements) {
   // moves by ~2 pi dt x 1e-4 per sample): they correlate -1/2, 0, 0 at lags 1-3, and the third
   // differences give the noise's RMS. The floor starts where the window RMS (0.4 s windows) stays
   // within 5x it: sqrt(S^2 + noise^2) = 5 noise at S = 0.707 e^{-0.3 t} = 4.9e-5, t = 31.9 s.
-  std::mt19937_64 gen(11);
-  std::normal_distribution<double> g(0.0, 1e-5);
-  std::vector<double> x;
-  for (int i = 0; i < 4000; ++i) x.push_back(std::exp(-0.003 * i) * std::cos(2 * M_PI * 0.01 * i) + g(gen));
+  const double w = 2 * M_PI, zeta = 0.3 / w;  // damped_oscillator: e^{-0.3 t} (cos + 0.05 sin) 2 pi t
+  const auto x = mlce::reference::noisy_decay(4000, 0.01, zeta, w, 1e-5);
   const Floor f = detect_floor(make_series_with_step({x}, 0.01), 1e-6);
   EXPECT_TRUE(f.white_noise && f.from_increments);
   EXPECT_NEAR(f.index * 0.01, 31.9, 1.2);
@@ -303,15 +301,15 @@ TEST(Transient, NoiseThatHoldsOnlyTheEndOfADecayIsFoundByItsIncrements) {
   EXPECT_NE(describe(f, 1e-6).find("increments white"), std::string::npos) << describe(f, 1e-6);
   // Two channels, cos and sin of the same decay, each with its own noise: every channel's increments
   // are white, and the floor is where the summed window RMS stays within 5x the summed noise's.
+  std::mt19937_64 gen(11);
+  std::normal_distribution<double> g(0.0, 1e-5);
   std::vector<double> sine;
   for (int i = 0; i < 4000; ++i) sine.push_back(std::exp(-0.003 * i) * std::sin(2 * M_PI * 0.01 * i) + g(gen));
   const Floor both = detect_floor(make_series_with_step({x, sine}, 0.01), 1e-6);
   EXPECT_TRUE(both.from_increments);
   EXPECT_NEAR(both.index * 0.01, f.index * 0.01, 1.2);
   // Without the noise the increments are the smooth signal's (lag-1 correlation ~1): no floor.
-  std::vector<double> clean;
-  for (int i = 0; i < 4000; ++i) clean.push_back(std::exp(-0.003 * i) * std::cos(2 * M_PI * 0.01 * i));
-  EXPECT_EQ(detect_floor(make_series_with_step({clean}, 0.01), 1e-6).index, 0u);
+  EXPECT_EQ(detect_floor(make_series_with_step({mlce::reference::damped_oscillator(4000, 0.01, zeta, w)}, 0.01), 1e-6).index, 0u);
   // Series whose increments are white but which never decay into them are no floor: white noise
   // itself, and the logistic map (r = 4: uncorrelated samples), with and without noise of 1 %.
   std::vector<double> noise, logistic, noisy_logistic;
