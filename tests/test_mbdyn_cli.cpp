@@ -84,6 +84,20 @@ TEST_F(MbdynCli, ReadingOfTheRealRunsFollowsTheirKnownStability) {
   }
 }
 
+TEST_F(MbdynCli, ChannelOfRoundingNoiseReadsNoStability) {
+  // node:2:y of the limit-cycle run: node 2 is the airframe's x-part, free in absolute x only
+  // (../shared/data/mbdyn/README.md), so its y holds MBDyn's rounding, ~1e-22 m, white (lag-1
+  // autocorrelation 0.01), up to 30x louder in places.
+  // It is no decay into a noise floor and no instability: the reading is undetermined.
+  const std::string set = std::string(MLCE_DATA_DIR) + "/mbdyn/c3zero_242rpm_cyhalf_lco/c3zero_242rpm_cyhalf";
+  const CliRun r = run("estimate " + set + " --channel node:2:y --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["reading"]["stability"], "undetermined") << j["reading"].dump();
+  EXPECT_EQ(j["n_points"].get<std::size_t>(), 2001u) << "analysed whole: no floor cut";
+  for (const auto& w : j["warnings"]) EXPECT_EQ(w.get<std::string>().find("measurement noise"), std::string::npos) << w;
+}
+
 TEST_F(MbdynCli, ConvergenceSaysWhetherTheReadingHoldsOverTheRun) {
   // mlce convergence reads every part (reading.hpp) and says whether the reading holds from half the
   // run on. Blade 3's lag of the growing run (0-10 s, ground resonance: the trivial solution is

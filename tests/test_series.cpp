@@ -323,6 +323,33 @@ TEST(Transient, NoiseThatHoldsOnlyTheEndOfADecayIsFoundByItsIncrements) {
   for (const auto* y : {&noise, &logistic, &noisy_logistic}) EXPECT_EQ(detect_floor(make_series_with_step({*y}, 1.0), 1e-6).index, 0u);
 }
 
+TEST(Transient, NoiseThroughoutIsNoFloorHoweverItsLevelVaries) {
+  // White noise at 1 for 30 % of the record, 0.3 to half of it, then 0.03: the last quarter is white
+  // and level at 0.03 of the largest RMS, as a decay's floor would be, but the samples kept before it
+  // are white too (lag correlations ~1/sqrt(samples)): no motion decays there, so no floor, by either
+  // white-noise rule (the samples' and the increments'). So with the noise's level changing smoothly
+  // (a rounding noise that scales with the other states' motion), and with two such channels.
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> steps, smooth, other;
+  for (int i = 0; i < 4000; ++i) {
+    steps.push_back((i < 1200 ? 1.0 : i < 2000 ? 0.3 : 0.03) * g(gen));
+    smooth.push_back(std::exp(-0.0015 * std::min(i, 2400)) * g(gen));
+    other.push_back(std::exp(-0.0015 * std::min(i, 2400)) * g(gen));
+  }
+  using Channels = std::vector<std::vector<double>>;
+  for (const Channels& channels : {Channels{steps}, Channels{smooth}, Channels{smooth, other}})
+    EXPECT_EQ(detect_floor(make_series_with_step(channels, 0.01), 1e-6).index, 0u) << channels.size() << " channel(s)";
+  // The same levels carried by a motion (a sine of 25 samples per cycle, amplitude sqrt 2 x the
+  // level) and noise of 0.03 from the start: a decay into a white floor, found at the last step.
+  std::vector<double> decay;
+  for (int i = 0; i < 4000; ++i)
+    decay.push_back((i < 1200 ? 1.0 : i < 2000 ? 0.3 : 0.0) * std::sqrt(2.0) * std::sin(2 * M_PI * i / 25.0) + 0.03 * g(gen));
+  const Floor f = detect_floor(make_series_with_step({decay}, 0.01), 1e-6);
+  EXPECT_TRUE(f.white_noise);
+  EXPECT_EQ(f.index, 2000u);
+}
+
 TEST(Transient, SmallMotionsADecaySettlesOnAreNoWhiteFloor) {
   // Settled on a limit cycle of 1e-3 (smooth: lag-1 autocorrelation ~1), or on one sampled at 4 and
   // at 3 samples per cycle (lag 1 correlation 0 and -0.5, but lag 2 -1, lag 3 +1): motions, not noise.

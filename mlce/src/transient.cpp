@@ -27,6 +27,9 @@ namespace {
 constexpr double kWhiteFloorShare = 0.1;
 constexpr double kWhiteLagCorrelation = 0.3;
 constexpr double kWhiteFloorCut = 5.0;
+/// Fewer samples than this say nothing about their whiteness (lag correlations of a handful of
+/// samples are anything): the white-noise rules then do not judge.
+constexpr std::size_t kFewestToJudgeWhiteness = 16;
 }  // namespace
 
 void TransientOptions::validate() const {
@@ -63,19 +66,14 @@ std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size
   return sums;
 }
 
-/// Is the last quarter of the 100 windows white noise at a steady level, i.e. measurement noise a
-/// decay has sunk into rather than a small motion it settled on? Level: the median window RMS of
-/// the quarter's two halves within 2x of each other (a decay still falling is no floor). White:
-/// every channel's autocorrelation at lags 1, 2 and 3 over the quarter, about its mean, below
-/// kWhiteLagCorrelation in magnitude. A sampled periodic or smooth motion fails at one of the
-/// three lags for any sampling of 2 or more samples per cycle (a sine at 4 per cycle: lag 2 gives
-/// -1; at 3: lag 3 gives +1), white noise passes (|rho| ~ 1/sqrt(samples)).
-bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::size_t w) {
-  const double first = upper_median({rms.begin() + 75, rms.begin() + 88}), second = upper_median({rms.begin() + 88, rms.end()});
-  if (!(first <= 2.0 * second && second <= 2.0 * first)) return false;
-  const std::size_t from = 75 * w, to = 100 * w;
+/// Are samples [from, to) of every channel white: autocorrelation at lags 1, 2 and 3, about the
+/// stretch's mean, below kWhiteLagCorrelation in magnitude? A sampled periodic or smooth motion fails
+/// at one of the three lags for any sampling of 2 or more samples per cycle (a sine at 4 per cycle:
+/// lag 2 gives -1; at 3: lag 3 gives +1), white noise passes (|rho| ~ 1/sqrt(samples)). Constant
+/// channels pass (they are the underflow rule's case).
+bool white_samples(const Series& s, std::size_t from, std::size_t to) {
   for (const auto& channel : s.channels) {
-    // Divided by the tail's peak |x| first: squares of 1e300 would overflow.
+    // Divided by the stretch's peak |x| first: squares of 1e300 would overflow.
     const double peak = max_abs(std::span<const double>(channel).subspan(from, to - from));
     if (!(peak > 0.0)) continue;
     std::vector<double> x(channel.begin() + static_cast<std::ptrdiff_t>(from), channel.begin() + static_cast<std::ptrdiff_t>(to));
@@ -84,11 +82,21 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
     mean /= static_cast<double>(x.size());
     for (double& v : x) v -= mean;
     const double var = lagged_product_sum(x, 0);
-    if (!(var > 0.0)) continue;  // a constant tail: the underflow rule's case
+    if (!(var > 0.0)) continue;
     for (std::size_t lag = 1; lag <= 3; ++lag)
       if (std::abs(lagged_product_sum(x, lag) / var) >= kWhiteLagCorrelation) return false;
   }
   return true;
+}
+
+/// Is the last quarter of the 100 windows white noise at a steady level, i.e. measurement noise a
+/// decay has sunk into rather than a small motion it settled on? Level: the median window RMS of
+/// the quarter's two halves within 2x of each other (a decay still falling is no floor). White:
+/// white_samples over the quarter.
+bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::size_t w) {
+  const double first = upper_median({rms.begin() + 75, rms.begin() + 88}), second = upper_median({rms.begin() + 88, rms.end()});
+  if (!(first <= 2.0 * second && second <= 2.0 * first)) return false;
+  return white_samples(s, 75 * w, 100 * w);
 }
 
 /// Measurement noise under a decay whose last quarter is not all noise, from the series' increments
@@ -106,7 +114,7 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
 constexpr double kWhiteIncrementTolerance = 0.2;
 std::optional<double> increment_noise(const Series& s, std::size_t w) {
   const std::size_t from = 75 * w, to = 100 * w, mid = from + (to - from) / 2;
-  if (to - from < 16) return std::nullopt;
+  if (to - from < kFewestToJudgeWhiteness) return std::nullopt;
   double noise_square = 0.0;
   for (const auto& channel : s.channels) {
     const double peak = max_abs(channel);
@@ -173,6 +181,11 @@ Floor detect_floor(const Series& s, double floor_ratio) {
   // A last window above that level ends no floor: a cut there would leave out only the samples
   // past the 100 windows (the iso_200rpm run's rel:11:4:z: "floor from sample 4000", 1 sample).
   if (k == windows) return {};
+  // A white floor ends a decay of a motion; when the samples kept before it are white as well, the
+  // record is noise throughout, only louder in places (rounding noise of a channel that carries no
+  // motion, as the real LCO run's node:2:y: 1e-22 m, bursts of 30x): no floor, and the estimator's
+  // own checks then say that the curve resolves no divergence.
+  if (floor.white_noise && k * w >= kFewestToJudgeWhiteness && white_samples(s, 0, k * w)) return {};
   floor.index = k * w;
   return floor;
 }

@@ -69,6 +69,8 @@ struct Floor {
 /// only the end of the last quarter is read from the quarter's increments (white: correlated -1/2,
 /// 0, 0 at lags 1-3 in every channel, at a steady level; RMS from the third differences: transient.cpp,
 /// increment_noise): a floor when that RMS is below 0.1 x the largest window RMS, cut at 5x it.
+/// A white-noise floor needs a motion before it: when the samples kept before the cut are white too
+/// (lags 1-3 as above), the record is noise throughout, only louder in places, and has no floor.
 /// floor_ratio 0: never a floor.
 Floor detect_floor(const Series& series, double floor_ratio);
 /// What found the floor, in words: the white tail's level, or the ratio it fell below.
