@@ -84,6 +84,16 @@ TEST_F(MbdynCli, ReadingOfTheRealRunsFollowsTheirKnownStability) {
   }
 }
 
+TEST_F(MbdynCli, BladeHingeOfTheGrowingRunIsUnstableNotChaotic) {
+  // node:12:x of the growing run (Floquet +0.2985 1/s): blade 2's hinge, e = 0.3048 m off the axis,
+  // carries the rotation, a steady carrier over the hub's growth. Unstable; no chaos claimed.
+  const CliRun r = run("estimate " + kC3 + " --channel node:12:x --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out)["reading"];
+  EXPECT_EQ(j["stability"], "unstable") << j.dump();
+  EXPECT_EQ(j["motion"], "diverging") << j.dump();
+}
+
 TEST_F(MbdynCli, ChannelOfRoundingNoiseReadsNoStability) {
   // node:2:y of the limit-cycle run: node 2 is the airframe's x-part, free in absolute x only
   // (../shared/data/mbdyn/README.md), so its y holds MBDyn's rounding, ~1e-22 m, white (lag-1

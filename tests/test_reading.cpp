@@ -128,6 +128,28 @@ TEST(Reading, ChaoticAttractorsAreUnstableWithSteadyAmplitude) {
   EXPECT_NE(r.summary.find("measurement noise"), std::string::npos) << r.summary;
 }
 
+TEST(Reading, GrowthBeneathASteadyCarrierIsUnstableButNotChaos) {
+  // A rotating blade's absolute x in a growing run, in miniature: a steady rotation 0.3 sin(2 pi 4 t)
+  // over a hub oscillation 0.002 e^{0.3 t} sin(2 pi 1.3 t) (lambda = 0.3 exactly), 10 s: the
+  // amplitude is the carrier's, steady, and the neighbours' divergence stays far below the
+  // attractor scale. Unstable, at 0.3 (1 %), but no chaos is shown: "diverging".
+  std::vector<double> x(2000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = 0.005 * static_cast<double>(i);
+    x[i] = 0.3 * std::sin(kTwoPi * 4.0 * t) + 0.002 * std::exp(0.3 * t) * std::sin(kTwoPi * 1.3 * t);
+  }
+  const MlceResult m = estimate_mlce(make_series_with_step({x}, 0.005), {});
+  EXPECT_NEAR(m.lambda, 0.3, 0.003);
+  const Reading r = read_stability(m);
+  EXPECT_EQ(r.amplitude, AmplitudeTrend::persists);
+  expect_reading(r, Stability::unstable, "diverging", "growth beneath a carrier");
+  EXPECT_NE(r.summary.find("chaos is not shown"), std::string::npos) << r.summary;
+  // Chaos comes within the margin (ChaoticAttractorsAreUnstableWithSteadyAmplitude); the margin is validated.
+  ReadingOptions o;
+  o.chaos_scale_margin = 0.0;
+  EXPECT_THROW(o.validate(), OptionError);
+}
+
 TEST(Reading, WhiteNoiseIsUndetermined) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> g(0.0, 1.0);

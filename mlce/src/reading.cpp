@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -37,6 +38,7 @@ void ReadingOptions::validate() const {
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("reading.persist_share: expected (0, 1)");
   if (!(steady_share > 0.0 && steady_share < persist_share))
     throw OptionError("reading.steady_share: expected (0, persist_share)");
+  if (!(chaos_scale_margin > 0.0)) throw OptionError("reading.chaos_scale_margin: expected > 0");
 }
 
 namespace {
@@ -138,6 +140,10 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     return out;
   }
   if (out.ci_low_per_period > band) {
+    // How far the curve's highest point stays below the attractor scale (NaN: not computed).
+    const auto& y = r.curve.mean_log_distance;
+    const double short_of_scale =
+        y.empty() ? std::numeric_limits<double>::quiet_NaN() : r.curve.attractor_log_distance - *std::max_element(y.begin(), y.end());
     if (a == AmplitudeTrend::decays)
       return undetermined("lambda > 0 while the amplitude decays (a transient? see the warnings; " + numbers + ")");
     out.stability = Stability::unstable;
@@ -145,6 +151,17 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
       out.motion = "growing oscillation";
       out.summary = "unstable: nearby motions diverge and the amplitude grows: the motion leaves its equilibrium "
                     "(paper 001: an instability, such as ground resonance); ";
+    } else if (a == AmplitudeTrend::persists && short_of_scale > options.chaos_scale_margin) {
+      // Chaos bounds the divergence by the attractor's size, and the curve shows it getting there; a
+      // divergence that stays far below it beneath a steady amplitude may as well be a growth under
+      // a steady carrier (a rotating blade's absolute coordinates: the rotation hides the hub's
+      // growth from the amplitude), or chaos the horizon is too short for.
+      out.motion = "diverging";
+      out.summary = fmt::format(
+          "unstable: nearby motions diverge on a motion of steady amplitude, but over the curve's horizon only to "
+          "{:.3g} below the attractor scale (natural log): chaos is not shown; a growth beneath a steady carrier (a "
+          "rotating part's absolute coordinates: analyse a channel relative to it) reads so too; ",
+          short_of_scale);
     } else if (a == AmplitudeTrend::persists) {
       out.motion = "chaotic";
       out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";

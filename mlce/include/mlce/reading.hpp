@@ -16,7 +16,9 @@
 //    kPersistentAmplitude x its first third's or its envelope rate at least persist_share x lambda
 //    (lambda > 0); it decays in the mirror case; it is steady when neither and the rate is below
 //    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
-//    oscillation (an instability such as ground resonance); unstable + steady: chaos; unstable +
+//    oscillation (an instability such as ground resonance); unstable + steady: chaos, when the curve
+//    comes within chaos_scale_margin of the attractor scale (else diverging: a growth beneath a steady
+//    carrier, as a rotating part's absolute coordinates, is not told from chaos); unstable +
 //    changes: diverging, growth and chaos not told apart. A curve that falls while the amplitude is
 //    steady measures the neighbours converging onto a limit cycle, whose largest exponent is 0
 //    (paper 001 Fig. 4): neutral.
@@ -55,6 +57,13 @@ struct ReadingOptions {
   /// An envelope rate below this share of |lambda| (or below the neutral band per mean period) is a
   /// steady amplitude: chaos, or a limit cycle the neighbours converge onto.
   double steady_share = 0.1;
+  /// lambda > 0 on a steady amplitude is chaos only when the divergence curve's highest point comes
+  /// within this (natural log units) of the attractor scale (DivergenceCurve::attractor_log_distance):
+  /// chaos bounds the divergence by the attractor's size. 2, as FitOptions::bounded_margin: Lorenz x
+  /// (N = 10^4, dt 0.01) rises to 0.12 above it, Roessler x (dt 0.1) to 1.24 below (a thin band: its
+  /// neighbours saturate across it; 1.54 on other starts, scratch); blade 2's hinge in the bundled
+  /// growing MBDyn run, the rotation's steady carrier over the hub's growth, stays 3.38 below.
+  double chaos_scale_margin = 2.0;
   void validate() const;  ///< throws OptionError naming the option
 };
 
