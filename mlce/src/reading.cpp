@@ -68,6 +68,14 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
   return AmplitudeTrend::changes;
 }
 
+/// How far the curve's highest point stays below the attractor scale, natural log (NaN when either
+/// is missing: NaN compares false, and the reading keeps its other rules).
+double below_attractor_scale(const DivergenceCurve& curve) {
+  const auto& y = curve.mean_log_distance;
+  if (y.empty()) return std::numeric_limits<double>::quiet_NaN();
+  return curve.attractor_log_distance - *std::max_element(y.begin(), y.end());
+}
+
 }  // namespace
 
 Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
@@ -140,10 +148,6 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     return out;
   }
   if (out.ci_low_per_period > band) {
-    // How far the curve's highest point stays below the attractor scale (NaN: not computed).
-    const auto& y = r.curve.mean_log_distance;
-    const double short_of_scale =
-        y.empty() ? std::numeric_limits<double>::quiet_NaN() : r.curve.attractor_log_distance - *std::max_element(y.begin(), y.end());
     if (a == AmplitudeTrend::decays)
       return undetermined("lambda > 0 while the amplitude decays (a transient? see the warnings; " + numbers + ")");
     out.stability = Stability::unstable;
@@ -151,7 +155,8 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
       out.motion = "growing oscillation";
       out.summary = "unstable: nearby motions diverge and the amplitude grows: the motion leaves its equilibrium "
                     "(paper 001: an instability, such as ground resonance); ";
-    } else if (a == AmplitudeTrend::persists && short_of_scale > options.chaos_scale_margin) {
+    } else if (const double short_of_scale = below_attractor_scale(r.curve);
+               a == AmplitudeTrend::persists && short_of_scale > options.chaos_scale_margin) {
       // Chaos bounds the divergence by the attractor's size, and the curve shows it getting there; a
       // divergence that stays far below it beneath a steady amplitude may as well be a growth under
       // a steady carrier (a rotating blade's absolute coordinates: the rotation hides the hub's

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -66,6 +67,15 @@ std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size
   return sums;
 }
 
+/// Correlations of a centred stretch at lags 1, 2 and 3 (lagged_product_sum over its lag-0 sum);
+/// nullopt for a constant stretch (the underflow rule's case: no whiteness to judge).
+std::optional<std::array<double, 3>> lag_correlations(const std::vector<double>& centred) {
+  const double var = lagged_product_sum(centred, 0);
+  if (!(var > 0.0)) return std::nullopt;
+  return std::array<double, 3>{lagged_product_sum(centred, 1) / var, lagged_product_sum(centred, 2) / var,
+                               lagged_product_sum(centred, 3) / var};
+}
+
 /// Are samples [from, to) of every channel white: autocorrelation at lags 1, 2 and 3, about the
 /// stretch's mean, below kWhiteLagCorrelation in magnitude? A sampled periodic or smooth motion fails
 /// at one of the three lags for any sampling of 2 or more samples per cycle (a sine at 4 per cycle:
@@ -81,10 +91,10 @@ bool white_samples(const Series& s, std::size_t from, std::size_t to) {
     for (double& v : x) mean += (v /= peak);
     mean /= static_cast<double>(x.size());
     for (double& v : x) v -= mean;
-    const double var = lagged_product_sum(x, 0);
-    if (!(var > 0.0)) continue;
-    for (std::size_t lag = 1; lag <= 3; ++lag)
-      if (std::abs(lagged_product_sum(x, lag) / var) >= kWhiteLagCorrelation) return false;
+    const auto rho = lag_correlations(x);
+    if (!rho) continue;
+    for (const double r : *rho)
+      if (std::abs(r) >= kWhiteLagCorrelation) return false;
   }
   return true;
 }
@@ -121,11 +131,12 @@ std::optional<double> increment_noise(const Series& s, std::size_t w) {
     if (!(peak > 0.0)) continue;
     std::vector<double> dx(to - from - 1);
     for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
-    const double var = lagged_product_sum(dx, 0);  // increments of a stationary tail have mean ~0
-    if (!(var > 0.0)) continue;                      // a constant tail: the underflow rule's case
-    if (std::abs(lagged_product_sum(dx, 1) / var + 0.5) >= kWhiteIncrementTolerance) return std::nullopt;
-    for (std::size_t lag = 2; lag <= 3; ++lag)
-      if (std::abs(lagged_product_sum(dx, lag) / var) >= kWhiteLagCorrelation) return std::nullopt;
+    const auto rho = lag_correlations(dx);  // increments of a stationary tail have mean ~0
+    if (!rho) continue;
+    const auto [rho1, rho2, rho3] = *rho;
+    if (std::abs(rho1 + 0.5) >= kWhiteIncrementTolerance || std::abs(rho2) >= kWhiteLagCorrelation ||
+        std::abs(rho3) >= kWhiteLagCorrelation)
+      return std::nullopt;
     double first = 0.0, second = 0.0;  // sums of (third difference)^2 in the two halves
     for (std::size_t i = 0; i + 3 < dx.size(); ++i) {
       const double d3 = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];

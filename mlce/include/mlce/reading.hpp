@@ -59,11 +59,12 @@ struct ReadingOptions {
   double steady_share = 0.1;
   /// lambda > 0 on a steady amplitude is chaos only when the divergence curve's highest point comes
   /// within this (natural log units) of the attractor scale (DivergenceCurve::attractor_log_distance):
-  /// chaos bounds the divergence by the attractor's size. 2, as FitOptions::bounded_margin: Lorenz x
-  /// (N = 10^4, dt 0.01) rises to 0.12 above it, Roessler x (dt 0.1) to 1.24 below (a thin band: its
+  /// chaos bounds the divergence by the attractor's size. Default FitOptions::bounded_margin (2), the
+  /// margin by which the fit rule itself finds neighbours that never separate. Lorenz x
+  /// (N = 10^4, dt 0.01) rises to 0.12 above the scale, Roessler x (dt 0.1) to 1.24 below (a thin band: its
   /// neighbours saturate across it; 1.54 on other starts, scratch); blade 2's hinge in the bundled
   /// growing MBDyn run, the rotation's steady carrier over the hub's growth, stays 3.38 below.
-  double chaos_scale_margin = 2.0;
+  double chaos_scale_margin = FitOptions{}.bounded_margin;
   void validate() const;  ///< throws OptionError naming the option
 };
 
