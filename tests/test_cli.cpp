@@ -49,6 +49,32 @@ std::string expect_csv(const fs::path& path, const std::string& header, long lin
 
 }  // namespace
 
+TEST_F(Cli, NoiseCompensationSwitch) {
+  // A slow decay (zeta 0.01, lambda = -0.0628 1/s) under 1 % white noise: automatic compensation
+  // reads the rate and reports the plain curve's lambda; off gives that lambda; the curve CSV
+  // carries the plain curve next to the compensated one; the human summary says so; a bad value is
+  // one error.
+  const auto f = series_file(mlce::reference::noisy_decay(8000, 0.01, 0.01, 2 * M_PI, 0.01), 0.01);
+  const auto on = nlohmann::json::parse(run("estimate " + f + " --column 2 --time-column 1 --json --quiet").out);
+  const auto off = nlohmann::json::parse(
+      run("estimate " + f + " --column 2 --time-column 1 --json --quiet --noise-compensation off").out);
+  EXPECT_TRUE(on["noise_compensated"].get<bool>());
+  EXPECT_FALSE(off["noise_compensated"].get<bool>());
+  EXPECT_TRUE(off["uncompensated_lambda"].is_null());
+  EXPECT_DOUBLE_EQ(on["uncompensated_lambda"].get<double>(), off["lambda"].get<double>());
+  EXPECT_NEAR(on["lambda"].get<double>() / (-0.02 * M_PI), 1.0, 0.1);
+  EXPECT_LT(off["lambda"].get<double>() / (-0.02 * M_PI), 0.6);
+  const auto curve = (dir / "compensated.csv").string();
+  const auto human = run("estimate " + f + " --column 2 --time-column 1 --quiet --curve " + curve);
+  ASSERT_EQ(human.status, 0) << human.err;
+  EXPECT_NE(human.out.find("noise           compensated"), std::string::npos) << human.out;
+  const std::string c = slurp(curve);
+  EXPECT_EQ(c.substr(0, c.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance,local_slope");
+  const auto bad = run("estimate " + f + " --column 2 --time-column 1 --noise-compensation on");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--noise-compensation 'on': expected auto or off"), std::string::npos) << bad.err;
+}
+
 TEST_F(Cli, EstimateJsonHasEveryField) {
   const auto f = series_file(mlce::reference::henon_x(5000), 1.0);
   const CliRun r = run("estimate " + f + " --column 2 --time-column 1 --json");

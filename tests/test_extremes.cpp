@@ -42,6 +42,22 @@ TEST(Extremes, AmplitudesAtTheEndsOfTheDoubleRange) {
   }
 }
 
+// The noise-compensated curve (a slow decay under 1 % white noise) is measured and compensated in
+// units of the channel's own deviation: the same lambda and noise level at 1e-300 and 1e300.
+TEST(Extremes, NoiseCompensationAtTheEndsOfTheDoubleRange) {
+  const auto x = noisy_decay(8000, 0.01, 0.01, 2 * std::numbers::pi, 0.01);
+  const auto ref = estimate(x, 0.01);
+  ASSERT_TRUE(ref.noise_compensated);
+  for (double scale : {1e-300, 1e300}) {
+    auto y = x;
+    for (double& v : y) v *= scale;
+    const auto r = estimate(y, 0.01);
+    EXPECT_TRUE(r.noise_compensated) << scale;
+    EXPECT_NEAR(r.lambda, ref.lambda, 1e-9 * std::abs(ref.lambda)) << scale;
+    EXPECT_NEAR(r.noise_level, ref.noise_level, 1e-9 * ref.noise_level) << scale;
+  }
+}
+
 TEST(Extremes, SamplingStepsAtTheEndsOfTheDoubleRange) {
   // The exponent per sample does not depend on the time unit; per unit time it is that over dt,
   // down to the smallest normal step (0.01 per sample over 2.2e-308 is 4.5e305 1/s). A subnormal

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 
 #include "mlce/fit.hpp"
 #include "mlce/numerics.hpp"
@@ -535,7 +536,7 @@ TEST(Fit, ExplicitRangeIsUsedAsGiven) {
   EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
-TEST(Rosenstein, LinearOscillatorCurveIsExactlyExponential) {
+TEST(Rosenstein, LinearOscillatorCurveIsExactlyExponentialCompensatedOrNot) {
   // The difference of two solutions of a linear ODE is a solution: d_j(i) decays as e^{-zeta w i dt}
   // for every pair, so the mean log-distance is a straight line of slope -zeta w dt.
   const double dt = 0.01, zeta = 0.05, w = 2 * M_PI;
@@ -546,10 +547,65 @@ TEST(Rosenstein, LinearOscillatorCurveIsExactlyExponential) {
   o.theiler = 100;
   o.horizon = 500;
   const auto c = divergence_curve(s, o);
-  const auto f = fit_divergence(c, FitOptions{.range = std::make_pair<std::size_t, std::size_t>(0, 500)});
+  const FitOptions whole{.range = std::make_pair<std::size_t, std::size_t>(0, 500)};
+  const auto f = fit_divergence(c, whole);
   EXPECT_NEAR(f.slope / dt, -zeta * w, 1e-3 * zeta * w);
   EXPECT_LE(f.ci_low, f.slope);
   EXPECT_GE(f.ci_high, f.slope);
+  // Compensated for no noise (ln <d^2 / its pair mean> / 2), the curve falls at the same rate; a
+  // noise larger than the pairs hold cannot be compensated, and the first step with fresh samples
+  // says so (step 0 compares only samples the search saw); bad noise values are refused.
+  o.noise_deviation = {0.0};
+  auto compensated = divergence_curve(s, o);
+  ASSERT_EQ(compensated.compensated_log_distance.size(), 501u);
+  compensated.mean_log_distance = compensated.compensated_log_distance;
+  compensated.batch_mean = compensated.compensated_batch_mean;
+  EXPECT_NEAR(fit_divergence(compensated, whole).slope / dt, -zeta * w, 1e-2 * zeta * w);
+  o.noise_deviation = {10.0};
+  const auto too_much = divergence_curve(s, o);
+  EXPECT_TRUE(too_much.compensated_log_distance.empty());
+  ASSERT_TRUE(too_much.compensation_failed_step);
+  EXPECT_EQ(*too_much.compensation_failed_step, 1u);
+  o.noise_deviation = {-1.0};
+  EXPECT_THROW(divergence_curve(s, o), OptionError);
+  o.noise_deviation = {0.1, 0.1};  // two values, one channel
+  EXPECT_THROW(divergence_curve(s, o), std::logic_error);
+}
+
+// White noise of known size s on a decay (zeta 0.02, s = 1 % of the start, 30 s: the amplitude ends
+// at 2.3 s): eq. 23's curve is held up by the noise, the compensated curve (the noise given exactly,
+// in units of the noisy series' deviation) falls at the decay's rate, -zeta w, over the steps
+// after the embedding window (those before hold the search's selection of the noise).
+TEST(Rosenstein, NoiseCompensatedCurveOfANoisyDecayFallsAtTheDecaysRate) {
+  const double dt = 0.01, zeta = 0.02, w = 2 * M_PI, noise = 0.01;
+  std::vector<double> x = reference::damped_oscillator(3000, dt, zeta, w);
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> g(0.0, noise);
+  for (double& v : x) v += g(gen);
+  RosensteinOptions o;
+  o.dim = 3;
+  o.delay = 25;
+  o.theiler = 100;
+  o.horizon = 800;
+  const auto plain = divergence_curve(make_series_with_step({x}, dt), o);
+  EXPECT_TRUE(plain.compensated_log_distance.empty());
+  double mean = 0.0, var = 0.0;  // population deviation, as scaled_to_unit_deviation takes it
+  for (const double v : x) mean += v;
+  mean /= static_cast<double>(x.size());
+  for (const double v : x) var += (v - mean) * (v - mean);
+  const double sd = std::sqrt(var / static_cast<double>(x.size()));
+  o.noise_deviation = {noise / sd};
+  auto c = divergence_curve(make_series_with_step({x}, dt), o);
+  ASSERT_EQ(c.compensated_log_distance.size(), 801u);
+  EXPECT_FALSE(c.compensation_failed_step);
+  EXPECT_EQ(c.mean_log_distance, plain.mean_log_distance);  // eq. 23's curve is unchanged
+  const FitOptions range{.range = std::make_pair<std::size_t, std::size_t>(51, 800)};
+  const double plain_rate = fit_divergence(plain, range).slope / dt;
+  c.mean_log_distance = c.compensated_log_distance;
+  c.batch_mean = c.compensated_batch_mean;
+  const double rate = fit_divergence(c, range).slope / dt;
+  EXPECT_NEAR(rate / (-zeta * w), 1.0, 0.05) << "plain " << plain_rate;
+  EXPECT_LT(plain_rate / (-zeta * w), 0.7);
 }
 
 TEST(Rosenstein, ExactlyRepeatingSignalNeverTakesLogOfZero) {
@@ -643,6 +699,32 @@ TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignm
     for (std::size_t i = 0; i <= o.horizon; ++i)
       EXPECT_NEAR(c.mean_log_distance[i], sum[i] / static_cast<double>(count), align ? 2e-4 : 1e-10) << "step " << i;
   }
+  // The noise-compensated curve by the same plain loops: each pair's d^2 over its mean along the
+  // curve, less 2 s^2 for every coordinate whose two samples the search did not compare.
+  o.align_phase = false;
+  o.noise_deviation = {0.002};
+  const DivergenceCurve c = follow_pairs(s, o, pairs);
+  ASSERT_EQ(c.compensated_log_distance.size(), o.horizon + 1);
+  std::vector<double> sum(o.horizon + 1, 0.0);
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < pairs.references.size(); ++k) {
+    const std::size_t j = pairs.references[k], n = pairs.nearest.neighbour[k];
+    if (n == NeighbourResult::none) continue;
+    std::vector<double> d2(o.horizon + 1);
+    double mean = 0.0;
+    for (std::size_t i = 0; i <= o.horizon; ++i) {
+      d2[i] = std::exp(2.0 * log_distance(z, j + i, static_cast<double>(n + i), o.dim, o.delay));
+      mean += d2[i] / static_cast<double>(o.horizon + 1);
+    }
+    for (std::size_t i = 0; i <= o.horizon; ++i) {
+      std::size_t fresh = 0;
+      for (std::size_t lag = 0; lag < o.dim; ++lag) fresh += (i + lag * o.delay) % o.delay != 0 || i + lag * o.delay >= o.dim * o.delay;
+      sum[i] += (d2[i] - 2.0 * 0.002 * 0.002 * static_cast<double>(fresh)) / mean;
+    }
+    ++count;
+  }
+  for (std::size_t i = 0; i <= o.horizon; ++i)
+    EXPECT_NEAR(c.compensated_log_distance[i], 0.5 * std::log(sum[i] / static_cast<double>(count)), 1e-9) << "step " << i;
 }
 
 TEST(Rosenstein, PhaseAlignmentRemovesTheOffsetAlongTheFlow) {

@@ -153,7 +153,7 @@ int estimate_each(const cli::SeriesInput& in, const cli::LoadedSeries& loaded, c
 int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
-              align = "auto", interpolation = "linear";
+              align = "auto", interpolation = "linear", compensation = "auto";
   std::string curve_path, plot_path;
   bool json = false, quiet = false, keep_start = false, each = false;
   po::options_description d("mlce estimate FILE [options]");
@@ -169,6 +169,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
       ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: auto (sampled flows whose curve saturates), on, off")
       ("phase-interpolation", po::value(&interpolation), "how an aligned neighbour's trajectory is read between samples: linear (default) or cubic (for output with few samples per loop of the motion)")
+      ("noise-compensation", po::value(&compensation), "auto (default): a decay whose increments show white measurement noise is read from the noise-compensated curve, ln <d^2>/2 less the noise's share; off: eq. 23's <ln d> always")
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
       ("seed", po::value<std::string>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
       ("keep-start", po::bool_switch(&keep_start), "analyse the series from its first sample (or --from) even when its start does not recur (by default such a start-up transient is left out, with a warning; a --from time keeps its start too)")
@@ -208,6 +209,9 @@ int cmd_estimate(const std::vector<std::string>& args) {
   else if (align == "on") o.phase_alignment = PhaseAlignment::on;
   else if (align == "off") o.phase_alignment = PhaseAlignment::off;
   else throw po::error("--align-phase '" + align + "': expected auto, on or off");
+  if (compensation == "auto") o.noise_compensation = NoiseCompensation::automatic;
+  else if (compensation == "off") o.noise_compensation = NoiseCompensation::off;
+  else throw po::error("--noise-compensation '" + compensation + "': expected auto or off");
   if (interpolation == "linear") o.phase_interpolation = RosensteinOptions::Interpolation::linear;
   else if (interpolation == "cubic") o.phase_interpolation = RosensteinOptions::Interpolation::cubic;
   else throw po::error("--phase-interpolation '" + interpolation + "': expected linear or cubic");

@@ -97,10 +97,12 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
         "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}{}"
         "{:.10g} axes x1y2 with lines lw 1 dt 3 lc rgb 'dark-orange' title 'lambda (right axis)'\n",
         png, quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
-        r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned" : "mean log divergence",
+        r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned"
+        : r.noise_compensated ? "ln <d^2> / 2, noise-compensated"
+                              : "mean log divergence",
         table.plain_column
             ? fmt::format(", '' every ::1 using 2:{} with lines lw 1 lc rgb 'gray50' title 'plain curve (lambda {:.5g})'",
-                          table.plain_column, r.unaligned_lambda)
+                          table.plain_column, r.noise_compensated ? r.uncompensated_lambda : r.unaligned_lambda)
             : "",
         table.any_slope ? fmt::format(", '' every ::1 using 2:{} axes x1y2 with lines lw 1 lc rgb 'dark-orange' title "
                                       "'local slope (right axis)', ",

@@ -55,6 +55,8 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.curve.phase_aligned) j["mean_phase_shift"] = r.curve.mean_phase_shift;
   if (r.curve.phase_aligned) j["phase_interpolation"] = r.curve.cubic_pairs > 0 ? "cubic" : "linear";
   j["unaligned_lambda"] = finite_or_null(r.unaligned_lambda);
+  j["noise_compensated"] = r.noise_compensated;
+  j["uncompensated_lambda"] = finite_or_null(r.uncompensated_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
   j["end_envelope_rate"] = finite_or_null(r.end_envelope_rate / r.dt);  // the second half's (FitOptions::signal_end_rate)
   j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
@@ -128,6 +130,10 @@ std::string to_text(const MlceResult& r) {
                      r.curve.mean_phase_shift,
                      r.curve.cubic_pairs > 0 ? fmt::format(", read on cubics ({} pairs)", r.curve.cubic_pairs) : "",
                      std::isfinite(r.unaligned_lambda) ? fmt::format(" (plain curve: {:.6g} {})", r.unaligned_lambda, u) : "");
+  if (r.noise_compensated)
+    s += fmt::format("noise           compensated: white noise of {:.2g} % of the signal's deviation taken out of the "
+                     "mean square distances (plain curve: {:.6g} {})\n",
+                     100.0 * r.noise_level, r.uncompensated_lambda, u);
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";
   return s;
@@ -184,16 +190,17 @@ std::vector<std::string> local_slope_fields(const MlceResult& r, bool* any = nul
 }  // namespace
 
 CurveTable curve_table(const MlceResult& r) {
-  // A phase-aligned curve is followed by the plain one (same pairs), then by the local slope.
+  // A phase-aligned or noise-compensated curve is followed by the plain one (same pairs), then by
+  // the local slope.
   CurveTable t;
-  const bool plain = r.unaligned_curve.size() == r.curve.mean_log_distance.size();
+  const bool plain = r.plain_curve.size() == r.curve.mean_log_distance.size();
   t.plain_column = plain ? 7 : 0;
   t.slope_column = plain ? 8 : 7;
   const std::vector<std::string> slope = local_slope_fields(r, &t.any_slope);
   t.csv = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") + (plain ? ",plain_mean_log_distance" : "") +
           ",local_slope\n";
   for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
-    t.csv += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.unaligned_curve[i]) : "") + slope[i] + "\n";
+    t.csv += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.plain_curve[i]) : "") + slope[i] + "\n";
   return t;
 }
 

@@ -41,6 +41,15 @@ std::optional<std::size_t> plateau_reached(const DivergenceCurve& curve, const F
   return i;
 }
 
+/// Does the analysed signal decay: its last third's RMS at most 1/kPersistentAmplitude of its first's,
+/// or its envelope falling by more than 1 % per mean period (the reading's default neutral band)?
+bool signal_decays(const MlceResult& r) {
+  const double f = r.mean_period.mean_frequency;
+  const double period = f > 0.0 ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();  // time units
+  constexpr double kDecayPerPeriod = 0.01;
+  return r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -kDecayPerPeriod;
+}
+
 /// Warnings about what the curve can measure (sets r.noise_level): a plateau reached within one
 /// embedding window (uncorrelated noise), and a first step that jumps (measurement noise).
 void flag_noise(MlceResult& r, std::size_t channels) {
@@ -77,11 +86,8 @@ void flag_noise(MlceResult& r, std::size_t channels) {
   // (Hammond at 290 rpm, blade 3 inoperative, sampled every 0.02 s: 0.648, then level; every
   // 0.005 s it relaxes over 6 steps, as at 224 rpm: 0.31, 0.25, ...): not flagged there.
   const bool measures_rate = r.fit.end == CurveEnd::saturation || r.fit.end == CurveEnd::floor;
-  const double f = r.mean_period.mean_frequency;
-  const double period = f > 0.0 ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();  // time units
-  constexpr double kDecayPerPeriod = 0.01;  // 1 % per mean period: the reading's default neutral band
-  const bool decays = r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -kDecayPerPeriod;
   if (const auto& y = r.curve.mean_log_distance; y.size() > 3) {
+    const bool decays = signal_decays(r);
     if (measures_rate ? first_step_jumps(y, r.fit.slope) : decays && first_step_jumps_to_level(y, r.fit.slope)) {
       const double jump = y[1] - y[0];
       const std::size_t n = r.dim * channels;
@@ -250,6 +256,55 @@ FitOptions fit_options_for(const Series& series, const MlceOptions& options, std
   if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
   fo.signal_floor = fo.signal_floor || floor_cut;
   return fo;
+}
+
+/// A decay whose plain curve flag_noise found held up by measurement noise (its warning the last of
+/// r.warnings, r.noise_level set), when the noise is white (NoiseCompensation): the curve of the same
+/// pairs recomputed noise-compensated (DivergenceCurve::compensated_log_distance), with the noise
+/// measured from the increments of the analysed series' last quarter, and fitted by the same rule.
+/// The plain curve and its lambda are kept (plain_curve, uncompensated_lambda) and the flag's warning
+/// says what was done instead of leaving lambda biased.
+void compensate_noise(const Series& series, const MlceOptions& options, const RosensteinOptions& ro,
+                      const NeighbourPairs& pairs, const FitOptions& fo, MlceResult& r) {
+  if (options.noise_compensation == NoiseCompensation::off || ro.align_phase || !signal_decays(r)) return;
+  // Measured in units of each channel's standard deviation, the units of the curve's distances.
+  const Series unit = scaled_to_unit_deviation(series);
+  const std::size_t n = unit.size();
+  const auto noise = white_increment_noise(unit, n - n / 4, n, WhitenessTest::third_differences);
+  if (!noise) return;
+  double square = 0.0;
+  for (const double v : noise->deviation) square += v * v;
+  if (!(square > 0.0)) return;
+  const double level = std::sqrt(square / static_cast<double>(noise->deviation.size()));
+  RosensteinOptions with_noise = ro;
+  with_noise.noise_deviation = noise->deviation;
+  report(options, "noise-compensated curve", 0.0);
+  DivergenceCurve c = follow_pairs(series, with_noise, pairs);
+  std::string& flagged = r.warnings.back();
+  if (c.compensated_log_distance.empty()) {
+    flagged += fmt::format(
+        "; the noise measured from the last quarter's increments ({:.2g} % of the signal's standard deviation) "
+        "exceeds the pairs' mean square distance at step {}: the curve cannot be compensated for it",
+        100.0 * level, c.compensation_failed_step.value_or(0));
+    return;
+  }
+  const double plain = r.fit.slope / series.dt;
+  r.uncompensated_lambda = plain;
+  r.plain_curve = std::move(r.curve.mean_log_distance);
+  c.mean_log_distance = std::move(c.compensated_log_distance);
+  c.batch_mean = std::move(c.compensated_batch_mean);
+  c.compensated_log_distance.clear();
+  c.compensated_batch_mean.clear();
+  r.curve = std::move(c);
+  r.fit = fit_divergence(r.curve, fo);
+  r.noise_compensated = true;
+  r.noise_level = level;
+  flagged = fmt::format(
+      "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white (the last quarter's increments: {:.2g} % of the "
+      "signal's standard deviation), and lambda is read from the noise-compensated curve instead: the log of the "
+      "pairs' mean square distance (each pair over its own mean along the curve) less the noise's share, halved "
+      "(--noise-compensation off keeps the plain curve)",
+      plain, flagged, 100.0 * level);
 }
 
 /// The fitted slope per sample as lambda per time unit (eq. 23: y(i) / dt), with its interval, R^2 and
@@ -446,7 +501,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                       r.fit.end == CurveEnd::saturation && r.fit.slope > 0.0);
   if (align) {
     r.unaligned_lambda = r.fit.slope / series.dt;
-    r.unaligned_curve = r.curve.mean_log_distance;
+    r.plain_curve = r.curve.mean_log_distance;
     ro.align_phase = true;
     ro.interpolation = options.phase_interpolation;
     report(options, "phase-aligned curve", 0.0);
@@ -462,6 +517,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                               ? "use more reference points (--refs)"
                               : "analyse a longer series"));
   flag_noise(r, series.channels.size());
+  if (std::isfinite(r.noise_level)) compensate_noise(series, options, ro, pairs, fo, r);
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
   express_per_time(r, series.dt);

@@ -104,7 +104,10 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // Measurement noise biases lambda (the warnings say how much) but does not make a clear sign
   // unclear: the reading stands, and says so.
   const std::string noise =
-      std::isfinite(r.noise_level)
+      r.noise_compensated ? fmt::format("; white measurement noise (~{:.2g} % of the signal's standard deviation) "
+                                        "taken out of the divergence curve (noise-compensated)",
+                                        100.0 * r.noise_level)
+      : std::isfinite(r.noise_level)
           ? fmt::format("; measurement noise (~{:.2g} % of the signal's standard deviation) biases lambda",
                         100.0 * r.noise_level)
           : std::string();
@@ -115,8 +118,9 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // (e^{-0.025 t} cos 2 pi t plus 1 % noise: -0.0024 1/s, within the band). Where the interval
   // does not already say stable, the signal's own decay does: the motion is itself a perturbation
   // of its equilibrium, and it dies out.
-  const bool held_by_noise =
-      std::isfinite(r.noise_level) && r.fit.end != CurveEnd::saturation && r.fit.end != CurveEnd::floor;
+  // Not when the curve was noise-compensated (estimate.hpp, NoiseCompensation): then lambda is the rate.
+  const bool held_by_noise = std::isfinite(r.noise_level) && !r.noise_compensated &&
+                             r.fit.end != CurveEnd::saturation && r.fit.end != CurveEnd::floor;
   if (held_by_noise && a == AmplitudeTrend::decays && !(out.ci_high_per_period < -band)) {
     out.stability = Stability::stable;
     out.motion = "decays to rest";

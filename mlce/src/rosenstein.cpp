@@ -22,6 +22,8 @@ void RosensteinOptions::validate() const {
   if (horizon < 1) throw OptionError("rosenstein.horizon = 0: expected >= 1");
   if (batches < 2) throw OptionError("rosenstein.batches: expected >= 2");
   if (!(eps >= 0.0)) throw OptionError("rosenstein.eps: expected >= 0");
+  for (const double v : noise_deviation)
+    if (!(v >= 0.0 && std::isfinite(v))) throw OptionError("rosenstein.noise_deviation: expected finite values >= 0");
 }
 
 namespace {
@@ -114,9 +116,42 @@ NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options
   return PairFinder(series, options).find(options.horizon);
 }
 
+namespace {
+/// DivergenceCurve::compensated_log_distance from the batches' sums of d^2 and of the noise's
+/// expected share (over the same pairs as mean_log_distance, curve.terms[i] of them at step i).
+void compensate_noise(DivergenceCurve& curve, const std::vector<std::vector<double>>& batch_square,
+                      const std::vector<std::vector<double>>& batch_noise, const std::vector<std::size_t>& batch_pairs) {
+  const std::size_t H = curve.mean_log_distance.size() - 1, B = batch_square.size();
+  std::vector<double> y(H + 1);
+  std::vector<std::vector<double>> batches(B, std::vector<double>(H + 1, std::nan("")));
+  for (std::size_t i = 0; i <= H; ++i) {
+    CompensatedSum square, noise;
+    std::size_t pairs = 0;
+    for (std::size_t b = 0; b < B; ++b) {
+      square.add(batch_square[b][i]);
+      noise.add(batch_noise[b][i]);
+      const double rest = batch_square[b][i] - batch_noise[b][i];
+      const std::size_t n = batch_pairs[b];  // a pair at zero distance counts: no log of it is taken
+      if (rest > 0.0 && n > 0) batches[b][i] = 0.5 * std::log(rest / static_cast<double>(n));
+      pairs += n;
+    }
+    const double rest = square.value() - noise.value();
+    if (!(rest > 0.0) || pairs == 0) {
+      curve.compensation_failed_step = i;
+      return;
+    }
+    y[i] = 0.5 * std::log(rest / static_cast<double>(pairs));
+  }
+  curve.compensated_log_distance = std::move(y);
+  curve.compensated_batch_mean = std::move(batches);
+}
+}  // namespace
+
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
   options.validate();
   validate_series(series);
+  if (!options.noise_deviation.empty() && options.noise_deviation.size() != series.channels.size())
+    throw std::logic_error("follow_pairs: noise_deviation needs one value per channel");
   if (pairs.dim != options.dim || pairs.delay != options.delay || pairs.horizon != options.horizon ||
       pairs.references.size() != pairs.nearest.neighbour.size())
     throw std::logic_error("follow_pairs: the pairs were found for other options (m, delay, horizon)");
@@ -191,6 +226,18 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
   std::vector<std::vector<std::size_t>> batch_terms(B, std::vector<std::size_t>(H + 1, 0));
   std::size_t zero_terms = 0;
   const std::size_t m = options.dim, J = options.delay, span = H + (m - 1) * J;
+  // Noise compensation (DivergenceCurve::compensated_log_distance): per batch, the sums over its
+  // pairs of d^2 and of the noise's expected share of it. The noise one coordinate of a pair adds
+  // with unit interpolation weights: the sum over channels of s_c^2.
+  const bool compensate = !options.noise_deviation.empty();
+  double coordinate_noise = 0.0;
+  for (const double v : options.noise_deviation) coordinate_noise += v * v;
+  // Coordinates at step i whose samples carry fresh noise: all m but, at i = k J (k < m), the m - k
+  // whose samples the search compared.
+  auto fresh_coordinates = [&](std::size_t i) { return i % J == 0 && i / J < m ? i / J : m; };
+  std::vector<std::vector<double>> batch_square(compensate ? B : 0, std::vector<double>(H + 1, 0.0));
+  std::vector<std::vector<double>> batch_noise(compensate ? B : 0, std::vector<double>(H + 1, 0.0));
+  std::vector<std::size_t> batch_pairs(B, 0);
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : zero_terms)
   for (std::ptrdiff_t bb = 0; bb < static_cast<std::ptrdiff_t>(B); ++bb) {
     const auto b = static_cast<std::size_t>(bb);
@@ -204,26 +251,32 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
     std::vector<std::size_t> terms(H + 1, 0);
     // Squared differences of the two trajectories' samples, summed over channels: the squared
     // distance of the embedded points i steps on is the sum of m of them, J apart (eq. 16).
-    std::vector<double> e2(span + 1);
+    std::vector<double> e2(span + 1), pair_square(H + 1);
     const std::size_t k0 = b * refs.size() / B, k1 = (b + 1) * refs.size() / B;
     for (std::size_t k = k0; k < k1; ++k) {
       if (nn.neighbour[k] == NeighbourResult::none) continue;
       const std::size_t j = refs[k], jn = base[k];
       const double f = fraction[k];
       std::fill(e2.begin(), e2.end(), 0.0);
+      // 1 + the sum of the neighbour's interpolation weights squared: the noise variance of the
+      // difference of the two points' coordinates in units of one sample's.
+      double weights_square = 1.0;
       for (const auto& x : s.channels) {
         if (f > 0.0 && cubic[k]) {
           const auto w = lagrange_cubic_weights(f);
+          weights_square = 1.0 + w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3];
           for (std::size_t t = 0; t <= span; ++t) {
             const double e = x[j + t] - (w[0] * x[jn + t - 1] + w[1] * x[jn + t] + w[2] * x[jn + t + 1] + w[3] * x[jn + t + 2]);
             e2[t] += e * e;
           }
         } else if (f > 0.0) {
+          weights_square = 1.0 + (1.0 - f) * (1.0 - f) + f * f;
           for (std::size_t t = 0; t <= span; ++t) {
             const double e = x[j + t] - ((1.0 - f) * x[jn + t] + f * x[jn + t + 1]);
             e2[t] += e * e;
           }
         } else {
+          weights_square = 2.0;
           for (std::size_t t = 0; t <= span; ++t) {
             const double e = x[j + t] - x[jn + t];
             e2[t] += e * e;
@@ -231,8 +284,27 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
         }
       }
       for (std::size_t i = 0; i <= H; ++i) {
-        double d2 = 0.0;
+        double& d2 = pair_square[i];
+        d2 = 0.0;
         for (std::size_t lag = 0; lag < m; ++lag) d2 += e2[i + lag * J];
+      }
+      if (compensate) {
+        // Each pair enters by its squared distances over their own mean over the curve, as every
+        // pair enters <ln d> with the same weight: unweighted, ln <d^2> would follow the pairs of
+        // largest amplitude alone (a decay's first turns, where a faster mode still lives).
+        CompensatedSum total;
+        for (const double d2 : pair_square) total.add(d2);
+        const double scale = total.value() / static_cast<double>(H + 1);
+        if (scale > 0.0) {
+          for (std::size_t i = 0; i <= H; ++i) {
+            batch_square[b][i] += pair_square[i] / scale;
+            batch_noise[b][i] += weights_square * coordinate_noise * static_cast<double>(fresh_coordinates(i)) / scale;
+          }
+          ++batch_pairs[b];
+        }
+      }
+      for (std::size_t i = 0; i <= H; ++i) {
+        const double d2 = pair_square[i];
         if (d2 > 0.0) {
           double& p = mantissa[i];
           int e = 0;
@@ -274,6 +346,7 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
                        " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
     curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
   }
+  if (compensate) compensate_noise(curve, batch_square, batch_noise, batch_pairs);
   if (nn.zero_distance_candidates > 0) {
     curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
                              " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "

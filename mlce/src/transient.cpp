@@ -109,47 +109,61 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
   return white_samples(s, 75 * w, 100 * w);
 }
 
-/// Measurement noise under a decay whose last quarter is not all noise, from the series' increments
-/// there (windows 75..99 of w samples). The increments of white noise e of variance s^2 correlate
-/// -1/2, 0 and 0 at lags 1, 2 and 3; a finely sampled smooth motion moves by ~omega dt x its amplitude
-/// per sample, so its increments drown in the noise's long before the motion itself does, and the
-/// increments of a sampled periodic motion correlate cos(k theta) at lag k, which cannot match all
-/// three (a lag-1 correlation within 0.2 of -1/2 puts theta in 1.88..2.35 rad, where cos 3 theta >
-/// 0.7). Noise when every channel's increments correlate within kWhiteIncrementTolerance of -1/2 at
-/// lag 1 and below kWhiteLagCorrelation in magnitude at lags 2 and 3, at a steady level (the mean
-/// square of the third differences in the quarter's two halves within 2x of each other). Its RMS is then
-/// sqrt(mean (third difference)^2 / 20) (Var of the third difference of e = C(6, 3) s^2 = 20 s^2: the
-/// smooth motion leaks in as (omega dt)^6, least of the low orders), summed in square over the
-/// channels each divided by its peak |x|, as window_square_sums scales them. nullopt: not noise.
 constexpr double kWhiteIncrementTolerance = 0.2;
+
+/// Noise under a decay whose last quarter is not all noise: white_increment_noise over windows
+/// 75..99 of w samples, summed in square over the channels each divided by its peak |x|, as
+/// window_square_sums scales them. nullopt: not noise.
 std::optional<double> increment_noise(const Series& s, std::size_t w) {
-  const std::size_t from = 75 * w, to = 100 * w, mid = from + (to - from) / 2;
-  if (to - from < kFewestToJudgeWhiteness) return std::nullopt;
+  const auto noise = white_increment_noise(s, 75 * w, 100 * w);
+  if (!noise) return std::nullopt;
   double noise_square = 0.0;
-  for (const auto& channel : s.channels) {
-    const double peak = max_abs(channel);
-    if (!(peak > 0.0)) continue;
-    std::vector<double> dx(to - from - 1);
-    for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
-    const auto rho = lag_correlations(dx);  // increments of a stationary tail have mean ~0
-    if (!rho) continue;
-    const auto [rho1, rho2, rho3] = *rho;
-    if (std::abs(rho1 + 0.5) >= kWhiteIncrementTolerance || std::abs(rho2) >= kWhiteLagCorrelation ||
-        std::abs(rho3) >= kWhiteLagCorrelation)
-      return std::nullopt;
-    double first = 0.0, second = 0.0;  // sums of (third difference)^2 in the two halves
-    for (std::size_t i = 0; i + 3 < dx.size(); ++i) {
-      const double d3 = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];
-      (from + i < mid ? first : second) += d3 * d3;
-    }
-    if (!(first <= 2.0 * second && second <= 2.0 * first)) return std::nullopt;
-    noise_square += (first + second) / (20.0 * static_cast<double>(dx.size() - 3));
-  }
+  for (const double v : noise->relative) noise_square += v * v;
   if (!(noise_square > 0.0)) return std::nullopt;
   return std::sqrt(noise_square);
 }
 
 }  // namespace
+
+std::optional<IncrementNoise> white_increment_noise(const Series& s, std::size_t from, std::size_t to,
+                                                   WhitenessTest test) {
+  to = std::min(to, s.size());
+  if (from >= to || to - from < kFewestToJudgeWhiteness) return std::nullopt;
+  const std::size_t mid = from + (to - from) / 2;
+  IncrementNoise out;
+  for (const auto& channel : s.channels) {
+    const double peak = max_abs(channel);
+    out.relative.push_back(0.0);
+    out.deviation.push_back(0.0);
+    if (!(peak > 0.0)) continue;
+    std::vector<double> dx(to - from - 1);
+    for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
+    std::vector<double> d3(dx.size() > 3 ? dx.size() - 3 : 0);  // third differences
+    for (std::size_t i = 0; i < d3.size(); ++i) d3[i] = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];
+    if (test == WhitenessTest::increments) {
+      const auto rho = lag_correlations(dx);  // increments of a stationary stretch have mean ~0
+      if (!rho) continue;
+      const auto [rho1, rho2, rho3] = *rho;
+      if (std::abs(rho1 + 0.5) >= kWhiteIncrementTolerance || std::abs(rho2) >= kWhiteLagCorrelation ||
+          std::abs(rho3) >= kWhiteLagCorrelation)
+        return std::nullopt;
+    } else {
+      // Third differences of white noise correlate -15/20, 6/20 and -1/20 at lags 1, 2 and 3.
+      const auto rho = lag_correlations(d3);
+      if (!rho) continue;
+      const auto [rho1, rho2, rho3] = *rho;
+      if (std::abs(rho1 + 0.75) >= kWhiteIncrementTolerance || std::abs(rho2 - 0.3) >= kWhiteIncrementTolerance ||
+          std::abs(rho3 + 0.05) >= kWhiteIncrementTolerance)
+        return std::nullopt;
+    }
+    double first = 0.0, second = 0.0;  // sums of (third difference)^2 in the two halves
+    for (std::size_t i = 0; i < d3.size(); ++i) (from + i < mid ? first : second) += d3[i] * d3[i];
+    if (!(first <= 2.0 * second && second <= 2.0 * first)) return std::nullopt;
+    out.relative.back() = std::sqrt((first + second) / (20.0 * static_cast<double>(d3.size())));
+    out.deviation.back() = out.relative.back() * peak;
+  }
+  return out;
+}
 
 std::string floor_evidence(const Floor& f, double floor_ratio) {
   if (f.from_increments) return fmt::format("its last quarter's increments white, noise at {:.2g} of its largest RMS", f.level);

@@ -2,6 +2,7 @@
 // Rosenstein's mean log-divergence curve (paper 001 eqs. 18-23), kept apart from its fit.
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,10 @@ struct RosensteinOptions {
   /// ends keep the linear segment.
   enum class Interpolation { linear, cubic };
   Interpolation interpolation = Interpolation::linear;
+  /// White measurement noise per channel, its standard deviation in units of the channel's own
+  /// standard deviation (the units of the curve's distances); empty = none. When given, the curve
+  /// is also computed noise-compensated (DivergenceCurve::compensated_log_distance).
+  std::vector<double> noise_deviation;
   void validate() const;
 };
 
@@ -65,6 +70,23 @@ struct DivergenceCurve {
   /// a Theiler window apart): the level a chaotic divergence saturates at, the attractor's scale in
   /// the same units as mean_log_distance. NaN when not computed.
   double attractor_log_distance = std::numeric_limits<double>::quiet_NaN();
+  /// With RosensteinOptions::noise_deviation: y_c(i) = ln(<(d_j(i)^2 - n_j(i)) / w_j>) / 2, the log
+  /// of the pairs' mean squared distance less the mean square that independent white noise adds to
+  /// it, each pair over its own mean square along the curve, w_j = <d_j(i)^2>_i (so that every pair
+  /// weighs alike, as in <ln d>; unweighted, the pairs of largest amplitude - a decay's first turns,
+  /// where a faster mode still lives - would decide alone). The noise of a pair's two points at one
+  /// coordinate adds n = sum_c s_c^2 (1 + the neighbour's interpolation weights squared) in
+  /// expectation where the coordinate's samples are fresh; the coordinates whose samples the
+  /// neighbour search compared (step i = k x delay, k < m: the search picked the pair for a small
+  /// distance, noise included) enter as observed, so step 0 is the plain mean square. For a linear
+  /// motion (a decay, a slow growth) every pair's separation follows the same linear map, and the
+  /// curve then falls at the rate <ln d> (eq. 23) does without noise, while the noise no longer
+  /// holds it up. Empty when not computed, or when the compensated mean square is not positive at
+  /// some step (compensation_failed_step: the noise exceeds what the pairs hold there).
+  /// compensated_batch_mean: the same per batch of references (NaN where not positive).
+  std::vector<double> compensated_log_distance;
+  std::vector<std::vector<double>> compensated_batch_mean;
+  std::optional<std::size_t> compensation_failed_step;
   double dt = 1.0;
   std::vector<std::string> warnings;
 };

@@ -1,7 +1,9 @@
 #pragma once
 // End of the initial transient of a run started from a perturbation.
 #include <limits>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "mlce/series.hpp"
 
@@ -67,12 +69,38 @@ struct Floor {
 /// never is). It starts at the first window after which every window stays within 10x that level
 /// (5x for white noise: where the signal is still 5x the noise). Failing both, noise that holds
 /// only the end of the last quarter is read from the quarter's increments (white: correlated -1/2,
-/// 0, 0 at lags 1-3 in every channel, at a steady level; RMS from the third differences: transient.cpp,
-/// increment_noise): a floor when that RMS is below 0.1 x the largest window RMS, cut at 5x it.
+/// 0, 0 at lags 1-3 in every channel, at a steady level; RMS from the third differences:
+/// white_increment_noise): a floor when that RMS is below 0.1 x the largest window RMS, cut at 5x it.
 /// A white-noise floor needs a motion before it: when the samples kept before the cut are white too
 /// (lags 1-3 as above), the record is noise throughout, only louder in places, and has no floor.
 /// floor_ratio 0: never a floor.
 Floor detect_floor(const Series& series, double floor_ratio);
+/// White measurement noise in samples [from, to) of every channel, read from its differences.
+/// WhitenessTest::increments (the floor rule's): the increments of white noise e of variance s^2
+/// correlate -1/2, 0 and 0 at lags 1, 2 and 3; a finely sampled smooth motion moves by ~omega dt x
+/// its amplitude per sample, so its increments drown in the noise's long before the motion itself
+/// does, and the increments of a sampled periodic motion correlate cos(k theta) at lag k, which
+/// cannot match all three (a lag-1 correlation within 0.2 of -1/2 puts theta in 1.88..2.35 rad,
+/// where cos 3 theta > 0.7). Noise when every channel's increments correlate within 0.2 of -1/2 at
+/// lag 1 and below 0.3 in magnitude at lags 2 and 3. WhitenessTest::third_differences: the third
+/// differences of white noise correlate -15/20, 6/20 and -1/20 at lags 1-3, and a smooth motion
+/// enters them only as (omega dt)^3 x its amplitude, so they show the noise under a motion 1/(omega
+/// dt)^2 times larger than the increments do (400x at 100 samples per period); noise when every
+/// channel's correlate within 0.2 of those three (a sampled sine passes only for theta within
+/// ~2.58..2.62 rad, 2.4 samples per cycle). Both: at a steady level (the mean square of the third
+/// differences in the stretch's two halves within 2x of each other), and the noise's standard
+/// deviation is then sqrt(mean (third difference)^2 / 20) (Var of the third difference of e =
+/// C(6, 3) s^2 = 20 s^2: the smooth motion leaks in as (omega dt)^6, least of the low orders). A
+/// constant channel carries no noise (0). nullopt: some channel is not white noise at a steady
+/// level by the test, or the stretch has fewer than 16 samples.
+struct IncrementNoise {
+  std::vector<double> deviation;  ///< per channel, in the channel's units
+  std::vector<double> relative;   ///< per channel, over the channel's peak |x| (no square overflows)
+};
+enum class WhitenessTest { increments, third_differences };
+std::optional<IncrementNoise> white_increment_noise(const Series& series, std::size_t from, std::size_t to,
+                                                   WhitenessTest test = WhitenessTest::increments);
+
 /// What found the floor, in words: the white tail's level, or the ratio it fell below.
 std::string floor_evidence(const Floor& floor, double floor_ratio);
 /// The floor in words for rules and warnings: its kind and floor_evidence.
