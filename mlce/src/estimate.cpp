@@ -280,7 +280,7 @@ void compensate_noise(const Series& series, const MlceOptions& options, const Ro
   with_noise.noise_deviation = noise->deviation;
   report(options, "noise-compensated curve", 0.0);
   DivergenceCurve c = follow_pairs(series, with_noise, pairs);
-  std::string& flagged = r.warnings.back();
+  std::string& flagged = r.warnings.back();  // flag_noise's, pushed last where it set noise_level
   if (c.compensated_log_distance.empty()) {
     flagged += fmt::format(
         "; the noise measured from the last quarter's increments ({:.2g} % of the signal's standard deviation) "

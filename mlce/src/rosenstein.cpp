@@ -117,9 +117,10 @@ NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options
 }
 
 namespace {
-/// DivergenceCurve::compensated_log_distance from the batches' sums of d^2 and of the noise's
-/// expected share (over the same pairs as mean_log_distance, curve.terms[i] of them at step i).
-void compensate_noise(DivergenceCurve& curve, const std::vector<std::vector<double>>& batch_square,
+/// DivergenceCurve::compensated_log_distance (and its batch curves) from each batch's sums over its
+/// pairs of d^2 / w_j and of the noise's expected share / w_j, and its count of pairs (those whose
+/// mean square w_j along the curve is positive).
+void compensated_curve_from_sums(DivergenceCurve& curve, const std::vector<std::vector<double>>& batch_square,
                       const std::vector<std::vector<double>>& batch_noise, const std::vector<std::size_t>& batch_pairs) {
   const std::size_t H = curve.mean_log_distance.size() - 1, B = batch_square.size();
   std::vector<double> y(H + 1);
@@ -131,7 +132,7 @@ void compensate_noise(DivergenceCurve& curve, const std::vector<std::vector<doub
       square.add(batch_square[b][i]);
       noise.add(batch_noise[b][i]);
       const double rest = batch_square[b][i] - batch_noise[b][i];
-      const std::size_t n = batch_pairs[b];  // a pair at zero distance counts: no log of it is taken
+      const std::size_t n = batch_pairs[b];
       if (rest > 0.0 && n > 0) batches[b][i] = 0.5 * std::log(rest / static_cast<double>(n));
       pairs += n;
     }
@@ -346,7 +347,7 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
                        " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
     curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
   }
-  if (compensate) compensate_noise(curve, batch_square, batch_noise, batch_pairs);
+  if (compensate) compensated_curve_from_sums(curve, batch_square, batch_noise, batch_pairs);
   if (nn.zero_distance_candidates > 0) {
     curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
                              " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "

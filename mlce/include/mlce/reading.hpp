@@ -28,7 +28,8 @@
 //  - A curve held level by measurement noise (flagged, MlceResult::noise_level, on a curve that
 //    grows to no plateau) cannot show a decay slower than the noise: when the amplitude decays
 //    and the interval does not already say stable, the motion, itself a perturbation of its
-//    equilibrium, dies out: stable.
+//    equilibrium, dies out: stable. Not when the estimator compensated the curve for the noise
+//    (MlceResult::noise_compensated): lambda is then the decay's rate, read as any other.
 //  - Undetermined when a warning says lambda does not measure the motion's divergence
 //    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
 //    mean periods, a plateau within one embedding window as uncorrelated noise gives), when
