@@ -51,8 +51,9 @@ bool signal_decays(const MlceResult& r) {
 }
 
 /// Warnings about what the curve can measure (sets r.noise_level): a plateau reached within one
-/// embedding window (uncorrelated noise), and a first step that jumps (measurement noise).
-void flag_noise(MlceResult& r, std::size_t channels) {
+/// embedding window (uncorrelated noise), and a first step that jumps (measurement noise); returns
+/// the index in r.warnings of the latter's warning, nullopt when the curve is not flagged noisy.
+std::optional<std::size_t> flag_noise(MlceResult& r, std::size_t channels) {
   // Delay vectors (m - 1) x delay + 1 steps after the match share no sample with the matched ones.
   // Uncorrelated noise separates to the attractor scale exactly then, as those shared samples slide
   // out of the window: the curve's rise measures the window, not a divergence (white noise, m = 5,
@@ -104,8 +105,10 @@ void flag_noise(MlceResult& r, std::size_t channels) {
                                     "the curve level, so a decay slower than the noise resolves reads closer to 0 "
                                     "than it is (lambda biased towards 0)");
       r.warnings.push_back(text);
+      return r.warnings.size() - 1;
     }
   }
+  return std::nullopt;
 }
 
 /// The part of the input that is analysed: `raw` dithered (MlceOptions::dither) and cut at the
@@ -258,14 +261,16 @@ FitOptions fit_options_for(const Series& series, const MlceOptions& options, std
   return fo;
 }
 
-/// A decay whose plain curve flag_noise found held up by measurement noise (its warning the last of
-/// r.warnings, r.noise_level set), when the noise is white (NoiseCompensation): the curve of the same
-/// pairs recomputed noise-compensated (DivergenceCurve::compensated_log_distance), with the noise
-/// measured from the increments of the analysed series' last quarter, and fitted by the same rule.
+/// A decay whose plain curve flag_noise found held up by measurement noise (its warning
+/// r.warnings[flagged], r.noise_level set), when the noise is white (NoiseCompensation): the curve of
+/// the same pairs recomputed noise-compensated (DivergenceCurve::compensated_log_distance), with the
+/// noise measured from the third differences of the analysed series' last quarter, and fitted by the
+/// same rule. follow_pairs computes eq. 23's curve again on the way (one more pass over the pairs,
+/// on flagged noisy decays only).
 /// The plain curve and its lambda are kept (plain_curve, uncompensated_lambda) and the flag's warning
 /// says what was done instead of leaving lambda biased.
 void compensate_noise(const Series& series, const MlceOptions& options, const RosensteinOptions& ro,
-                      const NeighbourPairs& pairs, const FitOptions& fo, MlceResult& r) {
+                      const NeighbourPairs& pairs, const FitOptions& fo, std::size_t flagged_warning, MlceResult& r) {
   if (options.noise_compensation == NoiseCompensation::off || ro.align_phase || !signal_decays(r)) return;
   // Measured in units of each channel's standard deviation, the units of the curve's distances.
   const Series unit = scaled_to_unit_deviation(series);
@@ -280,10 +285,10 @@ void compensate_noise(const Series& series, const MlceOptions& options, const Ro
   with_noise.noise_deviation = noise->deviation;
   report(options, "noise-compensated curve", 0.0);
   DivergenceCurve c = follow_pairs(series, with_noise, pairs);
-  std::string& flagged = r.warnings.back();  // flag_noise's, pushed last where it set noise_level
+  std::string& flagged = r.warnings.at(flagged_warning);
   if (c.compensated_log_distance.empty()) {
     flagged += fmt::format(
-        "; the noise measured from the last quarter's increments ({:.2g} % of the signal's standard deviation) "
+        "; the noise measured from the last quarter's third differences ({:.2g} % of the signal's standard deviation) "
         "exceeds the pairs' mean square distance at step {}: the curve cannot be compensated for it",
         100.0 * level, c.compensation_failed_step.value_or(0));
     return;
@@ -300,7 +305,7 @@ void compensate_noise(const Series& series, const MlceOptions& options, const Ro
   r.noise_compensated = true;
   r.noise_level = level;
   flagged = fmt::format(
-      "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white (the last quarter's increments: {:.2g} % of the "
+      "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white (the last quarter's third differences: {:.2g} % of the "
       "signal's standard deviation), and lambda is read from the noise-compensated curve instead: the log of the "
       "pairs' mean square distance (each pair over its own mean along the curve) less the noise's share, halved "
       "(--noise-compensation off keeps the plain curve)",
@@ -516,8 +521,8 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                          (options.max_references > 0 && options.max_references < kFewPairs
                               ? "use more reference points (--refs)"
                               : "analyse a longer series"));
-  flag_noise(r, series.channels.size());
-  if (std::isfinite(r.noise_level)) compensate_noise(series, options, ro, pairs, fo, r);
+  if (const auto flagged = flag_noise(r, series.channels.size()))
+    compensate_noise(series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
   express_per_time(r, series.dt);
