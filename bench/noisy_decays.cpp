@@ -4,8 +4,9 @@
 // parameter automatic. Prints lambda / (-zeta w) per seed, then per case and over all: how many of
 // the series within 5 % / 10 %, the range, mean and rms error; and how many were compensated (the
 // estimator compensates only where eq. 23's curve is flagged as held up by noise and the third
-// differences of the analysed part's last quarter are white).
-//   build/noisy_decays        (about 30 s)
+// differences are white: over the whole record, where it measures the noise, or else over the
+// analysed part's last quarter).
+//   build/noisy_decays        (about 6 s)
 #include <cmath>
 #include <cstdio>
 #include <numbers>

@@ -413,35 +413,45 @@ TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
 // floor: zeta 0.01 with 1 % noise over 80 s (the signal at most 70x the noise; the cut at 5x leaves
 // a decay by e^{-2.7}). Eq. 23's curve is held up by the noise and reads 0.44-0.49 of the rate on
 // 8 noise seeds; the noise-compensated curve (NoiseCompensation) reads the rate itself: at least 6
-// of 8 within 10 %, the median within 5 %. Printed for README.
+// of 8 within 10 %, the median within 5 %. With 3 % noise (the cut at 25 s: a decay by e^{-1.6},
+// the noise ~0.7 of the pairs' mean square at the curve's end) the same holds only because the
+// noise is measured over the whole record, the floor left out included: over the analysed part's
+// last quarter (640 samples) its estimate erred by up to 10 %, and 4 of 8 read within 10 %
+// (0.76-1.48). The measured level is the noise's within 3 % (the analysed part's deviation
+// converts it). Printed for README.
 TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsItsRateOnTheCompensatedCurve) {
   const double zeta = 0.01, w = 2 * M_PI, lambda = -zeta * w;
   const auto clean = reference::damped_oscillator(8000, 0.01, zeta, w);
-  std::vector<double> compensated, plain;
-  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-    std::mt19937_64 gen(seed);
-    std::normal_distribution<double> g(0.0, 0.01);
-    std::vector<double> x = clean;
-    for (double& v : x) v += g(gen);
-    const auto r = run(x, 0.01);
-    MlceOptions off;
-    off.noise_compensation = NoiseCompensation::off;
-    const auto p = estimate_mlce(make_series_with_step({x}, 0.01), off);
-    compensated.push_back(r.lambda / lambda);
-    plain.push_back(p.lambda / lambda);
-    EXPECT_TRUE(r.noise_compensated) << seed;
-    EXPECT_TRUE(has_warning(r, "noise-compensated curve")) << seed;
-    EXPECT_NEAR(r.uncompensated_lambda, p.lambda, 1e-12) << seed;
-    EXPECT_EQ(r.plain_curve, p.curve.mean_log_distance) << seed;
-    EXPECT_FALSE(p.noise_compensated);
-    EXPECT_TRUE(std::isnan(p.uncompensated_lambda));
-    EXPECT_LT(p.lambda / lambda, 0.6) << seed;
-    EXPECT_EQ(mlce::read_stability(r).stability, mlce::Stability::stable) << seed;
+  for (const double noise : {0.01, 0.03}) {
+    std::vector<double> compensated, plain;
+    for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+      std::mt19937_64 gen(seed);
+      std::normal_distribution<double> g(0.0, noise);
+      std::vector<double> x = clean;
+      for (double& v : x) v += g(gen);
+      const auto r = run(x, 0.01);
+      MlceOptions off;
+      off.noise_compensation = NoiseCompensation::off;
+      const auto p = estimate_mlce(make_series_with_step({x}, 0.01), off);
+      compensated.push_back(r.lambda / lambda);
+      plain.push_back(p.lambda / lambda);
+      EXPECT_TRUE(r.noise_compensated) << seed;
+      EXPECT_TRUE(has_warning(r, "noise-compensated curve")) << seed;
+      EXPECT_TRUE(has_warning(r, "the whole record's third differences")) << seed;
+      EXPECT_NEAR(r.uncompensated_lambda, p.lambda, 1e-12) << seed;
+      EXPECT_EQ(r.plain_curve, p.curve.mean_log_distance) << seed;
+      EXPECT_FALSE(p.noise_compensated);
+      EXPECT_TRUE(std::isnan(p.uncompensated_lambda));
+      EXPECT_LT(p.lambda / lambda, 0.6) << seed;
+      EXPECT_EQ(mlce::read_stability(r).stability, mlce::Stability::stable) << seed;
+      const std::vector<double> analysed(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(r.n_points));
+      EXPECT_NEAR(r.noise_level * standard_deviation(analysed) / noise, 1.0, 0.03) << seed;
+    }
+    std::printf("zeta 0.01 + %g %% noise over 8000 samples, 8 seeds, lambda / (-zeta w): compensated %s; plain %s\n",
+                100 * noise, listed(compensated).c_str(), listed(plain).c_str());
+    EXPECT_GE(count_within(compensated, 0.10), 6) << noise << ": " << listed(compensated);
+    EXPECT_NEAR(median(compensated), 1.0, 0.05) << noise << ": " << listed(compensated);
   }
-  std::printf("zeta 0.01 + 1 %% noise over 8000 samples, 8 seeds, lambda / (-zeta w): compensated %s; plain %s\n",
-              listed(compensated).c_str(), listed(plain).c_str());
-  EXPECT_GE(count_within(compensated, 0.10), 6) << listed(compensated);
-  EXPECT_NEAR(median(compensated), 1.0, 0.05) << listed(compensated);
 }
 
 // The noise-compensated curve needs noise that is white: the increments of a decay with no noise
@@ -516,8 +526,8 @@ TEST(EstimateSystems, NoiseOnALimitCycleLeavesALimitCycle) {
 // over 160 s (the amplitude falls to 1.8 % of its start; the white floor is cut at 5x the noise).
 // Nearest neighbours one cycle apart differ by 2.5 % of the amplitude, less than the noise: eq. 23's
 // curve is level after its first step and reads ~-0.003. The noise is flagged; white (its
-// increments), it is measured and taken out of the curve, which reads the rate within 10 %, and the
-// measured level is the noise's over the analysed part's deviation within 10 %. With the
+// third differences), it is measured and taken out of the curve, which reads the rate within 5 %, and
+// the measured level is the noise's over the analysed part's deviation within 5 %. With the
 // compensation off, the flag stands, and the reading takes the signal's own decay: stable, its
 // envelope rate the decay's (within 10 %).
 TEST(EstimateSystems, NoiseThatHoldsALightDecayLevelIsMeasuredAndTakenOut) {
@@ -531,8 +541,8 @@ TEST(EstimateSystems, NoiseThatHoldsALightDecayLevelIsMeasuredAndTakenOut) {
               "(truth %.4f); %s\n",
               r.lambda, lambda, r.uncompensated_lambda, r.envelope_rate / r.dt, r.noise_level, truth, reading.summary.c_str());
   ASSERT_TRUE(r.noise_compensated) << r.fit.rule;
-  EXPECT_NEAR(r.lambda / lambda, 1.0, 0.10);
-  EXPECT_NEAR(r.noise_level / truth, 1.0, 0.10);
+  EXPECT_NEAR(r.lambda / lambda, 1.0, 0.05);
+  EXPECT_NEAR(r.noise_level / truth, 1.0, 0.05);
   EXPECT_GT(r.uncompensated_lambda / lambda, 0.0);
   EXPECT_LT(r.uncompensated_lambda / lambda, 0.3);
   EXPECT_TRUE(has_warning(r, "holds the curve level"));  // said of the plain curve

@@ -128,6 +128,27 @@ TEST(Series, StandardizationIsScaleFreeAtTheExtremes) {
   }
 }
 
+// What scaled_to_unit_deviation divides by: the population standard deviation about the mean,
+// here of a square wave of amplitude a about an offset (exactly a), at the ends of the double range
+// too; a constant channel is divided by its magnitude, an all-zero one by 1. Dividing by it gives
+// the scaled series.
+TEST(Series, UnitDeviationDivisorIsTheChannelsStandardDeviation) {
+  for (const double a : {1e-300, 1.0, 3.5, 1e300}) {
+    std::vector<double> wave, constant(8, -2.0 * a), zero(8, 0.0);
+    for (int i = 0; i < 8; ++i) wave.push_back((i % 2 ? 1.5 : -0.5) * a);  // offset a / 2, deviation a
+    const Series s = make_series_with_step({wave, constant, zero}, 1.0);
+    const auto divisors = unit_deviation_divisors(s);
+    ASSERT_EQ(divisors.size(), 3u);
+    EXPECT_NEAR(divisors[0] / a, 1.0, 1e-15) << a;
+    EXPECT_NEAR(divisors[1] / a, 2.0, 1e-15) << a;
+    EXPECT_EQ(divisors[2], 1.0);
+    const Series unit = scaled_to_unit_deviation(s);
+    for (std::size_t c = 0; c < 3; ++c)
+      for (std::size_t i = 0; i < 8; ++i)
+        EXPECT_NEAR(unit.channels[c][i], s.channels[c][i] / divisors[c], 1e-15) << a << " " << c << " " << i;
+  }
+}
+
 TEST(Series, TimeWindowSelectsInclusiveRange) {
   std::vector<double> x(100);
   for (int i = 0; i < 100; ++i) x[i] = i;

@@ -261,26 +261,62 @@ FitOptions fit_options_for(const Series& series, const MlceOptions& options, std
   return fo;
 }
 
+/// White measurement noise per channel, in units of the analysed series' standard deviation (the
+/// curve's units), from the third differences (white_increment_noise).
+struct MeasuredNoise {
+  std::vector<double> deviation;
+  double level = 0.0;     ///< root mean square over the channels
+  const char* where = "";  ///< over which stretch, in words
+};
+
+/// The noise the compensated curve takes out: over the whole record the analysed part was cut from
+/// (`record`: the floor a decay was cut at included, where the noise is plainest) when its third
+/// differences are white at a steady level there, else over the analysed part's last quarter,
+/// where the signal is least. The more samples, the closer: the estimate's relative error falls as
+/// 1/sqrt(samples), and an error of the noise's share magnifies in the compensated curve by
+/// share / (1 - share) (bench/noisy_decays, 64 slow noisy decays: 43 / 57 within 5 / 10 % over the
+/// whole record, 32 / 50 over the last quarter alone). nullopt when neither stretch is white.
+std::optional<MeasuredNoise> measure_noise(const Series& record, const Series& analysed) {
+  const std::size_t n = analysed.size();
+  MeasuredNoise out;
+  std::vector<double> divisors;
+  auto noise = white_increment_noise(record, 0, record.size(), WhitenessTest::third_differences);
+  if (noise) {
+    divisors = unit_deviation_divisors(analysed);
+    out.where = "the whole record's third differences";
+  } else {
+    // In the curve's units already: the test's leakage (omega dt)^6 is then relative to the same scale.
+    noise = white_increment_noise(scaled_to_unit_deviation(analysed), n - n / 4, n, WhitenessTest::third_differences);
+    if (!noise) return std::nullopt;
+    divisors.assign(analysed.channels.size(), 1.0);
+    out.where = "the last quarter's third differences";
+  }
+  double square = 0.0;
+  for (std::size_t c = 0; c < divisors.size(); ++c) {
+    out.deviation.push_back(noise->deviation[c] / divisors[c]);
+    square += out.deviation.back() * out.deviation.back();
+  }
+  if (!(square > 0.0) || !std::isfinite(square)) return std::nullopt;
+  out.level = std::sqrt(square / static_cast<double>(divisors.size()));
+  return out;
+}
+
 /// A decay whose plain curve flag_noise found held up by measurement noise (its warning
 /// r.warnings[flagged], r.noise_level set), when the noise is white (NoiseCompensation): the curve of
 /// the same pairs recomputed noise-compensated (DivergenceCurve::compensated_log_distance), with the
-/// noise measured from the third differences of the analysed series' last quarter, and fitted by the
-/// same rule. follow_pairs computes eq. 23's curve again on the way (one more pass over the pairs,
-/// on flagged noisy decays only).
+/// noise measured by measure_noise over `record` (the input before the floor cut; the analysed series
+/// itself when dithered, since the dither is part of its noise), and fitted by the same rule.
+/// follow_pairs computes eq. 23's curve again on the way (one more pass over the pairs, on flagged
+/// noisy decays only).
 /// The plain curve and its lambda are kept (plain_curve, uncompensated_lambda) and the flag's warning
 /// says what was done instead of leaving lambda biased.
-void compensate_noise(const Series& series, const MlceOptions& options, const RosensteinOptions& ro,
-                      const NeighbourPairs& pairs, const FitOptions& fo, std::size_t flagged_warning, MlceResult& r) {
+void compensate_noise(const Series& record, const Series& series, const MlceOptions& options,
+                      const RosensteinOptions& ro, const NeighbourPairs& pairs, const FitOptions& fo,
+                      std::size_t flagged_warning, MlceResult& r) {
   if (options.noise_compensation == NoiseCompensation::off || ro.align_phase || !signal_decays(r)) return;
-  // Measured in units of each channel's standard deviation, the units of the curve's distances.
-  const Series unit = scaled_to_unit_deviation(series);
-  const std::size_t n = unit.size();
-  const auto noise = white_increment_noise(unit, n - n / 4, n, WhitenessTest::third_differences);
+  const auto noise = measure_noise(record, series);
   if (!noise) return;
-  double square = 0.0;
-  for (const double v : noise->deviation) square += v * v;
-  if (!(square > 0.0)) return;
-  const double level = std::sqrt(square / static_cast<double>(noise->deviation.size()));
+  const double level = noise->level;
   RosensteinOptions with_noise = ro;
   with_noise.noise_deviation = noise->deviation;
   report(options, "noise-compensated curve", 0.0);
@@ -288,9 +324,9 @@ void compensate_noise(const Series& series, const MlceOptions& options, const Ro
   std::string& flagged = r.warnings.at(flagged_warning);
   if (c.compensated_log_distance.empty()) {
     flagged += fmt::format(
-        "; the noise measured from the last quarter's third differences ({:.2g} % of the signal's standard deviation) "
-        "exceeds the pairs' mean square distance at step {}: the curve cannot be compensated for it",
-        100.0 * level, c.compensation_failed_step.value_or(0));
+        "; the noise measured from {} ({:.2g} % of the signal's standard deviation) exceeds the pairs' mean square "
+        "distance at step {}: the curve cannot be compensated for it",
+        noise->where, 100.0 * level, c.compensation_failed_step.value_or(0));
     return;
   }
   const double plain = r.fit.slope / series.dt;
@@ -305,11 +341,11 @@ void compensate_noise(const Series& series, const MlceOptions& options, const Ro
   r.noise_compensated = true;
   r.noise_level = level;
   flagged = fmt::format(
-      "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white (the last quarter's third differences: {:.2g} % of the "
+      "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white ({}: {:.2g} % of the "
       "signal's standard deviation), and lambda is read from the noise-compensated curve instead: the log of the "
       "pairs' mean square distance (each pair over its own mean along the curve) less the noise's share, halved "
       "(--noise-compensation off keeps the plain curve)",
-      plain, flagged, 100.0 * level);
+      plain, flagged, noise->where, 100.0 * level);
 }
 
 /// The fitted slope per sample as lambda per time unit (eq. 23: y(i) / dt), with its interval, R^2 and
@@ -522,7 +558,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
                               ? "use more reference points (--refs)"
                               : "analyse a longer series"));
   if (const auto flagged = flag_noise(r, series.channels.size()))
-    compensate_noise(series, options, ro, pairs, fo, *flagged, r);
+    compensate_noise(options.dither > 0.0 ? series : raw, series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
   express_per_time(r, series.dt);

@@ -233,19 +233,30 @@ Series time_window(const Series& series, double from, double to) {
 }
 
 namespace {
+/// A channel's largest magnitude, and the mean and standard deviation of the channel divided by it
+/// (no square of 1e200 overflows, none of 1e-200 underflows).
+struct PeakMoments {
+  double peak = 0.0, mean = 0.0, sd = 0.0;
+};
+PeakMoments peak_moments(const std::vector<double>& x) {
+  PeakMoments m;
+  m.peak = max_abs(x);
+  if (m.peak == 0.0) return m;
+  for (double v : x) m.mean += v / m.peak;
+  m.mean /= static_cast<double>(x.size());
+  double var = 0.0;
+  for (double v : x) var += (v / m.peak - m.mean) * (v / m.peak - m.mean);
+  m.sd = std::sqrt(var / static_cast<double>(x.size()));
+  return m;
+}
+
 Series normalised(const Series& series, bool shift_to_zero_mean) {
   Series s = series;
   for (auto& x : s.channels) {
-    const double peak = max_abs(x);
+    const auto [peak, mean, sd] = peak_moments(x);
     if (peak == 0.0) continue;
     // Divide by the peak first: squares of 1e200 overflow, squares of 1e-200 underflow.
-    double mean = 0.0;
     for (double& v : x) v /= peak;
-    for (double v : x) mean += v;
-    mean /= static_cast<double>(x.size());
-    double var = 0.0;
-    for (double v : x) var += (v - mean) * (v - mean);
-    const double sd = std::sqrt(var / static_cast<double>(x.size()));
     if (sd == 0.0) continue;
     if (shift_to_zero_mean)
       for (double& v : x) v = (v - mean) / sd;
@@ -255,6 +266,15 @@ Series normalised(const Series& series, bool shift_to_zero_mean) {
   return s;
 }
 }  // namespace
+
+std::vector<double> unit_deviation_divisors(const Series& series) {
+  std::vector<double> divisors;
+  for (const auto& x : series.channels) {
+    const auto [peak, mean, sd] = peak_moments(x);
+    divisors.push_back(peak == 0.0 ? 1.0 : sd == 0.0 ? peak : peak * sd);
+  }
+  return divisors;
+}
 
 Series standardized(const Series& series) { return normalised(series, true); }
 

@@ -89,4 +89,9 @@ Series standardized(const Series& series);
 /// non-zero mean collapsed onto repeated points and read half its exponent.
 Series scaled_to_unit_deviation(const Series& series);
 
+/// What scaled_to_unit_deviation divides each channel by: its largest magnitude times the standard
+/// deviation of the channel so divided (its largest magnitude for a constant channel, 1 for an
+/// all-zero one). A quantity in a channel's units over its divisor is in the curve's units.
+std::vector<double> unit_deviation_divisors(const Series& series);
+
 }  // namespace mlce
