@@ -31,9 +31,9 @@ enum class PhaseAlignment { automatic, off, on };
 /// curve is flagged as held up by noise (its first step jumps: MlceResult::noise_level), the signal
 /// decays (its last third's RMS at most 1/2 of its first's, or its envelope falling by more than
 /// 1 % per mean period), the curve is not phase-aligned, and the third differences are white noise
-/// in every channel (white_increment_noise, which also measures it) over the whole record, the floor
-/// a decay was cut at included (before dithering, the analysed series itself), or else over the
-/// analysed series' last quarter. Noise of the neighbours' own samples holds <ln d> up where a
+/// in every channel (white_increment_noise, which also measures it) over the record where its noise
+/// is steady, the floor a decay was cut at included (when dithered, the analysed series itself), or
+/// else over the analysed series' last quarter. Noise of the neighbours' own samples holds <ln d> up where a
 /// decay's separations shrink towards it: e^{-0.063 t} cos 2 pi t plus noise of 1 % of its start
 /// read 0.44-0.49 of its rate on 8 noise seeds, compensated 0.96-1.05 (test_estimate_systems).
 /// off: eq. 23's curve always.
