@@ -275,10 +275,10 @@ struct MeasuredNoise {
 /// per window: they correlate at lags 1-3; with 3 errors of the window's own, both ways, two of the
 /// 64 records of bench/noisy_decays stopped at their last window by chance, and read 1.19 and 0.81). A
 /// motion leaks into third differences as (omega dt)^6 x its amplitude^2, most where a decay is
-/// largest: coarsely sampled (omega dt = 0.31, 0.5 % noise) the leak of a whole record's first
-/// eighth raised its mean square by 55 % and the whole record's estimate of the noise by 3 %, which
-/// passes the whiteness test, and the compensated curve, whose noise share nears 1 at its end, read
-/// 1.15 of the rate; from the second eighth, 1.01.
+/// largest: coarsely sampled (omega dt = 0.31, zeta 0.005, 0.5 % noise) the leak of a whole record's
+/// first eighth raised its mean square by 40-55 % and the whole record's estimate of the noise by
+/// 2-3 %, which passes the whiteness test, and the compensated curve, whose noise share nears 1 at
+/// its end, read 1.15 of the rate on two noise draws; from the second eighth, 1.05 and 1.07.
 std::size_t steady_noise_start(const Series& record) {
   constexpr std::size_t windows = 8;
   const std::size_t N = record.size(), w = N / windows;
