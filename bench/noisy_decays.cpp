@@ -7,17 +7,89 @@
 // differences are white: over the whole record, where it measures the noise, or else over the
 // analysed part's last quarter).
 //   build/noisy_decays        (about 6 s)
+// and, on other decays (the same form; zeta 0.005 ... 0.03, noise 0.5 % and 2 %, sampled at dt = 0.01
+// ... 0.05 s, i.e. 100 ... 20 samples per period, each over 6 / (zeta w) s = e^{-6} of its start, 3 noise
+// seeds 11..13): per dt and over all, the same counts, compensated and plain:
+//   build/noisy_decays grid   (about 3 s)
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "mlce/estimate.hpp"
 #include "ratio_tally.hpp"
 #include "reference_systems.hpp"
 
-int main() {
+namespace {
+
+/// A clean decay plus Gaussian white noise of standard deviation `noise` (mt19937_64 `seed`),
+/// estimated with every parameter automatic and with the compensation off: lambda / (-zeta w) each.
+struct NoisyRun {
+  double compensated, plain;
+  bool was_compensated;
+};
+NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, double noise, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::normal_distribution<double> g(0.0, noise);
+  std::vector<double> x = clean;
+  for (double& v : x) v += g(gen);
+  const auto series = mlce::make_series_with_step({x}, dt);
+  mlce::MlceOptions plain;
+  plain.noise_compensation = mlce::NoiseCompensation::off;
+  const auto r = mlce::estimate_mlce(series, {});
+  const auto p = mlce::estimate_mlce(series, plain);
+  const double lambda = -zeta * 2 * std::numbers::pi;
+  return {r.lambda / lambda, p.lambda / lambda, r.noise_compensated};
+}
+
+/// The second study of the header: decays of other rates, noise and sampling.
+void grid() {
+  const double w = 2 * std::numbers::pi;
+  mlce::bench::Tally all_on, all_off;
+  int compensated = 0, total = 0;
+  std::string outside;
+  std::printf("dt      lambda / (-zeta w) over zeta 0.005 0.01 0.02 0.03 x noise 0.5 %% 2 %% x seeds 11..13\n");
+  for (const double dt : {0.01, 0.02, 0.03, 0.05}) {
+    mlce::bench::Tally on, off;
+    int compensated_dt = 0;
+    for (const double zeta : {0.005, 0.01, 0.02, 0.03}) {
+      const auto n = static_cast<std::size_t>(std::min(40000.0, 6.0 / (zeta * w) / dt));
+      const auto clean = mlce::reference::damped_oscillator(n, dt, zeta, w);
+      for (const double noise : {0.005, 0.02})
+        for (std::uint64_t seed = 11; seed <= 13; ++seed) {
+          const NoisyRun q = run_noisy(clean, dt, zeta, noise, seed);
+          on.add(q.compensated), off.add(q.plain), all_on.add(q.compensated), all_off.add(q.plain);
+          compensated_dt += q.was_compensated, ++total;
+          if (std::abs(q.compensated - 1.0) > 0.2) {
+            char item[160];
+            std::snprintf(item, sizeof item, " zeta %g noise %g %% dt %g seed %llu: %.3f%s (plain %.3f);", zeta,
+                          100 * noise, dt, static_cast<unsigned long long>(seed), q.compensated,
+                          q.was_compensated ? "" : " not compensated", q.plain);
+            outside += item;
+          }
+        }
+    }
+    compensated += compensated_dt;
+    std::printf("%4.2f s (%d compensated of 24):\n", dt, compensated_dt);
+    on.print("  compensated (default)");
+    off.print("  plain (--noise-compensation off)");
+  }
+  std::printf("all %d series (%d compensated):\n", total, compensated);
+  all_on.print("compensated (default)");
+  all_off.print("plain (--noise-compensation off)");
+  std::printf("outside 20 %%:%s\n", outside.empty() ? " none" : outside.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "grid") {
+    grid();
+    return 0;
+  }
   struct Case {
     double zeta, noise;
     std::size_t n;
@@ -34,19 +106,10 @@ int main() {
     std::vector<bool> compensated;
     const auto clean = mlce::reference::damped_oscillator(c.n, dt, c.zeta, w);
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-      std::mt19937_64 gen(seed);
-      std::normal_distribution<double> g(0.0, c.noise);
-      std::vector<double> x = clean;
-      for (double& v : x) v += g(gen);
-      const auto series = mlce::make_series_with_step({x}, dt);
-      mlce::MlceOptions plain;
-      plain.noise_compensation = mlce::NoiseCompensation::off;
-      const auto r = mlce::estimate_mlce(series, {});
-      const auto p = mlce::estimate_mlce(series, plain);
-      const double lambda = -c.zeta * w;
-      a.push_back(r.lambda / lambda), b.push_back(p.lambda / lambda), compensated.push_back(r.noise_compensated);
+      const NoisyRun q = run_noisy(clean, dt, c.zeta, c.noise, seed);
+      a.push_back(q.compensated), b.push_back(q.plain), compensated.push_back(q.was_compensated);
       on.add(a.back()), off.add(b.back()), all_on.add(a.back()), all_off.add(b.back());
-      compensated_total += r.noise_compensated, ++total;
+      compensated_total += q.was_compensated, ++total;
     }
     std::printf("%5.3f %5.1f %% %6zu  ", c.zeta, 100 * c.noise, c.n);
     for (std::size_t k = 0; k < a.size(); ++k) std::printf(" %6.3f%s", a[k], compensated[k] ? " " : "*");

@@ -269,54 +269,6 @@ struct MeasuredNoise {
   const char* where = "";  ///< over which stretch, in words
 };
 
-/// Where the record's noise is at one level to its end: the record in 8 windows, and, from the last
-/// back, every window whose mean square of third differences exceeds, in no channel, the mean of the
-/// k windows after it by more than 3 standard errors (sqrt(4.62 / w x (1 + 1 / k)) for w differences
-/// per window: they correlate at lags 1-3; with 3 errors of the window's own, both ways, two of the
-/// 64 records of bench/noisy_decays stopped at their last window by chance, and read 1.19 and 0.81). A
-/// motion leaks into third differences as (omega dt)^6 x its amplitude^2, most where a decay is
-/// largest: coarsely sampled (omega dt = 0.31, zeta 0.005, 0.5 % noise) the leak of a whole record's
-/// first eighth raised its mean square by 40-55 % and the whole record's estimate of the noise by
-/// 2-3 %, which passes the whiteness test, and the compensated curve, whose noise share nears 1 at
-/// its end, read 1.15 of the rate on two noise draws; from the second eighth, 1.05 and 1.07.
-std::size_t steady_noise_start(const Series& record) {
-  constexpr std::size_t windows = 8;
-  const std::size_t N = record.size(), w = N / windows;
-  if (w < 16) return 0;
-  std::size_t first = windows - 1;  // the first window kept
-  std::vector<std::vector<double>> energy;  // per channel, per window
-  for (const auto& x : record.channels) {
-    const double peak = max_abs(x);
-    std::vector<double> e(windows, 0.0);
-    if (peak > 0.0)
-      for (std::size_t k = 0; k < windows; ++k) {
-        const std::size_t from = N - (windows - k) * w;  // windows end at the record's end
-        CompensatedSum sum;
-        for (std::size_t i = from; i + 3 < from + w; ++i) {
-          const double d3 = x[i + 3] / peak - 3.0 * (x[i + 2] / peak) + 3.0 * (x[i + 1] / peak) - x[i] / peak;
-          sum.add(d3 * d3);
-        }
-        e[k] = sum.value();
-      }
-    energy.push_back(std::move(e));
-  }
-  while (first > 0) {
-    // The window's own error and that of the mean of the (windows - first) after it.
-    const double tolerance =
-        3.0 * std::sqrt(4.62 / static_cast<double>(w - 3) * (1.0 + 1.0 / static_cast<double>(windows - first)));
-    bool steady = true;
-    for (const auto& e : energy) {
-      double later = 0.0;
-      for (std::size_t k = first; k < windows; ++k) later += e[k];
-      later /= static_cast<double>(windows - first);
-      if (later > 0.0 && !(e[first - 1] / later - 1.0 <= tolerance)) steady = false;  // a leak only raises it
-    }
-    if (!steady) break;
-    --first;
-  }
-  return first == 0 ? 0 : N - (windows - first) * w;  // the N % 8 samples before the windows go with the first
-}
-
 /// The noise the compensated curve takes out, measured over as much of the record as carries it at
 /// one level: the record the analysed part was cut from (`record`: the floor a decay was cut at
 /// included, where the noise is plainest) from steady_noise_start to its end, when that stretch is at

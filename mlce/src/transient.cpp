@@ -123,6 +123,19 @@ std::optional<double> increment_noise(const Series& s, std::size_t w) {
   return std::sqrt(noise_square);
 }
 
+/// Increments of samples [from, to) of a channel, each sample divided by `peak` first (no square of
+/// 1e300 overflows), and the third differences made of them.
+std::vector<double> scaled_increments(const std::vector<double>& channel, std::size_t from, std::size_t to, double peak) {
+  std::vector<double> dx(to - from - 1);
+  for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
+  return dx;
+}
+std::vector<double> third_differences(const std::vector<double>& dx) {
+  std::vector<double> d3(dx.size() > 3 ? dx.size() - 3 : 0);
+  for (std::size_t i = 0; i < d3.size(); ++i) d3[i] = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];
+  return d3;
+}
+
 }  // namespace
 
 std::optional<IncrementNoise> white_increment_noise(const Series& s, std::size_t from, std::size_t to,
@@ -136,10 +149,8 @@ std::optional<IncrementNoise> white_increment_noise(const Series& s, std::size_t
     out.relative.push_back(0.0);
     out.deviation.push_back(0.0);
     if (!(peak > 0.0)) continue;
-    std::vector<double> dx(to - from - 1);
-    for (std::size_t i = from; i + 1 < to; ++i) dx[i - from] = channel[i + 1] / peak - channel[i] / peak;
-    std::vector<double> d3(dx.size() > 3 ? dx.size() - 3 : 0);  // third differences
-    for (std::size_t i = 0; i < d3.size(); ++i) d3[i] = dx[i + 2] - 2.0 * dx[i + 1] + dx[i];
+    const std::vector<double> dx = scaled_increments(channel, from, to, peak);
+    const std::vector<double> d3 = third_differences(dx);
     if (test == WhitenessTest::increments) {
       const auto rho = lag_correlations(dx);  // increments of a stationary stretch have mean ~0
       if (!rho) continue;
@@ -163,6 +174,40 @@ std::optional<IncrementNoise> white_increment_noise(const Series& s, std::size_t
     out.deviation.back() = out.relative.back() * peak;
   }
   return out;
+}
+
+std::size_t steady_noise_start(const Series& s) {
+  constexpr std::size_t windows = 8;
+  const std::size_t N = s.size(), w = N / windows;
+  if (w < kFewestToJudgeWhiteness) return 0;
+  std::vector<std::vector<double>> energy;  // per channel, per window: the sum of (third difference)^2
+  for (const auto& x : s.channels) {
+    const double peak = max_abs(x);
+    std::vector<double> e(windows, 0.0);
+    if (peak > 0.0)
+      for (std::size_t k = 0; k < windows; ++k) {
+        const std::size_t from = N - (windows - k) * w;  // the windows end at the series' end
+        CompensatedSum sum;
+        for (const double d : third_differences(scaled_increments(x, from, from + w, peak))) sum.add(d * d);
+        e[k] = sum.value();
+      }
+    energy.push_back(std::move(e));
+  }
+  std::size_t first = windows - 1;  // the first window kept
+  for (; first > 0; --first) {
+    // The window's own error and that of the mean of the (windows - first) after it.
+    const double tolerance =
+        3.0 * std::sqrt(4.62 / static_cast<double>(w - 4) * (1.0 + 1.0 / static_cast<double>(windows - first)));
+    bool steady = true;
+    for (const auto& e : energy) {
+      double later = 0.0;
+      for (std::size_t k = first; k < windows; ++k) later += e[k];
+      later /= static_cast<double>(windows - first);
+      if (later > 0.0 && !(e[first - 1] / later - 1.0 <= tolerance)) steady = false;  // a leak only raises it
+    }
+    if (!steady) break;
+  }
+  return first == 0 ? 0 : N - (windows - first) * w;  // the N % 8 samples before the windows go with the first
 }
 
 std::string floor_evidence(const Floor& f, double floor_ratio) {
