@@ -64,12 +64,26 @@ TEST_F(Cli, NoiseCompensationSwitch) {
   EXPECT_DOUBLE_EQ(on["uncompensated_lambda"].get<double>(), off["lambda"].get<double>());
   EXPECT_NEAR(on["lambda"].get<double>() / (-0.02 * M_PI), 1.0, 0.1);
   EXPECT_LT(off["lambda"].get<double>() / (-0.02 * M_PI), 0.6);
+  // The noise's measured mean square, from ~8000 - 3 third differences of the whole record: relative
+  // error sqrt(4.62 / k) = 2.4 %; lambda's part from it is within the interval; the noise's share of
+  // the pairs' mean square over the fit is a fraction. Not compensated: null, absent.
+  const double half = 0.5 * (on["ci95"][1].get<double>() - on["ci95"][0].get<double>());
+  EXPECT_NEAR(on["noise_variance_error"].get<double>(), std::sqrt(4.62 / 7997.0), 0.1 * std::sqrt(4.62 / 7997.0));
+  EXPECT_GT(on["noise_lambda_stderr"].get<double>(), 0.0);
+  EXPECT_LE(1.96 * on["noise_lambda_stderr"].get<double>(), half);
+  ASSERT_EQ(on["noise_share"].size(), 2u);
+  for (const auto& share : on["noise_share"]) EXPECT_TRUE(share.get<double>() > 0.0 && share.get<double>() < 1.0) << share;
+  EXPECT_TRUE(off["noise_variance_error"].is_null());
+  EXPECT_TRUE(off["noise_lambda_stderr"].is_null());
+  EXPECT_FALSE(off.contains("noise_share"));
   const auto curve = (dir / "compensated.csv").string();
   const auto human = run("estimate " + f + " --column 2 --time-column 1 --quiet --curve " + curve);
   ASSERT_EQ(human.status, 0) << human.err;
   EXPECT_NE(human.out.find("noise           compensated"), std::string::npos) << human.out;
+  EXPECT_NE(human.out.find("its share of the pairs' mean square"), std::string::npos) << human.out;
   const std::string c = slurp(curve);
-  EXPECT_EQ(c.substr(0, c.find('\n')), "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance,local_slope");
+  EXPECT_EQ(c.substr(0, c.find('\n')),
+            "step,time,mean_log_distance,terms,in_fit,fit_line,plain_mean_log_distance,local_slope,noise_share");
   const auto bad = run("estimate " + f + " --column 2 --time-column 1 --noise-compensation on");
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("--noise-compensation 'on': expected auto or off"), std::string::npos) << bad.err;

@@ -606,6 +606,20 @@ TEST(Rosenstein, NoiseCompensatedCurveOfANoisyDecayFallsAtTheDecaysRate) {
   const double rate = fit_divergence(c, range).slope / dt;
   EXPECT_NEAR(rate / (-zeta * w), 1.0, 0.05) << "plain " << plain_rate;
   EXPECT_LT(plain_rate / (-zeta * w), 0.7);
+  // How the fitted slope rests on the noise's level, against a second method: the curve compensated
+  // for a noise mean square 2 % larger, fitted over the same steps, against the first-order
+  // sensitivity from the shares. Over the fit the noise makes up about half of the mean square.
+  const double sensitivity = noise_level_sensitivity(c, 51, 800);
+  EXPECT_GT(c.compensated_noise_share[51], 0.2);
+  EXPECT_LT(c.compensated_noise_share[800], 0.9);
+  EXPECT_LT(sensitivity, 0.0);  // more noise taken out lowers the later, noisier steps more
+  o.noise_deviation = {noise / sd * std::sqrt(1.02)};
+  auto more = divergence_curve(make_series_with_step({x}, dt), o);
+  more.mean_log_distance = more.compensated_log_distance;
+  more.batch_mean = more.compensated_batch_mean;
+  const double change = fit_divergence(more, range).slope / dt - rate;
+  EXPECT_NEAR(change, 0.02 * sensitivity / dt, 0.05 * std::abs(change)) << "sensitivity " << sensitivity / dt;
+  EXPECT_GT(std::abs(change), 0.005 * zeta * w);  // the check is not of two zeros
 }
 
 TEST(Rosenstein, ExactlyRepeatingSignalNeverTakesLogOfZero) {
@@ -705,7 +719,7 @@ TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignm
   o.noise_deviation = {0.002};
   const DivergenceCurve c = follow_pairs(s, o, pairs);
   ASSERT_EQ(c.compensated_log_distance.size(), o.horizon + 1);
-  std::vector<double> sum(o.horizon + 1, 0.0);
+  std::vector<double> sum(o.horizon + 1, 0.0), noise_sum(o.horizon + 1, 0.0), square_sum(o.horizon + 1, 0.0);
   std::size_t count = 0;
   for (std::size_t k = 0; k < pairs.references.size(); ++k) {
     const std::size_t j = pairs.references[k], n = pairs.nearest.neighbour[k];
@@ -720,11 +734,16 @@ TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignm
       std::size_t fresh = 0;
       for (std::size_t lag = 0; lag < o.dim; ++lag) fresh += (i + lag * o.delay) % o.delay != 0 || i + lag * o.delay >= o.dim * o.delay;
       sum[i] += (d2[i] - 2.0 * 0.002 * 0.002 * static_cast<double>(fresh)) / mean;
+      noise_sum[i] += 2.0 * 0.002 * 0.002 * static_cast<double>(fresh) / mean;
+      square_sum[i] += d2[i] / mean;
     }
     ++count;
   }
-  for (std::size_t i = 0; i <= o.horizon; ++i)
+  ASSERT_EQ(c.compensated_noise_share.size(), o.horizon + 1);
+  for (std::size_t i = 0; i <= o.horizon; ++i) {
     EXPECT_NEAR(c.compensated_log_distance[i], 0.5 * std::log(sum[i] / static_cast<double>(count)), 1e-9) << "step " << i;
+    EXPECT_NEAR(c.compensated_noise_share[i], noise_sum[i] / square_sum[i], 1e-12) << "step " << i;
+  }
 }
 
 TEST(Rosenstein, PhaseAlignmentRemovesTheOffsetAlongTheFlow) {

@@ -371,6 +371,31 @@ TEST(Transient, NoiseThroughoutIsNoFloorHoweverItsLevelVaries) {
   EXPECT_EQ(f.index, 2000u);
 }
 
+TEST(Transient, ThirdDifferenceNoiseEstimateScattersAsItsVarianceFactorSays) {
+  // White Gaussian noise of deviation 0.3, k + 3 samples: the mean square white_increment_noise
+  // reads from k third differences scatters around 0.09 with relative deviation
+  // sqrt(kThirdDifferenceVarianceFactor / k) (their lag correlations -0.75, 0.3, -0.05; independent
+  // squares would give sqrt(2 / k), 1.5 x less). 400 draws: the sample deviation is within 15 %.
+  for (const std::size_t k : {500u, 4000u}) {
+    std::mt19937_64 gen(11);
+    std::normal_distribution<double> g(0.0, 0.3);
+    double sum = 0.0, square = 0.0;
+    int draws = 0;
+    for (int draw = 0; draw < 400; ++draw) {
+      std::vector<double> x(k + 3);
+      for (double& v : x) v = g(gen);
+      const auto noise = white_increment_noise(make_series_with_step({x}, 1.0), 0, x.size(), WhitenessTest::third_differences);
+      if (!noise) continue;  // the whiteness test refuses a few draws by chance
+      const double ratio = noise->deviation[0] * noise->deviation[0] / 0.09;
+      sum += ratio, square += ratio * ratio, ++draws;
+    }
+    ASSERT_GT(draws, 380) << k;
+    const double mean = sum / draws, sd = std::sqrt((square - draws * mean * mean) / (draws - 1));
+    EXPECT_NEAR(mean, 1.0, 3.0 * std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(k) / draws)) << k;
+    EXPECT_NEAR(sd / std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(k)), 1.0, 0.15) << k;
+  }
+}
+
 TEST(Transient, SmallMotionsADecaySettlesOnAreNoWhiteFloor) {
   // Settled on a limit cycle of 1e-3 (smooth: lag-1 autocorrelation ~1), or on one sampled at 4 and
   // at 3 samples per cycle (lag 1 correlation 0 and -0.5, but lag 2 -1, lag 3 +1): motions, not noise.

@@ -70,6 +70,13 @@ nlohmann::json to_json(const MlceResult& r) {
     }
   }
   j["noise_level"] = finite_or_null(r.noise_level);  // of the signal's standard deviation
+  // Compensated: the noise estimate's relative error (of its mean square) and lambda's standard error
+  // from it (per time unit, within ci95), and the noise's share of the pairs' mean square at the fit's
+  // first and last step.
+  j["noise_variance_error"] = finite_or_null(r.noise_variance_error);
+  j["noise_lambda_stderr"] = finite_or_null(r.noise_lambda_stderr);
+  if (r.noise_compensated && !r.curve.compensated_noise_share.empty())
+    j["noise_share"] = {r.curve.compensated_noise_share[r.fit.first], r.curve.compensated_noise_share[r.fit.last]};
   j["unreliable"] = r.unreliable.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.unreliable);
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
@@ -130,10 +137,16 @@ std::string to_text(const MlceResult& r) {
                      r.curve.mean_phase_shift,
                      r.curve.cubic_pairs > 0 ? fmt::format(", read on cubics ({} pairs)", r.curve.cubic_pairs) : "",
                      std::isfinite(r.unaligned_lambda) ? fmt::format(" (plain curve: {:.6g} {})", r.unaligned_lambda, u) : "");
-  if (r.noise_compensated)
+  if (r.noise_compensated) {
     s += fmt::format("noise           compensated: white noise of {:.2g} % of the signal's deviation taken out of the "
                      "mean square distances (plain curve: {:.6g} {})\n",
                      100.0 * r.noise_level, r.uncompensated_lambda, u);
+    if (!r.curve.compensated_noise_share.empty())
+      s += fmt::format("                its share of the pairs' mean square {:.2f} .. {:.2f} over the fit; its mean square "
+                       "measured to {:.2g} %, which moves lambda by {:.3g} {} (1 standard error, within the interval)\n",
+                       r.curve.compensated_noise_share[r.fit.first], r.curve.compensated_noise_share[r.fit.last],
+                       100.0 * r.noise_variance_error, r.noise_lambda_stderr, u);
+  }
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";
   return s;
@@ -194,13 +207,16 @@ CurveTable curve_table(const MlceResult& r) {
   // the local slope.
   CurveTable t;
   const bool plain = r.plain_curve.size() == r.curve.mean_log_distance.size();
+  const auto& share = r.curve.compensated_noise_share;
+  const bool shares = r.noise_compensated && share.size() == r.curve.mean_log_distance.size();
   t.plain_column = plain ? 7 : 0;
   t.slope_column = plain ? 8 : 7;
   const std::vector<std::string> slope = local_slope_fields(r, &t.any_slope);
   t.csv = std::string("step,time,mean_log_distance,terms,in_fit,fit_line") + (plain ? ",plain_mean_log_distance" : "") +
-          ",local_slope\n";
+          ",local_slope" + (shares ? ",noise_share" : "") + "\n";
   for (std::size_t i = 0; i < r.curve.mean_log_distance.size(); ++i)
-    t.csv += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.plain_curve[i]) : "") + slope[i] + "\n";
+    t.csv += curve_row(r, i) + (plain ? fmt::format(",{:.10g}", r.plain_curve[i]) : "") + slope[i] +
+             (shares ? fmt::format(",{:.6g}", share[i]) : "") + "\n";
   return t;
 }
 

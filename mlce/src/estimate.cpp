@@ -267,6 +267,9 @@ struct MeasuredNoise {
   std::vector<double> deviation;
   double level = 0.0;     ///< root mean square over the channels
   const char* where = "";  ///< over which stretch, in words
+  /// Relative standard error of the measured mean square, sqrt(4.62 / k) for k third differences
+  /// (kThirdDifferenceVarianceFactor).
+  double variance_error = 0.0;
 };
 
 /// The noise the compensated curve takes out, measured over as much of the record as carries it at
@@ -284,14 +287,17 @@ std::optional<MeasuredNoise> measure_noise(const Series& record, const Series& a
   std::vector<double> divisors;
   std::optional<IncrementNoise> noise;
   const std::size_t from = steady_noise_start(record);
+  std::size_t differences = 0;
   if (N - from >= n / 4) noise = white_increment_noise(record, from, N, WhitenessTest::third_differences);
   if (noise) {
+    differences = N - from - 3;
     divisors = unit_deviation_divisors(analysed);
     out.where = from == 0 ? "the whole record's third differences" : "the record's third differences where they are steady";
   } else {
     // In the curve's units already: the test's leakage (omega dt)^6 is then relative to the same scale.
     noise = white_increment_noise(scaled_to_unit_deviation(analysed), n - n / 4, n, WhitenessTest::third_differences);
     if (!noise) return std::nullopt;
+    differences = n / 4 - 3;
     divisors.assign(analysed.channels.size(), 1.0);
     out.where = "the last quarter's third differences";
   }
@@ -302,7 +308,24 @@ std::optional<MeasuredNoise> measure_noise(const Series& record, const Series& a
   }
   if (!(square > 0.0) || !std::isfinite(square)) return std::nullopt;
   out.level = std::sqrt(square / static_cast<double>(divisors.size()));
+  out.variance_error = std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(differences));
   return out;
+}
+
+/// The batch-means interval of a compensated curve's slope leaves out the error of the noise's measured
+/// level: every batch's curve is compensated with the same level. Its part (r.noise_lambda_stderr) is
+/// the slope's first-order change per relative error of the noise's mean square over the fit region
+/// (noise_level_sensitivity) times that error's standard error; the interval's half-width becomes the
+/// root sum of squares of the batches' and 1.96 of it (normal: the error is an average over thousands
+/// of differences).
+void widen_for_noise_error(double variance_error, MlceResult& r) {
+  const double stderr_per_sample = std::abs(noise_level_sensitivity(r.curve, r.fit.first, r.fit.last)) * variance_error;
+  r.noise_variance_error = variance_error;
+  r.noise_lambda_stderr = stderr_per_sample / r.curve.dt;
+  const double batches = 0.5 * (r.fit.ci_high - r.fit.ci_low);
+  const double half = std::hypot(batches, 1.96 * stderr_per_sample);
+  r.fit.ci_low = r.fit.slope - half;
+  r.fit.ci_high = r.fit.slope + half;
 }
 
 /// A decay whose plain curve flag_noise found held up by measurement noise (its warning
@@ -344,6 +367,7 @@ void compensate_noise(const Series& record, const Series& series, const MlceOpti
   r.fit = fit_divergence(r.curve, fo);
   r.noise_compensated = true;
   r.noise_level = level;
+  widen_for_noise_error(noise->variance_error, r);
   flagged = fmt::format(
       "plain curve (eq. 23, lambda {:.6g}): {}. The noise is white ({}: {:.2g} % of the "
       "signal's standard deviation), and lambda is read from the noise-compensated curve instead: the log of the "

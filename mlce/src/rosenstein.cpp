@@ -123,7 +123,7 @@ namespace {
 void compensated_curve_from_sums(DivergenceCurve& curve, const std::vector<std::vector<double>>& batch_square,
                       const std::vector<std::vector<double>>& batch_noise, const std::vector<std::size_t>& batch_pairs) {
   const std::size_t H = curve.mean_log_distance.size() - 1, B = batch_square.size();
-  std::vector<double> y(H + 1);
+  std::vector<double> y(H + 1), share(H + 1);
   std::vector<std::vector<double>> batches(B, std::vector<double>(H + 1, std::nan("")));
   for (std::size_t i = 0; i <= H; ++i) {
     CompensatedSum square, noise;
@@ -142,11 +142,23 @@ void compensated_curve_from_sums(DivergenceCurve& curve, const std::vector<std::
       return;
     }
     y[i] = 0.5 * std::log(rest / static_cast<double>(pairs));
+    share[i] = noise.value() / square.value();
   }
+  curve.compensated_noise_share = std::move(share);
   curve.compensated_log_distance = std::move(y);
   curve.compensated_batch_mean = std::move(batches);
 }
 }  // namespace
+
+double noise_level_sensitivity(const DivergenceCurve& curve, std::size_t first, std::size_t last) {
+  const auto& share = curve.compensated_noise_share;
+  if (share.empty()) return 0.0;
+  if (first >= last || last >= share.size())
+    throw std::logic_error("noise_level_sensitivity: the region is not within the curve");
+  std::vector<double> shift(share.size());
+  for (std::size_t i = first; i <= last; ++i) shift[i] = -0.5 * share[i] / (1.0 - share[i]);
+  return fit_line(shift.data(), first, last).slope;
+}
 
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
   options.validate();

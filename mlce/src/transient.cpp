@@ -197,7 +197,7 @@ std::size_t steady_noise_start(const Series& s) {
   for (; first > 0; --first) {
     // The window's own error and that of the mean of the (windows - first) after it.
     const double tolerance =
-        3.0 * std::sqrt(4.62 / static_cast<double>(w - 4) * (1.0 + 1.0 / static_cast<double>(windows - first)));
+        3.0 * std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(w - 4) * (1.0 + 1.0 / static_cast<double>(windows - first)));
     bool steady = true;
     for (const auto& e : energy) {
       double later = 0.0;

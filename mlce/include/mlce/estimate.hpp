@@ -142,6 +142,12 @@ struct MlceResult {
   /// curve is noise-compensated, the noise measured from the increments (RMS over the channels);
   /// NaN when neither.
   double noise_level = std::numeric_limits<double>::quiet_NaN();
+  /// When the curve is noise-compensated: the relative standard error of the noise's measured mean
+  /// square (sqrt(4.62 / k), k third differences), and lambda's standard error from it, per time unit
+  /// (the first-order change of the fitted slope, DivergenceCurve::compensated_noise_share); ci95 includes
+  /// it. NaN otherwise.
+  double noise_variance_error = std::numeric_limits<double>::quiet_NaN();
+  double noise_lambda_stderr = std::numeric_limits<double>::quiet_NaN();
   /// Samples left out at the start because they do not recur (skip_nonrecurrent_start); the
   /// result describes the rest (n_points counts it, the curve starts there).
   std::size_t skipped_start = 0;

@@ -87,9 +87,21 @@ struct DivergenceCurve {
   std::vector<double> compensated_log_distance;
   std::vector<std::vector<double>> compensated_batch_mean;
   std::optional<std::size_t> compensation_failed_step;
+  /// With compensated_log_distance: at every step, the noise's expected share of the pairs' (weighted)
+  /// mean square, sum n_j / w_j over sum d_j^2 / w_j, in [0, 1). It says how much the compensated curve
+  /// rests on the noise's measured level: a relative error e of the noise's mean square moves y_c(i) by
+  /// -e/2 x share / (1 - share) (to first order), so the slope fitted over a region moves by e times the
+  /// slope of that curve over it (noise_level_sensitivity).
+  std::vector<double> compensated_noise_share;
   double dt = 1.0;
   std::vector<std::string> warnings;
 };
+
+/// How the slope of a noise-compensated curve over steps [first, last] moves, per step, per unit
+/// relative error of the noise's measured mean square: the least-squares slope of
+/// -share(i) / (2 (1 - share(i))) over the region (DivergenceCurve::compensated_noise_share; first
+/// order in the error). 0 when the curve carries no shares.
+double noise_level_sensitivity(const DivergenceCurve& curve, std::size_t first, std::size_t last);
 
 /// Reference points of a curve and the nearest neighbour of each (eq. 18 with the Theiler
 /// exclusion of eq. 20), found for the options' m, delay, horizon and Theiler window.

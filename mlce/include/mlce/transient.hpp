@@ -93,6 +93,12 @@ Floor detect_floor(const Series& series, double floor_ratio);
 /// C(6, 3) s^2 = 20 s^2: the smooth motion leaks in as (omega dt)^6, least of the low orders). A
 /// constant channel carries no noise (0). nullopt: some channel is not white noise at a steady
 /// level by the test, or the stretch has fewer than 16 samples.
+/// Variance of the mean of k squared third differences of white Gaussian noise, over the square of
+/// their mean, times k: 2 x (1 + 2 (0.75^2 + 0.3^2 + 0.05^2)) = 4.62 (third differences correlate at
+/// lags 1, 2, 3 by -0.75, 0.3, -0.05). sqrt(4.62 / k) is the relative standard error of a noise's mean
+/// square measured from k third differences.
+inline constexpr double kThirdDifferenceVarianceFactor = 4.62;
+
 struct IncrementNoise {
   std::vector<double> deviation;  ///< per channel, in the channel's units
   std::vector<double> relative;   ///< per channel, over the channel's peak |x| (no square overflows)
