@@ -500,8 +500,10 @@ TEST(EstimateSystems, CleanDecayIsNotCompensated) {
 
 // Two channels of one decay, each with noise of its own size (1 % and 3 % of the start, the second
 // in another unit): the noise is measured per channel and each channel's share taken out. 4 noise
-// seeds: each compensated estimate within 35 % of the rate and closer to it than eq. 23's curve
-// (~0.3 of it); the 3 % channel's noise leaves little signal in the pairs' distances.
+// seeds: each compensated estimate within 20 % of the rate (1.032, 0.822, 1.098, 1.026) and closer
+// to it than eq. 23's curve (~0.3 of it); the 3 % channel's noise leaves little signal in the pairs'
+// distances. Seed 2 read 0.761 while the noise's steady stretch was judged window by window against
+// those after it: its last window was low by chance, and the 3 % channel's noise read 12 % low.
 TEST(EstimateSystems, NoiseOfEachChannelIsCompensated) {
   const double zeta = 0.01, w = 2 * M_PI, lambda = -zeta * w;
   const std::size_t n = 8000;
@@ -522,7 +524,7 @@ TEST(EstimateSystems, NoiseOfEachChannelIsCompensated) {
     std::printf("two channels, 1 %% and 3 %% noise, seed %d: lambda / (-zeta w) compensated %.3f, plain %.3f\n",
                 static_cast<int>(seed), r.lambda / lambda, p.lambda / lambda);
     EXPECT_TRUE(r.noise_compensated) << seed;
-    EXPECT_NEAR(r.lambda / lambda, 1.0, 0.35) << seed;
+    EXPECT_NEAR(r.lambda / lambda, 1.0, 0.2) << seed;
     EXPECT_LT(std::abs(r.lambda / lambda - 1.0), std::abs(p.lambda / lambda - 1.0)) << seed;
   }
 }

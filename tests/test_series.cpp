@@ -396,6 +396,28 @@ TEST(Transient, ThirdDifferenceNoiseEstimateScattersAsItsVarianceFactorSays) {
   }
 }
 
+TEST(Transient, SteadyNoiseStretchLeavesOutARaisedStartAndKeepsALowEnd) {
+  // White noise of deviation 1 over 8000 samples (8 windows of 1000): all of it is steady. Its first
+  // window at 1.25 (mean square 1.56x, as a coarsely sampled decay's leak raises it) is left out;
+  // its last window at 0.8 (mean square 0.64x) is no reason to leave out the seven before it, which
+  // the rule before this one (each window judged against the mean of those after it) did: the noise
+  // was then read from the last 1000 samples alone. A last window low by chance (3.4 standard errors)
+  // made it read a two-channel decay's noise 12 % low (EstimateSystems.NoiseOfEachChannelIsCompensated,
+  // seed 2). Two channels: the raised window in either is left out.
+  std::mt19937_64 gen(2);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> white(8000), raised(8000), low_end(8000);
+  for (std::size_t i = 0; i < 8000; ++i) {
+    white[i] = g(gen);
+    raised[i] = (i < 1000 ? 1.25 : 1.0) * white[i];
+    low_end[i] = (i >= 7000 ? 0.8 : 1.0) * white[i];
+  }
+  EXPECT_EQ(steady_noise_start(make_series_with_step({white}, 0.01)), 0u);
+  EXPECT_EQ(steady_noise_start(make_series_with_step({raised}, 0.01)), 1000u);
+  EXPECT_EQ(steady_noise_start(make_series_with_step({low_end}, 0.01)), 0u);
+  EXPECT_EQ(steady_noise_start(make_series_with_step({low_end, raised}, 0.01)), 1000u);
+}
+
 TEST(Transient, SmallMotionsADecaySettlesOnAreNoWhiteFloor) {
   // Settled on a limit cycle of 1e-3 (smooth: lag-1 autocorrelation ~1), or on one sampled at 4 and
   // at 3 samples per cycle (lag 1 correlation 0 and -0.5, but lag 2 -1, lag 3 +1): motions, not noise.

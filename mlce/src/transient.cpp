@@ -193,19 +193,22 @@ std::size_t steady_noise_start(const Series& s) {
       }
     energy.push_back(std::move(e));
   }
-  std::size_t first = windows - 1;  // the first window kept
-  for (; first > 0; --first) {
-    // The window's own error and that of the mean of the (windows - first) after it.
+  // The longest run of windows to the end that is steady: none of its windows exceeds the run's mean
+  // by more than 3 standard errors of its difference from that mean (one-sided: a leak only raises
+  // a window). Judged against the run's mean, not the windows after each: a last window low by chance
+  // would otherwise refuse every window before it.
+  std::size_t first = 0;  // the first window kept
+  for (; first + 1 < windows; ++first) {
+    const double len = static_cast<double>(windows - first);
     const double tolerance =
-        3.0 * std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(w - 4) * (1.0 + 1.0 / static_cast<double>(windows - first)));
+        3.0 * std::sqrt(kThirdDifferenceVarianceFactor / static_cast<double>(w - 4) * (1.0 - 1.0 / len));
     bool steady = true;
     for (const auto& e : energy) {
-      double later = 0.0;
-      for (std::size_t k = first; k < windows; ++k) later += e[k];
-      later /= static_cast<double>(windows - first);
-      if (later > 0.0 && !(e[first - 1] / later - 1.0 <= tolerance)) steady = false;  // a leak only raises it
+      double mean = 0.0;
+      for (std::size_t k = first; k < windows; ++k) mean += e[k] / len;
+      for (std::size_t k = first; k < windows && steady; ++k) steady = !(mean > 0.0) || e[k] / mean - 1.0 <= tolerance;
     }
-    if (!steady) break;
+    if (steady) break;
   }
   return first == 0 ? 0 : N - (windows - first) * w;  // the N % 8 samples before the windows go with the first
 }

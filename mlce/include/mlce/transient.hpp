@@ -107,18 +107,21 @@ enum class WhitenessTest { increments, third_differences };
 std::optional<IncrementNoise> white_increment_noise(const Series& series, std::size_t from, std::size_t to,
                                                    WhitenessTest test = WhitenessTest::increments);
 
-/// Where the white noise of a series is at one level to its end: the series in 8 windows, and, from
-/// the last back, every window whose mean square of third differences exceeds, in no channel, the
-/// mean of the k windows after it by more than 3 standard errors (sqrt(4.62 / w x (1 + 1 / k)) for w
-/// differences per window: they correlate at lags 1-3; with 3 errors of the window's own, both ways,
-/// two of the 64 records of bench/noisy_decays stopped at their last window by chance, and read 1.19
-/// and 0.81). A motion leaks into third differences as (omega dt)^6 x its amplitude^2, most where a
-/// decay is largest: coarsely sampled (omega dt = 0.31, zeta 0.005, 0.5 % noise) the leak of a whole
-/// record's first eighth raised its mean square by 40-55 % and the whole record's estimate of the
-/// noise by 2-3 %, which passes the whiteness test, and the noise-compensated curve, whose noise
-/// share nears 1 at its end, read 1.15 of the rate on two noise draws; from the second eighth, 1.05
-/// and 1.07. Returns the first sample of the steady stretch (0: all of it; 0 also for fewer than 16
-/// samples per window).
+/// Where the white noise of a series is at one level to its end: the series in 8 windows, and the
+/// longest run of them to the end none of whose windows' mean square of third differences exceeds,
+/// in any channel, the run's mean by more than 3 standard errors of that difference
+/// (sqrt(4.62 / w x (1 - 1 / k)) for w differences per window and k windows in the run: they
+/// correlate at lags 1-3). One-sided: a leak only raises a window. A motion leaks into third
+/// differences as (omega dt)^6 x its amplitude^2, most where a decay is largest: coarsely sampled
+/// (omega dt = 0.31, zeta 0.005, 0.5 % noise) the leak of a whole record's first eighth raised its
+/// mean square by 40-55 % and the whole record's estimate of the noise by 2-3 %, which passes the
+/// whiteness test, and the noise-compensated curve, whose noise share nears 1 at its end, read 1.15
+/// of the rate on two noise draws; from the second eighth, 1.05 and 1.07. Judged against the run's
+/// mean, not window by window against the mean of those after it (the rule before): a last window
+/// low by chance then refused every window before it (a two-channel decay's 3 % noise read 12 % low
+/// from its last window alone; with 3 errors of the window's own, both ways, two of the 64 records
+/// of bench/noisy_decays stopped at their last window, and read 1.19 and 0.81). Returns the first
+/// sample of the steady stretch (0: all of it; 0 also for fewer than 16 samples per window).
 std::size_t steady_noise_start(const Series& series);
 
 /// What found the floor, in words: the white tail's level, or the ratio it fell below.
