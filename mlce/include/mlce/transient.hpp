@@ -75,6 +75,13 @@ struct Floor {
 /// (lags 1-3 as above), the record is noise throughout, only louder in places, and has no floor.
 /// floor_ratio 0: never a floor.
 Floor detect_floor(const Series& series, double floor_ratio);
+
+/// Variance of the mean of k squared third differences of white Gaussian noise, over the square of
+/// their mean, times k: 2 x (1 + 2 (0.75^2 + 0.3^2 + 0.05^2)) = 4.62 (third differences correlate at
+/// lags 1, 2, 3 by -0.75, 0.3, -0.05). sqrt(4.62 / k) is the relative standard error of a noise's mean
+/// square measured from k third differences.
+inline constexpr double kThirdDifferenceVarianceFactor = 4.62;
+
 /// White measurement noise in samples [from, to) of every channel, read from its differences.
 /// WhitenessTest::increments (the floor rule's): the increments of white noise e of variance s^2
 /// correlate -1/2, 0 and 0 at lags 1, 2 and 3; a finely sampled smooth motion moves by ~omega dt x
@@ -93,12 +100,6 @@ Floor detect_floor(const Series& series, double floor_ratio);
 /// C(6, 3) s^2 = 20 s^2: the smooth motion leaks in as (omega dt)^6, least of the low orders). A
 /// constant channel carries no noise (0). nullopt: some channel is not white noise at a steady
 /// level by the test, or the stretch has fewer than 16 samples.
-/// Variance of the mean of k squared third differences of white Gaussian noise, over the square of
-/// their mean, times k: 2 x (1 + 2 (0.75^2 + 0.3^2 + 0.05^2)) = 4.62 (third differences correlate at
-/// lags 1, 2, 3 by -0.75, 0.3, -0.05). sqrt(4.62 / k) is the relative standard error of a noise's mean
-/// square measured from k third differences.
-inline constexpr double kThirdDifferenceVarianceFactor = 4.62;
-
 struct IncrementNoise {
   std::vector<double> deviation;  ///< per channel, in the channel's units
   std::vector<double> relative;   ///< per channel, over the channel's peak |x| (no square overflows)
