@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -39,11 +38,7 @@ struct NoisyRun {
   double share_first = 0.0, share_last = 0.0, noise_part = 0.0;
 };
 NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, double noise, std::uint64_t seed) {
-  std::mt19937_64 gen(seed);
-  std::normal_distribution<double> g(0.0, noise);
-  std::vector<double> x = clean;
-  for (double& v : x) v += g(gen);
-  const auto series = mlce::make_series_with_step({x}, dt);
+  const auto series = mlce::make_series_with_step({mlce::reference::with_white_noise(clean, noise, seed)}, dt);
   mlce::MlceOptions plain;
   plain.noise_compensation = mlce::NoiseCompensation::off;
   const auto r = mlce::estimate_mlce(series, {});

@@ -425,10 +425,7 @@ TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsItsRateOnTheCompensatedCurve) 
   for (const double noise : {0.01, 0.03}) {
     std::vector<double> compensated, plain;
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-      std::mt19937_64 gen(seed);
-      std::normal_distribution<double> g(0.0, noise);
-      std::vector<double> x = clean;
-      for (double& v : x) v += g(gen);
+      const std::vector<double> x = reference::with_white_noise(clean, noise, seed);
       const auto r = run(x, 0.01);
       MlceOptions off;
       off.noise_compensation = NoiseCompensation::off;
@@ -465,10 +462,7 @@ TEST(EstimateSystems, CoarselySampledDecaysNoiseIsMeasuredWhereItsMotionDoesNotL
   const auto clean = reference::damped_oscillator(3819, dt, zeta, w);
   std::vector<double> ratios, whole_noise;
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    std::mt19937_64 gen(seed);
-    std::normal_distribution<double> g(0.0, noise);
-    std::vector<double> x = clean;
-    for (double& v : x) v += g(gen);
+    const std::vector<double> x = reference::with_white_noise(clean, noise, seed);
     const auto r = run(x, dt);
     ASSERT_TRUE(r.noise_compensated) << seed << ": " << r.fit.rule;
     EXPECT_TRUE(has_warning(r, "the record's third differences where they are steady")) << seed;

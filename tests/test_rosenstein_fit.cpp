@@ -578,10 +578,7 @@ TEST(Rosenstein, LinearOscillatorCurveIsExactlyExponentialCompensatedOrNot) {
 // after the embedding window (those before hold the search's selection of the noise).
 TEST(Rosenstein, NoiseCompensatedCurveOfANoisyDecayFallsAtTheDecaysRate) {
   const double dt = 0.01, zeta = 0.02, w = 2 * M_PI, noise = 0.01;
-  std::vector<double> x = reference::damped_oscillator(3000, dt, zeta, w);
-  std::mt19937_64 gen(5);
-  std::normal_distribution<double> g(0.0, noise);
-  for (double& v : x) v += g(gen);
+  const std::vector<double> x = reference::with_white_noise(reference::damped_oscillator(3000, dt, zeta, w), noise, 5);
   RosensteinOptions o;
   o.dim = 3;
   o.delay = 25;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <cstddef>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -143,14 +144,18 @@ inline std::vector<double> decaying_modes(std::size_t n, double dt, const std::v
   return out;
 }
 
-/// The damped oscillator plus white noise of standard deviation `noise` (mt19937_64 seed 7): the
-/// decay reaches the noise floor after ln(1/noise) / (zeta omega) time units (paper 001 Fig. 6).
-inline std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, double omega, double noise) {
-  auto x = damped_oscillator(n, dt, zeta, omega);
-  std::mt19937_64 rng(7);
+/// x plus Gaussian white noise of standard deviation `noise`, drawn in order from mt19937_64 `seed`.
+inline std::vector<double> with_white_noise(std::vector<double> x, double noise, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
   std::normal_distribution<double> g(0.0, noise);
   for (double& v : x) v += g(rng);
   return x;
+}
+
+/// The damped oscillator plus white noise of standard deviation `noise` (mt19937_64 seed 7): the
+/// decay reaches the noise floor after ln(1/noise) / (zeta omega) time units (paper 001 Fig. 6).
+inline std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, double omega, double noise) {
+  return with_white_noise(damped_oscillator(n, dt, zeta, omega), noise, 7);
 }
 
 /// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration. From (x0, y0) after 1000 iterations.
