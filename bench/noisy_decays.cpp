@@ -11,7 +11,8 @@
 // and, on other decays (the same form; zeta 0.005 ... 0.03, noise 0.5 % and 2 %, sampled at dt = 0.01
 // ... 0.05 s, i.e. 100 ... 20 samples per period, each over 6 / (zeta w) s = e^{-6} of its start, 3 noise
 // seeds 11..13): per dt and over all, the same counts, compensated and plain, the intervals, and every
-// series outside 20 % with the noise's share of the pairs' mean square over its fit:
+// series outside 20 % with the noise's share of the pairs' mean square over its fit, the fit's steps,
+// and lambda / (-zeta w) from a line through the curve from the fit's first step to its end:
 //   build/noisy_decays grid   (about 3 s)
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/numerics.hpp"
 #include "ratio_tally.hpp"
 #include "reference_systems.hpp"
 
@@ -36,6 +38,10 @@ struct NoisyRun {
   /// Compensated: the noise's share of the pairs' mean square at the fit's first and last step, and
   /// the noise level's part of the interval, 1.96 noise_lambda_stderr over its half-width.
   double share_first = 0.0, share_last = 0.0, noise_part = 0.0;
+  /// Compensated: the fit region, the curve's last step, the mean period (samples), and the slope of
+  /// the line through the curve from the region's first step to its end, over -zeta w dt.
+  std::size_t first = 0, last = 0, end = 0, period = 0;
+  double rest_slope = 0.0;
 };
 NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, double noise, std::uint64_t seed) {
   const auto series = mlce::make_series_with_step({mlce::reference::with_white_noise(clean, noise, seed)}, dt);
@@ -53,6 +59,9 @@ NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, dou
     q.covered_by_batches = std::abs(r.lambda - lambda) <= batches;
     q.share_first = r.curve.compensated_noise_share.at(r.fit.first);
     q.share_last = r.curve.compensated_noise_share.at(r.fit.last);
+    const auto& y = r.curve.mean_log_distance;
+    q.first = r.fit.first, q.last = r.fit.last, q.end = y.size() - 1, q.period = r.mean_period.mean_period;
+    q.rest_slope = mlce::fit_line(y.data(), q.first, q.end).slope / (lambda * dt);
   }
   return q;
 }
@@ -97,9 +106,12 @@ void grid() {
           compensated_dt += q.was_compensated, ++total;
           coverage.add(q);
           if (std::abs(q.compensated - 1.0) > 0.2) {
-            char item[200], share[64] = " not compensated";
+            char item[320], share[200] = " not compensated";
             if (q.was_compensated)
-              std::snprintf(share, sizeof share, " noise share %.2f..%.2f over the fit", q.share_first, q.share_last);
+              std::snprintf(share, sizeof share,
+                            " noise share %.2f..%.2f over the fit, steps %zu..%zu of 0..%zu (period %zu), from %zu to "
+                            "the end %.3f",
+                            q.share_first, q.share_last, q.first, q.last, q.end, q.period, q.first, q.rest_slope);
             std::snprintf(item, sizeof item, " zeta %g noise %g %% dt %g seed %llu: %.3f%s (plain %.3f);", zeta,
                           100 * noise, dt, static_cast<unsigned long long>(seed), q.compensated, share, q.plain);
             outside += item;
