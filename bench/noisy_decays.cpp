@@ -14,6 +14,12 @@
 // series outside 20 % with the noise's share of the pairs' mean square over its fit, the fit's steps,
 // and lambda / (-zeta w) from a line through the curve from the fit's first step to its end:
 //   build/noisy_decays grid   (about 3 s)
+// and on two-mode decays, the free response of a linear system whose least damped mode sets lambda_1:
+// e^{r t} cos 2 pi t at r = -0.0628, -0.126 and -0.3 1/s (zeta 0.01, 0.02, 0.048) and amplitude 0.2, 1
+// or 5, plus a faster mode of amplitude 1 (-0.5 1/s at 0.45 Hz, -1 at 1.37 or -3 at 3.3, phase 0.7),
+// dt = 0.01 s, each over 6 / |r| s (e^{-6} of the slow mode's start), with white noise of 1 % and 3 %
+// of the slow mode's amplitude, noise seeds 21, 22; the same counts and the series outside 20 %:
+//   build/noisy_decays modes  (about 2 s)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +29,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/numerics.hpp"
+#include "mlce/reading.hpp"
 #include "ratio_tally.hpp"
 #include "reference_systems.hpp"
 
@@ -33,6 +40,9 @@ namespace {
 struct NoisyRun {
   double compensated, plain;
   bool was_compensated;
+  /// The default estimate's reading: stable is right, undetermined says it cannot tell, neutral or
+  /// unstable misleads.
+  mlce::Stability reading = mlce::Stability::undetermined;
   /// Compensated: does the 95 % interval hold -zeta w, and would the batches' part alone?
   bool covered = false, covered_by_batches = false;
   /// Compensated: the noise's share of the pairs' mean square at the fit's first and last step, and
@@ -43,14 +53,14 @@ struct NoisyRun {
   std::size_t first = 0, last = 0, end = 0, period = 0;
   double rest_slope = 0.0;
 };
-NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, double noise, std::uint64_t seed) {
+/// `lambda` is the clean signal's exponent (-zeta w for one mode; the least damped mode's rate).
+NoisyRun run_noisy(const std::vector<double>& clean, double dt, double lambda, double noise, std::uint64_t seed) {
   const auto series = mlce::make_series_with_step({mlce::reference::with_white_noise(clean, noise, seed)}, dt);
   mlce::MlceOptions plain;
   plain.noise_compensation = mlce::NoiseCompensation::off;
   const auto r = mlce::estimate_mlce(series, {});
   const auto p = mlce::estimate_mlce(series, plain);
-  const double lambda = -zeta * 2 * std::numbers::pi;
-  NoisyRun q{r.lambda / lambda, p.lambda / lambda, r.noise_compensated};
+  NoisyRun q{r.lambda / lambda, p.lambda / lambda, r.noise_compensated, mlce::read_stability(r).stability};
   if (r.noise_compensated) {
     const double half = 0.5 * (r.ci95_high - r.ci95_low), noise_part = 1.96 * r.noise_lambda_stderr;
     const double batches = std::sqrt(std::max(0.0, half * half - noise_part * noise_part));
@@ -66,68 +76,125 @@ NoisyRun run_noisy(const std::vector<double>& clean, double dt, double zeta, dou
   return q;
 }
 
-/// Over the compensated runs: how many intervals hold -zeta w, with and without the noise level's
-/// part, and that part's share of the half-width (median, largest).
+/// Over the compensated runs: how many intervals hold the exponent, with and without the noise level's
+/// part, and that part's share of the half-width (median, largest); over all runs, the readings.
 struct Coverage {
   int compensated = 0, covered = 0, covered_by_batches = 0;
+  int readings[4] = {};  // indexed by mlce::Stability
   std::vector<double> noise_parts;
   void add(const NoisyRun& q) {
+    ++readings[static_cast<int>(q.reading)];
     if (!q.was_compensated) return;
     ++compensated, covered += q.covered, covered_by_batches += q.covered_by_batches;
     noise_parts.push_back(q.noise_part);
   }
   void print() {
+    std::printf("readings (default): stable %d, neutral %d, unstable %d, undetermined %d\n", readings[0], readings[1],
+                readings[2], readings[3]);
     if (noise_parts.empty()) return;
     std::sort(noise_parts.begin(), noise_parts.end());
-    std::printf("95 %% interval holds -zeta w: %d of %d compensated (the batch means' part alone: %d); the noise "
+    std::printf("95 %% interval holds the exponent: %d of %d compensated (the batch means' part alone: %d); the noise "
                 "level's part, 1.96 noise_lambda_stderr, is %.2f of its half-width (median; largest %.2f)\n",
                 covered, compensated, covered_by_batches, noise_parts[noise_parts.size() / 2], noise_parts.back());
+  }
+};
+
+/// A series outside 20 %, for the studies' last line: `what` names the case; if compensated, the
+/// noise's share over its fit, the fit's steps, the curve's end, the mean period and the slope from
+/// the fit's first step to the curve's end; its reading unless stable.
+std::string describe_outlier(const std::string& what, const NoisyRun& q) {
+  char item[400], share[200] = " not compensated";
+  if (q.was_compensated)
+    std::snprintf(share, sizeof share,
+                  " noise share %.2f..%.2f over the fit, steps %zu..%zu of 0..%zu (period %zu), from %zu to the end %.3f",
+                  q.share_first, q.share_last, q.first, q.last, q.end, q.period, q.first, q.rest_slope);
+  std::snprintf(item, sizeof item, " %s: %.3f%s (plain %.3f)%s%s;", what.c_str(), q.compensated, share, q.plain,
+                q.reading == mlce::Stability::stable ? "" : ", read ", q.reading == mlce::Stability::stable ? "" : mlce::to_string(q.reading));
+  return item;
+}
+
+/// A group of runs (one case, or a whole study): compensated and plain tallies, how many were
+/// compensated, the intervals and readings, and the series outside 20 %.
+struct Group {
+  mlce::bench::Tally on, off;
+  int total = 0, compensated = 0;
+  Coverage coverage;
+  std::string outside;
+  void add(const NoisyRun& q, const char* what) {
+    on.add(q.compensated), off.add(q.plain);
+    ++total, compensated += q.was_compensated;
+    coverage.add(q);
+    if (std::abs(q.compensated - 1.0) > 0.2) outside += describe_outlier(what, q);
+  }
+  void print_case() const {
+    on.print("  compensated (default)");
+    off.print("  plain (--noise-compensation off)");
+  }
+  void print_all() {
+    std::printf("all %d series (%d compensated):\n", total, compensated);
+    on.print("compensated (default)");
+    off.print("plain (--noise-compensation off)");
+    coverage.print();
+    std::printf("outside 20 %%:%s\n", outside.empty() ? " none" : outside.c_str());
   }
 };
 
 /// The second study of the header: decays of other rates, noise and sampling.
 void grid() {
   const double w = 2 * std::numbers::pi;
-  mlce::bench::Tally all_on, all_off;
-  int compensated = 0, total = 0;
-  Coverage coverage;
-  std::string outside;
+  Group all;
   std::printf("dt      lambda / (-zeta w) over zeta 0.005 0.01 0.02 0.03 x noise 0.5 %% 2 %% x seeds 11..13\n");
   for (const double dt : {0.01, 0.02, 0.03, 0.05}) {
-    mlce::bench::Tally on, off;
-    int compensated_dt = 0;
+    Group at_dt;
     for (const double zeta : {0.005, 0.01, 0.02, 0.03}) {
       const auto n = static_cast<std::size_t>(std::min(40000.0, 6.0 / (zeta * w) / dt));
       const auto clean = mlce::reference::damped_oscillator(n, dt, zeta, w);
       for (const double noise : {0.005, 0.02})
         for (std::uint64_t seed = 11; seed <= 13; ++seed) {
-          const NoisyRun q = run_noisy(clean, dt, zeta, noise, seed);
-          on.add(q.compensated), off.add(q.plain), all_on.add(q.compensated), all_off.add(q.plain);
-          compensated_dt += q.was_compensated, ++total;
-          coverage.add(q);
-          if (std::abs(q.compensated - 1.0) > 0.2) {
-            char item[320], share[200] = " not compensated";
-            if (q.was_compensated)
-              std::snprintf(share, sizeof share,
-                            " noise share %.2f..%.2f over the fit, steps %zu..%zu of 0..%zu (period %zu), from %zu to "
-                            "the end %.3f",
-                            q.share_first, q.share_last, q.first, q.last, q.end, q.period, q.first, q.rest_slope);
-            std::snprintf(item, sizeof item, " zeta %g noise %g %% dt %g seed %llu: %.3f%s (plain %.3f);", zeta,
-                          100 * noise, dt, static_cast<unsigned long long>(seed), q.compensated, share, q.plain);
-            outside += item;
-          }
+          const NoisyRun q = run_noisy(clean, dt, -zeta * w, noise, seed);
+          char what[96];
+          std::snprintf(what, sizeof what, "zeta %g noise %g %% dt %g seed %llu", zeta, 100 * noise, dt,
+                        static_cast<unsigned long long>(seed));
+          at_dt.add(q, what), all.add(q, what);
         }
     }
-    compensated += compensated_dt;
-    std::printf("%4.2f s (%d compensated of 24):\n", dt, compensated_dt);
-    on.print("  compensated (default)");
-    off.print("  plain (--noise-compensation off)");
+    std::printf("%4.2f s (%d compensated of 24):\n", dt, at_dt.compensated);
+    at_dt.print_case();
   }
-  std::printf("all %d series (%d compensated):\n", total, compensated);
-  all_on.print("compensated (default)");
-  all_off.print("plain (--noise-compensation off)");
-  coverage.print();
-  std::printf("outside 20 %%:%s\n", outside.empty() ? " none" : outside.c_str());
+  all.print_all();
+}
+
+/// The third study of the header: two-mode decays under noise.
+void modes() {
+  using mlce::reference::DecayingMode;
+  const double dt = 0.01;
+  struct FastMode {
+    double rate, frequency;
+  };
+  const FastMode fast_modes[] = {{-0.5, 0.45}, {-1.0, 1.37}, {-3.0, 3.3}};
+  Group all;
+  std::printf("slow mode   noise  lambda / lambda_1 over the fast mode (-0.5 @ 0.45, -1 @ 1.37, -3 @ 3.3 Hz) x the slow "
+              "mode's amplitude 0.2, 1, 5 x seeds 21, 22\n");
+  for (const double slow_rate : {-0.01 * 2 * std::numbers::pi, -0.02 * 2 * std::numbers::pi, -0.3})
+    for (const double noise : {0.01, 0.03}) {
+      Group one;
+      const auto n = static_cast<std::size_t>(6.0 / -slow_rate / dt);
+      for (const auto& fast : fast_modes)
+        for (const double a1 : {0.2, 1.0, 5.0}) {
+          const auto clean = mlce::reference::decaying_modes(
+              n, dt, {DecayingMode{slow_rate, 1.0, a1, 0.0}, DecayingMode{fast.rate, fast.frequency, 1.0, 0.7}});
+          for (std::uint64_t seed = 21; seed <= 22; ++seed) {
+            const NoisyRun q = run_noisy(clean, dt, slow_rate, noise * a1, seed);
+            char what[120];
+            std::snprintf(what, sizeof what, "slow %.3f x%g, fast %g @ %g Hz, noise %g %% seed %llu", slow_rate, a1,
+                          fast.rate, fast.frequency, 100 * noise, static_cast<unsigned long long>(seed));
+            one.add(q, what), all.add(q, what);
+          }
+        }
+      std::printf("%6.3f 1/s %4.0f %%, N %zu (%d compensated of 18):\n", slow_rate, 100 * noise, n, one.compensated);
+      one.print_case();
+    }
+  all.print_all();
 }
 
 }  // namespace
@@ -137,6 +204,10 @@ int main(int argc, char** argv) {
     grid();
     return 0;
   }
+  if (argc > 1 && std::string(argv[1]) == "modes") {
+    modes();
+    return 0;
+  }
   struct Case {
     double zeta, noise;
     std::size_t n;
@@ -144,32 +215,25 @@ int main(int argc, char** argv) {
   const Case cases[] = {{0.01, 0.003, 8000}, {0.01, 0.01, 8000}, {0.01, 0.03, 8000}, {0.004, 0.01, 16000},
                         {0.004, 0.03, 16000}, {0.02, 0.01, 4000}, {0.05, 0.01, 2000}, {0.05, 0.03, 2000}};
   const double w = 2 * std::numbers::pi, dt = 0.01;
-  mlce::bench::Tally all_on, all_off;
-  int compensated_total = 0, total = 0;
-  Coverage coverage;
+  Group all;
   std::printf("zeta   noise      N   lambda / (-zeta w) for seeds 1..8: compensated (* = not compensated) | plain\n");
   for (const auto& c : cases) {
-    mlce::bench::Tally on, off;
-    std::vector<double> a, b;
-    std::vector<bool> compensated;
+    Group one;
+    std::vector<NoisyRun> runs;
     const auto clean = mlce::reference::damped_oscillator(c.n, dt, c.zeta, w);
     for (std::uint64_t seed = 1; seed <= 8; ++seed) {
-      const NoisyRun q = run_noisy(clean, dt, c.zeta, c.noise, seed);
-      a.push_back(q.compensated), b.push_back(q.plain), compensated.push_back(q.was_compensated);
-      on.add(a.back()), off.add(b.back()), all_on.add(a.back()), all_off.add(b.back());
-      compensated_total += q.was_compensated, ++total;
-      coverage.add(q);
+      runs.push_back(run_noisy(clean, dt, -c.zeta * w, c.noise, seed));
+      char what[96];
+      std::snprintf(what, sizeof what, "zeta %g noise %g %% seed %llu", c.zeta, 100 * c.noise,
+                    static_cast<unsigned long long>(seed));
+      one.add(runs.back(), what), all.add(runs.back(), what);
     }
     std::printf("%5.3f %5.1f %% %6zu  ", c.zeta, 100 * c.noise, c.n);
-    for (std::size_t k = 0; k < a.size(); ++k) std::printf(" %6.3f%s", a[k], compensated[k] ? " " : "*");
+    for (const auto& q : runs) std::printf(" %6.3f%s", q.compensated, q.was_compensated ? " " : "*");
     std::printf(" |");
-    for (const double v : b) std::printf(" %6.3f", v);
+    for (const auto& q : runs) std::printf(" %6.3f", q.plain);
     std::printf("\n");
-    on.print("  compensated (default)");
-    off.print("  plain (--noise-compensation off)");
+    one.print_case();
   }
-  std::printf("all %d series (%d compensated), lambda / (-zeta w):\n", total, compensated_total);
-  all_on.print("compensated (default)");
-  all_off.print("plain (--noise-compensation off)");
-  coverage.print();
+  all.print_all();
 }
