@@ -116,12 +116,13 @@ std::string describe_outlier(const std::string& what, const NoisyRun& q) {
 /// A group of runs (one case, or a whole study): compensated and plain tallies, how many were
 /// compensated, the intervals and readings, and the series outside 20 %.
 struct Group {
-  mlce::bench::Tally on, off;
+  mlce::bench::Tally on, off, compensated_on, compensated_off;  // all; the compensated series alone
   int total = 0, compensated = 0;
   Coverage coverage;
   std::string outside;
   void add(const NoisyRun& q, const char* what) {
     on.add(q.compensated), off.add(q.plain);
+    if (q.was_compensated) compensated_on.add(q.compensated), compensated_off.add(q.plain);
     ++total, compensated += q.was_compensated;
     coverage.add(q);
     if (std::abs(q.compensated - 1.0) > 0.2) outside += describe_outlier(what, q);
@@ -134,6 +135,11 @@ struct Group {
     std::printf("all %d series (%d compensated):\n", total, compensated);
     on.print("compensated (default)");
     off.print("plain (--noise-compensation off)");
+    if (compensated > 0 && compensated < total) {
+      std::printf("the %d compensated series alone:\n", compensated);
+      compensated_on.print("compensated (default)");
+      compensated_off.print("plain (--noise-compensation off)");
+    }
     coverage.print();
     std::printf("outside 20 %%:%s\n", outside.empty() ? " none" : outside.c_str());
   }
