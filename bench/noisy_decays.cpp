@@ -20,6 +20,10 @@
 // dt = 0.01 s, each over 6 / |r| s (e^{-6} of the slow mode's start), with white noise of 1 % and 3 %
 // of the slow mode's amplitude, noise seeds 21, 22; the same counts and the series outside 20 %:
 //   build/noisy_decays modes  (about 2 s)
+// and, over 40 noise seeds (101..140) of three of the first study's cases, the compensated series'
+// lambda / (-zeta w) by the default rule and by the rule before stage 2b' (FitOptions::late_decay_share
+// 0: the growth rule's region), with how many intervals hold -zeta w:
+//   build/noisy_decays seeds  (about 15 s)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -203,6 +207,41 @@ void modes() {
   all.print_all();
 }
 
+/// The fourth study of the header: the rule for compensated curves against the one before, over many
+/// noise draws.
+void seeds() {
+  struct Case {
+    double zeta, noise;
+    std::size_t n;
+  };
+  const Case cases[] = {{0.01, 0.01, 8000}, {0.01, 0.03, 8000}, {0.004, 0.03, 16000}};
+  const double w = 2 * std::numbers::pi, dt = 0.01;
+  mlce::MlceOptions before;
+  before.fit.late_decay_share = 0.0;
+  std::printf("compensated series of 40 noise seeds (101..140), lambda / (-zeta w): the default rule (a compensated "
+              "decay fitted late, to where the noise level's error moves the slope by at most 5 %%) and the rule "
+              "before (late_decay_share 0: the growth rule's region)\n");
+  for (const auto& c : cases) {
+    mlce::bench::Tally now, then;
+    int covered_now = 0, covered_then = 0;
+    const double lambda = -c.zeta * w;
+    const auto clean = mlce::reference::damped_oscillator(c.n, dt, c.zeta, w);
+    for (std::uint64_t seed = 101; seed <= 140; ++seed) {
+      const auto series = mlce::make_series_with_step({mlce::reference::with_white_noise(clean, c.noise, seed)}, dt);
+      const auto a = mlce::estimate_mlce(series, {});
+      if (!a.noise_compensated) continue;
+      const auto b = mlce::estimate_mlce(series, before);
+      now.add(a.lambda / lambda), then.add(b.lambda / lambda);
+      covered_now += a.ci95_low <= lambda && lambda <= a.ci95_high;
+      covered_then += b.ci95_low <= lambda && lambda <= b.ci95_high;
+    }
+    std::printf("zeta %g, %g %% noise, N %zu (%zu compensated):\n", c.zeta, 100 * c.noise, c.n, now.values.size());
+    now.print("  default");
+    then.print("  the rule before");
+    std::printf("    95 %% interval holds -zeta w: default %d, the rule before %d\n", covered_now, covered_then);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -212,6 +251,10 @@ int main(int argc, char** argv) {
   }
   if (argc > 1 && std::string(argv[1]) == "modes") {
     modes();
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "seeds") {
+    seeds();
     return 0;
   }
   struct Case {

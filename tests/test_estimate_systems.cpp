@@ -256,6 +256,30 @@ TEST(EstimateSystems, NoisyDecayOfTwoModesWhoseCurveShowsNoFloorIsFittedLate) {
   EXPECT_LT(estimate_mlce(series, step3).lambda, -1.2 * 0.3);
 }
 
+// A noisy decay of two modes, e^{-0.1257 t} cos 2 pi t (zeta 0.02, the least damped: lambda_1) at 5x a
+// mode of -1 1/s at 1.37 Hz, plus white noise of 1 % of the slow mode's amplitude: the plain curve is
+// held up by the noise, the compensated one still carries the fast mode's fall at its start, and
+// is fitted late (stage 2b'), where the fast mode has died out. 4 noise seeds: each within 10 % of
+// lambda_1, and its 95 % interval holds lambda_1 on at least 3. The growth rule's region, the rule
+// before, took the fast mode's fall (seeds 21 and 22: 1.39 and 1.77 lambda_1 in
+// `build/noisy_decays modes` built against commit d0a870f's library).
+TEST(EstimateSystems, NoisyDecayOfTwoModesIsFittedLateOnItsCompensatedCurve) {
+  const double slow = -0.02 * 2 * M_PI;
+  const auto clean = reference::decaying_modes(4774, 0.01, {{slow, 1.0, 5.0}, {-1.0, 1.37, 1.0, 0.7}});
+  int covered = 0;
+  for (std::uint64_t seed = 21; seed <= 24; ++seed) {
+    const auto r = run(reference::with_white_noise(clean, 0.01 * 5.0, seed), 0.01);
+    EXPECT_TRUE(r.noise_compensated) << seed;
+    EXPECT_NEAR(r.lambda / slow, 1.0, 0.10) << seed << ": " << r.fit.rule;
+    EXPECT_NE(r.fit.rule.find("a noise-compensated fall"), std::string::npos) << r.fit.rule;
+    covered += r.ci95_low <= slow && slow <= r.ci95_high;
+    std::printf("seed %llu: lambda / lambda_1 %.3f, plain curve %.3f, fit %zu..%zu\n",
+                static_cast<unsigned long long>(seed), r.lambda / slow, r.uncompensated_lambda / slow, r.fit.first,
+                r.fit.last);
+  }
+  EXPECT_GE(covered, 3);
+}
+
 TEST(EstimateSystems, SeveralGrowingModesReadTheFastestOne) {
   // The response of a linear system with a growing mode: its exponent is the largest rate, which the
   // divergence curve follows only once that mode dominates (at close frequencies the modes beat
@@ -414,11 +438,13 @@ TEST(EstimateSystems, DecayIntoMeasurementNoiseIsAnalysedUpToItsWhiteFloor) {
 // a decay by e^{-2.7}). Eq. 23's curve is held up by the noise and reads 0.44-0.49 of the rate on
 // 8 noise seeds; the noise-compensated curve (NoiseCompensation) reads the rate itself: at least 6
 // of 8 within 10 %, the median within 5 %. With 3 % noise (the cut at 25 s: a decay by e^{-1.6},
-// the noise ~0.7 of the pairs' mean square at the curve's end) the same holds only because the
-// noise is measured over the whole record, the floor left out included: over the analysed part's
-// last quarter (640 samples) its estimate erred by up to 10 %, and 4 of 8 read within 10 %
-// (0.76-1.48). The measured level is the noise's within 3 % (the analysed part's deviation
-// converts it). Printed for README.
+// the noise ~0.7 of the pairs' mean square at the curve's end) the noise is measured over the whole
+// record, the floor left out included: over the analysed part's last quarter (640 samples) its
+// estimate erred by up to 10 %, and 4 of 8 read within 10 % (0.76-1.48). Fitted late (stage 2b'),
+// 5 of these 8 read within 10 %, all within 20 %, the median within 5 % (the growth rule's region
+// read 6 of 8 within 10 % here, but over 40 other seeds 19 of 40 with an rms error of 0.30, against
+// 20 and 0.14: `build/noisy_decays seeds`). The measured level is the noise's within 3 % (the
+// analysed part's deviation converts it). Printed for README.
 TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsItsRateOnTheCompensatedCurve) {
   const double zeta = 0.01, w = 2 * M_PI, lambda = -zeta * w;
   const auto clean = reference::damped_oscillator(8000, 0.01, zeta, w);
@@ -446,7 +472,8 @@ TEST(EstimateSystems, NoisyDecayAboveItsFloorReadsItsRateOnTheCompensatedCurve) 
     }
     std::printf("zeta 0.01 + %g %% noise over 8000 samples, 8 seeds, lambda / (-zeta w): compensated %s; plain %s\n",
                 100 * noise, listed(compensated).c_str(), listed(plain).c_str());
-    EXPECT_GE(count_within(compensated, 0.10), 6) << noise << ": " << listed(compensated);
+    EXPECT_GE(count_within(compensated, 0.10), noise < 0.02 ? 6 : 5) << noise << ": " << listed(compensated);
+    EXPECT_EQ(count_within(compensated, 0.20), 8) << noise << ": " << listed(compensated);
     EXPECT_NEAR(median(compensated), 1.0, 0.05) << noise << ": " << listed(compensated);
   }
 }

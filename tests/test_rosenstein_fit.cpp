@@ -401,6 +401,50 @@ TEST(Fit, FallOfTwoModesIsFittedLateUnlessItEndsInTheSignalsFloor) {
   EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
 }
 
+// A noise-compensated curve (DivergenceCurve::compensated_noise_share): y_c = 1/2 ln(S + e N), the
+// pairs' signal mean square S = 20 e^{-0.04 i} + e^{-0.008 i} (a fast mode dying out by step ~150, the
+// slow one's exponent -0.004 per step) and the noise's N = 0.05, measured 10 % low (e = 0.1, its
+// stated standard error): the curve flattens where S nears e N, the noise's share N / (S + N) near 1.
+// Step 0 is the plain mean square, below step 1 (the search's selection): a first-step jump, which
+// bars stage 2b on a plain curve. The compensated decay is fitted late, and its fall ends where the
+// noise level's error moves the slope by at most 5 %: within 7 % of -0.004 (the fast mode's tail
+// left in it), where the fall to the curve's end reads 0.74 x.
+TEST(Fit, CompensatedDecayIsFittedLateUpToWhereTheNoiseLevelsErrorStaysSmall) {
+  const double noise = 0.05, error = 0.1;
+  DivergenceCurve c;
+  for (int i = 0; i <= 800; ++i) {
+    const double signal = 20.0 * std::exp(-0.04 * i) + std::exp(-0.008 * i);
+    c.mean_log_distance.push_back(0.5 * std::log(signal + error * noise));
+    c.compensated_noise_share.push_back(i == 0 ? 0.0 : noise / (signal + noise));
+    c.terms.push_back(100);
+  }
+  c.mean_log_distance[0] = c.mean_log_distance[1] - 0.5;
+  FitOptions o;
+  o.period = 40;
+  o.noise_variance_error = error;
+  const FitResult r = fit_divergence(c, o);
+  EXPECT_NEAR(r.slope, -0.004, 0.07 * 0.004) << r.rule;
+  EXPECT_EQ(r.end, CurveEnd::none) << r.rule;
+  EXPECT_NE(r.rule.find("a noise-compensated fall"), std::string::npos) << r.rule;
+  EXPECT_NE(r.rule.find("where the measured noise level's error moves the slope by"), std::string::npos) << r.rule;
+  const double moved = error * std::abs(noise_level_sensitivity(c, r.first, r.last)) / -r.slope;
+  EXPECT_LE(moved, 0.05) << r.rule;
+  // To the curve's end (noise_slope_error 1), the flattening is fitted too.
+  o.noise_slope_error = 1.0;
+  const FitResult to_end = fit_divergence(c, o);
+  EXPECT_EQ(to_end.last, c.mean_log_distance.size() - 1) << to_end.rule;
+  EXPECT_GT(to_end.slope, 0.8 * -0.004) << to_end.rule;
+  // The same curve, not compensated, keeps the growth rule's region (its first step jumps).
+  DivergenceCurve plain = c;
+  plain.compensated_noise_share.clear();
+  EXPECT_EQ(fit_divergence(plain, o).rule.find("noise-compensated"), std::string::npos);
+  o.noise_slope_error = 0.0;
+  EXPECT_THROW(fit_divergence(c, o), OptionError);
+  o.noise_slope_error = 0.05;
+  o.noise_variance_error = -1.0;
+  EXPECT_THROW(fit_divergence(c, o), OptionError);
+}
+
 TEST(Fit, RiseOfASignalThatGrowsOnItsOwnHasNoPlateau) {
   // ln(0.05 e^{0.008 i} + e^{0.002 i} (1 + 0.6 sin(2 pi i / 250))): pairs whose separation holds a
   // slow growing mode that beats and a weak fast one, which dominates from step ~500. The exponent is

@@ -364,7 +364,9 @@ void compensate_noise(const Series& record, const Series& series, const MlceOpti
   c.compensated_log_distance.clear();
   c.compensated_batch_mean.clear();
   r.curve = std::move(c);
-  r.fit = fit_divergence(r.curve, fo);
+  FitOptions compensated = fo;
+  compensated.noise_variance_error = noise->variance_error;
+  r.fit = fit_divergence(r.curve, compensated);
   r.noise_compensated = true;
   r.noise_level = level;
   widen_for_noise_error(noise->variance_error, r);

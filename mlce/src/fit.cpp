@@ -313,8 +313,10 @@ constexpr double kGrowingSignal = 0.5;
 /// floor, FitOptions::late_decay_share; growths of a signal that grows on its own, late_growth_share): the last `share` of the change from the curve's extreme point (highest for a
 /// fall, lowest for a rise) in the first half of y[0..stop] to `stop`. False, with r untouched, when
 /// the change is too short for a region of a period (2 minimum pieces): the growth rule fits it then.
+/// `fall` says in the rule what kind of fall it is.
 bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls, double share,
-                        FitResult& r, std::ostringstream& rule) {
+                        FitResult& r, std::ostringstream& rule,
+                        const char* fall = "a fall with no floor to bend into (none on the curve, or none of the signal's own)") {
   const auto half_end = y.begin() + static_cast<std::ptrdiff_t>(stop / 2) + 1;
   const auto start = static_cast<std::size_t>(
       (falls ? std::max_element(y.begin(), half_end) : std::min_element(y.begin(), half_end)) - y.begin());
@@ -323,7 +325,7 @@ bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::siz
   r.first = stop - length;
   r.last = stop;
   if (falls)
-    rule << "; a fall with no floor to bend into (none on the curve, or none of the signal's own): fitted the last " << share
+    rule << "; " << fall << ": fitted the last " << share
          << " of the fall from the curve's highest point (step " << start << ") to step " << stop
          << ", where the faster modes have died out most";
   else
@@ -447,6 +449,47 @@ bool fit_late_decay(const DivergenceCurve& curve, const CurveCut& cut, std::size
   return true;
 }
 
+/// Stage 2b', a noise-compensated curve (DivergenceCurve::compensated_noise_share) that falls: a noisy
+/// decay whose noise is taken out. It has no floor left to bend into, and its first step's jump is
+/// the neighbour search's selection, not noise (step 0 is the plain mean square), so 2b's bars do not
+/// apply: it is fitted late like a decay of several modes (the growth rule's region took short early
+/// pieces of a curve that still oscillates, or a faster mode's fall: bench/noisy_decays). But the
+/// noise's share of the pairs' mean square grows along the curve, and an error e of its measured level
+/// moves y_c by -(e/2) share / (1 - share): the fall ends where that moves the slope by at most
+/// noise_slope_error of it.
+bool fit_compensated_decay(const DivergenceCurve& curve, const CurveCut& cut, std::size_t min_len,
+                           const FitOptions& options, FitResult& r, std::ostringstream& rule) {
+  const auto& y = curve.mean_log_distance;
+  if (curve.compensated_noise_share.size() != y.size() || !(cut.change < 0.0) || options.late_decay_share <= 0.0)
+    return false;
+  const std::size_t step = std::max<std::size_t>(1, options.period / 4);
+  std::optional<std::size_t> end;  // the latest end within noise_slope_error, else the least error
+  double error_at_end = std::numeric_limits<double>::infinity();
+  for (std::size_t last = y.size() - 1;; last -= step) {
+    FitResult trial;
+    std::ostringstream unused;
+    if (!choose_late_region(y, last, min_len, true, options.late_decay_share, trial, unused)) break;
+    const double slope = fit_line(y.data(), trial.first, trial.last).slope;
+    if (slope < 0.0) {
+      const double error =
+          options.noise_variance_error * std::abs(noise_level_sensitivity(curve, trial.first, trial.last)) / -slope;
+      if (error < error_at_end) end = last, error_at_end = error;
+      if (error <= options.noise_slope_error) break;
+    }
+    if (last < step) break;
+  }
+  if (!end) return false;
+  choose_late_region(y, *end, min_len, true, options.late_decay_share, r, rule,
+                     "a noise-compensated fall (the noise floor taken out; the first step's jump is the search's selection)");
+  rule << "; the fall ends at step " << *end << " of " << y.size() - 1
+       << ", where the measured noise level's error moves the slope by " << error_at_end
+       << (error_at_end <= options.noise_slope_error ? " of it (at most " : " of it (the least; not within ")
+       << options.noise_slope_error << ")";
+  r.end = CurveEnd::none;
+  r.end_index = 0;
+  return true;
+}
+
 /// Stage 2c: a rise of a signal whose amplitude grows on its own has no attractor of fixed size to
 /// saturate on: its pairs' distances grow with the signal, and a "plateau" that still rises as fast
 /// as the signal grows is a beat or a slower mode. Its fastest mode dominates late
@@ -479,8 +522,8 @@ void choose_region(const DivergenceCurve& curve, const FitOptions& options, FitR
   const std::size_t period = std::max<std::size_t>(1, options.period);
   const std::size_t min_len = std::max<std::size_t>(3, period / 2 + 1);
   const CurveCut cut = cut_curve_end(y, min_len, options, r, rule);
-  if (fit_persisting_level(y, cut, options, r, rule) || fit_late_decay(curve, cut, min_len, options, r, rule) ||
-      fit_late_growth(y, cut, min_len, options, r, rule))
+  if (fit_persisting_level(y, cut, options, r, rule) || fit_compensated_decay(curve, cut, min_len, options, r, rule) ||
+      fit_late_decay(curve, cut, min_len, options, r, rule) || fit_late_growth(y, cut, min_len, options, r, rule))
     return;
   choose_linear_region(y, cut.stop, min_len, options, r, rule);
 }
@@ -582,6 +625,9 @@ void FitOptions::validate() const {
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
   if (!(late_decay_share >= 0.0 && late_decay_share <= 1.0)) throw OptionError("fit.late_decay_share: expected [0, 1] (0 = off)");
   if (!(late_growth_share >= 0.0 && late_growth_share <= 1.0)) throw OptionError("fit.late_growth_share: expected [0, 1] (0 = off)");
+  if (!(noise_variance_error >= 0.0 && noise_variance_error < 1e6))
+    throw OptionError("fit.noise_variance_error: expected a finite value >= 0");
+  if (!(noise_slope_error > 0.0 && noise_slope_error <= 1.0)) throw OptionError("fit.noise_slope_error: expected (0, 1]");
 }
 
 FitResult fit_divergence(const DivergenceCurve& curve, const FitOptions& options) {

@@ -145,6 +145,20 @@ struct FitOptions {
   /// to its end. 0.75, as for decays: `build/decay_modes`, growths section, 11 of 12 within 5 % (the
   /// growth rule's region 8, up to 3.1 x). 0 = off (the growth rule's region).
   double late_growth_share = 0.75;
+  /// A noise-compensated curve (DivergenceCurve::compensated_noise_share; estimate.cpp sets this
+  /// when it compensates): the relative standard error of the measured noise's mean square
+  /// (MlceResult::noise_variance_error). 0 = exact or unknown.
+  double noise_variance_error = 0.0;
+  /// A noise-compensated decay is fitted late (stage 2b'), over the last late_decay_share of the
+  /// fall to an end chosen so that the noise level's error (noise_variance_error, one standard
+  /// error) moves the slope by at most this share of it (noise_level_sensitivity): the latest such
+  /// end, or where it moves it least. The noise's share of the pairs' mean square grows along a
+  /// decay, and its error with it, by share / (1 - share). 0.05 (`build/noisy_decays`, the
+  /// compensated series of its three studies, within 10 %: 49 -> 44 of 56, 40 -> 43 of 57, 32 -> 47
+  /// of 68 against the growth rule's region, which took short early pieces; rms error 0.089 -> 0.093,
+  /// 0.207 -> 0.098, 1.18 -> 0.46; at 0.03 the ends left fell into those pieces again, grid rms
+  /// 0.34). 1 = to the curve's end.
+  double noise_slope_error = 0.05;
   void validate() const;
 };
 
@@ -205,6 +219,11 @@ struct FitResult {
 ///     late_decay_share of the fall from the curve's highest point in its first half to the cut; a
 ///     stage-1 floor that still falls by more than 1 is a slower mode and the fall runs to the
 ///     curve's end. A warning when the fall's second half is less than 0.8 x as steep as its first.
+///  2b'. Instead of 2 and 2b, on a noise-compensated curve that falls: the noise floor is taken out,
+///     the first step's jump is the search's selection (step 0 is the plain mean square), and the
+///     decay is fitted late as in 2b, but the fall ends where the measured noise level's error moves
+///     the slope by at most noise_slope_error of it (the latest end, tried every quarter period back
+///     from the curve's end; or the one where it moves it least).
 ///  2c. Instead of 2, when the curve rises (the largest change of stage 1) on a signal that still grows
 ///     at its end (signal_end_rate x the curve's steps >= 0.5) and no saturation plateau was cut, or
 ///     the cut level still rises at persist_share x signal_end_rate: the last late_growth_share of
