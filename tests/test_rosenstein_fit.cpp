@@ -443,6 +443,8 @@ TEST(Fit, CompensatedDecayIsFittedLateUpToWhereTheNoiseLevelsErrorStaysSmall) {
   o.noise_slope_error = 0.05;
   o.noise_variance_error = -1.0;
   EXPECT_THROW(fit_divergence(c, o), OptionError);
+  o.noise_variance_error = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fit_divergence(c, o), OptionError);
 }
 
 TEST(Fit, RiseOfASignalThatGrowsOnItsOwnHasNoPlateau) {

@@ -625,8 +625,8 @@ void FitOptions::validate() const {
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
   if (!(late_decay_share >= 0.0 && late_decay_share <= 1.0)) throw OptionError("fit.late_decay_share: expected [0, 1] (0 = off)");
   if (!(late_growth_share >= 0.0 && late_growth_share <= 1.0)) throw OptionError("fit.late_growth_share: expected [0, 1] (0 = off)");
-  if (!(noise_variance_error >= 0.0 && noise_variance_error < 1e6))
-    throw OptionError("fit.noise_variance_error: expected a finite value >= 0");
+  if (!(noise_variance_error >= 0.0 && std::isfinite(noise_variance_error)))
+    throw OptionError("fit.noise_variance_error: expected a finite value >= 0 (0 = exact or unknown)");
   if (!(noise_slope_error > 0.0 && noise_slope_error <= 1.0)) throw OptionError("fit.noise_slope_error: expected (0, 1]");
 }
 
