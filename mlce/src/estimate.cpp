@@ -332,7 +332,8 @@ void widen_for_noise_error(double variance_error, MlceResult& r) {
 /// r.warnings[flagged], r.noise_level set), when the noise is white (NoiseCompensation): the curve of
 /// the same pairs recomputed noise-compensated (DivergenceCurve::compensated_log_distance), with the
 /// noise measured by measure_noise over `record` (the input before the floor cut; the analysed series
-/// itself when dithered, since the dither is part of its noise), and fitted by the same rule.
+/// itself when dithered, since the dither is part of its noise), and fitted late (fit.hpp's stage 2b',
+/// its end set by the noise level's error, FitOptions::noise_variance_error).
 /// follow_pairs computes eq. 23's curve again on the way (one more pass over the pairs, on flagged
 /// noisy decays only).
 /// The plain curve and its lambda are kept (plain_curve, uncompensated_lambda) and the flag's warning

@@ -309,20 +309,33 @@ constexpr double kSlowModeFall = 1.0;
 /// (it prints them). Fewer than 4 windows of 2 mean periods in the second half: NaN, not applied.
 constexpr double kGrowingSignal = 0.5;
 
-/// Stage 2b/2c for a curve with no plateau or floor to bend into (decays whose curve or signal has no
-/// floor, FitOptions::late_decay_share; growths of a signal that grows on its own, late_growth_share): the last `share` of the change from the curve's extreme point (highest for a
-/// fall, lowest for a rise) in the first half of y[0..stop] to `stop`. False, with r untouched, when
-/// the change is too short for a region of a period (2 minimum pieces): the growth rule fits it then.
-/// `fall` says in the rule what kind of fall it is.
-bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls, double share,
-                        FitResult& r, std::ostringstream& rule,
-                        const char* fall = "a fall with no floor to bend into (none on the curve, or none of the signal's own)") {
+/// The late region of y[0..stop]: the last `share` of the change from the curve's extreme point
+/// (highest for a fall, lowest for a rise) in its first half to `stop`. nullopt when the change is too
+/// short for a region of a period (2 minimum pieces).
+struct LateRegion {
+  std::size_t start, first;  ///< the extreme point, and the region's first step (it ends at stop)
+};
+std::optional<LateRegion> late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls,
+                                      double share) {
   const auto half_end = y.begin() + static_cast<std::ptrdiff_t>(stop / 2) + 1;
   const auto start = static_cast<std::size_t>(
       (falls ? std::max_element(y.begin(), half_end) : std::min_element(y.begin(), half_end)) - y.begin());
   const auto length = static_cast<std::size_t>(share * static_cast<double>(stop - start));
-  if (length + 1 < 2 * min_len) return false;
-  r.first = stop - length;
+  if (length + 1 < 2 * min_len) return std::nullopt;
+  return LateRegion{start, stop - length};
+}
+
+/// Stage 2b/2c for a curve with no plateau or floor to bend into (decays whose curve or signal has no
+/// floor, FitOptions::late_decay_share; growths of a signal that grows on its own, late_growth_share):
+/// the late region (late_region) ending at `stop`. False, with r untouched, when there is none: the
+/// growth rule fits it then. `fall` says in the rule what kind of fall it is.
+bool choose_late_region(const std::vector<double>& y, std::size_t stop, std::size_t min_len, bool falls, double share,
+                        FitResult& r, std::ostringstream& rule,
+                        const char* fall = "a fall with no floor to bend into (none on the curve, or none of the signal's own)") {
+  const auto region = late_region(y, stop, min_len, falls, share);
+  if (!region) return false;
+  const std::size_t start = region->start;
+  r.first = region->first;
   r.last = stop;
   if (falls)
     rule << "; " << fall << ": fitted the last " << share
@@ -463,16 +476,15 @@ bool fit_compensated_decay(const DivergenceCurve& curve, const CurveCut& cut, st
   if (curve.compensated_noise_share.size() != y.size() || !(cut.change < 0.0) || options.late_decay_share <= 0.0)
     return false;
   const std::size_t step = std::max<std::size_t>(1, options.period / 4);
+  const std::vector<double> shift = noise_level_shift(curve);  // its slope over a region: noise_level_sensitivity
   std::optional<std::size_t> end;  // the latest end within noise_slope_error, else the least error
   double error_at_end = std::numeric_limits<double>::infinity();
   for (std::size_t last = y.size() - 1;; last -= step) {
-    FitResult trial;
-    std::ostringstream unused;
-    if (!choose_late_region(y, last, min_len, true, options.late_decay_share, trial, unused)) break;
-    const double slope = fit_line(y.data(), trial.first, trial.last).slope;
+    const auto region = late_region(y, last, min_len, true, options.late_decay_share);
+    if (!region) break;
+    const double slope = fit_line(y.data(), region->first, last).slope;
     if (slope < 0.0) {
-      const double error =
-          options.noise_variance_error * std::abs(noise_level_sensitivity(curve, trial.first, trial.last)) / -slope;
+      const double error = options.noise_variance_error * std::abs(fit_line(shift.data(), region->first, last).slope) / -slope;
       if (error < error_at_end) end = last, error_at_end = error;
       if (error <= options.noise_slope_error) break;
     }

@@ -150,14 +150,18 @@ void compensated_curve_from_sums(DivergenceCurve& curve, const std::vector<std::
 }
 }  // namespace
 
+std::vector<double> noise_level_shift(const DivergenceCurve& curve) {
+  std::vector<double> shift;
+  shift.reserve(curve.compensated_noise_share.size());
+  for (const double s : curve.compensated_noise_share) shift.push_back(-0.5 * s / (1.0 - s));
+  return shift;
+}
+
 double noise_level_sensitivity(const DivergenceCurve& curve, std::size_t first, std::size_t last) {
-  const auto& share = curve.compensated_noise_share;
-  if (share.empty()) return 0.0;
-  if (first >= last || last >= share.size())
+  if (curve.compensated_noise_share.empty()) return 0.0;
+  if (first >= last || last >= curve.compensated_noise_share.size())
     throw std::logic_error("noise_level_sensitivity: the region is not within the curve");
-  std::vector<double> shift(share.size());
-  for (std::size_t i = first; i <= last; ++i) shift[i] = -0.5 * share[i] / (1.0 - share[i]);
-  return fit_line(shift.data(), first, last).slope;
+  return fit_line(noise_level_shift(curve).data(), first, last).slope;
 }
 
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {

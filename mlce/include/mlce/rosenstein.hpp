@@ -102,6 +102,10 @@ struct DivergenceCurve {
 /// -share(i) / (2 (1 - share(i))) over the region (DivergenceCurve::compensated_noise_share; first
 /// order in the error). 0 when the curve carries no shares.
 double noise_level_sensitivity(const DivergenceCurve& curve, std::size_t first, std::size_t last);
+/// The per-step curve whose slope noise_level_sensitivity fits: -share(i) / (2 (1 - share(i))) at every
+/// step of a compensated curve, empty when it carries no shares. For callers that fit it over many
+/// regions.
+std::vector<double> noise_level_shift(const DivergenceCurve& curve);
 
 /// Reference points of a curve and the nearest neighbour of each (eq. 18 with the Theiler
 /// exclusion of eq. 20), found for the options' m, delay, horizon and Theiler window.
