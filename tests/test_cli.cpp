@@ -64,11 +64,11 @@ TEST_F(Cli, NoiseCompensationSwitch) {
   EXPECT_DOUBLE_EQ(on["uncompensated_lambda"].get<double>(), off["lambda"].get<double>());
   EXPECT_NEAR(on["lambda"].get<double>() / (-0.02 * M_PI), 1.0, 0.1);
   EXPECT_LT(off["lambda"].get<double>() / (-0.02 * M_PI), 0.6);
-  // The noise's measured mean square, from ~8000 - 3 third differences of the whole record: relative
+  // The noise's measured mean square, from 8000 - 4 third differences of the whole record: relative
   // error sqrt(4.62 / k) = 2.4 %; lambda's part from it is within the interval; the noise's share of
   // the pairs' mean square over the fit is a fraction. Not compensated: null, absent.
   const double half = 0.5 * (on["ci95"][1].get<double>() - on["ci95"][0].get<double>());
-  EXPECT_NEAR(on["noise_variance_error"].get<double>(), std::sqrt(4.62 / 7997.0), 0.1 * std::sqrt(4.62 / 7997.0));
+  EXPECT_NEAR(on["noise_variance_error"].get<double>(), std::sqrt(4.62 / 7996.0), 0.1 * std::sqrt(4.62 / 7996.0));
   EXPECT_GT(on["noise_lambda_stderr"].get<double>(), 0.0);
   EXPECT_LE(1.96 * on["noise_lambda_stderr"].get<double>(), half);
   ASSERT_EQ(on["noise_share"].size(), 2u);

@@ -290,14 +290,14 @@ std::optional<MeasuredNoise> measure_noise(const Series& record, const Series& a
   std::size_t differences = 0;
   if (N - from >= n / 4) noise = white_increment_noise(record, from, N, WhitenessTest::third_differences);
   if (noise) {
-    differences = N - from - 3;
+    differences = N - from - 4;  // N - from samples: N - from - 1 increments, 3 fewer third differences
     divisors = unit_deviation_divisors(analysed);
     out.where = from == 0 ? "the whole record's third differences" : "the record's third differences where they are steady";
   } else {
     // In the curve's units already: the test's leakage (omega dt)^6 is then relative to the same scale.
     noise = white_increment_noise(scaled_to_unit_deviation(analysed), n - n / 4, n, WhitenessTest::third_differences);
     if (!noise) return std::nullopt;
-    differences = n / 4 - 3;
+    differences = n / 4 - 4;
     divisors.assign(analysed.channels.size(), 1.0);
     out.where = "the last quarter's third differences";
   }
