@@ -235,7 +235,7 @@ void short_records() {
               "[95 %% interval, * = does not hold lambda_1] (analysed samples of %zu) | uncut | later references\n", n);
   for (const double noise : {0.01, 0.03}) {
     mlce::bench::Tally by_default, by_uncut, by_later;
-    int held = 0, runs = 0;
+    int held = 0, runs = 0, stable = 0;
     for (const auto& fast : fast_modes) {
       std::printf("%2.0f %% noise, fast %4g @ %4g Hz:", 100 * noise, fast.rate, fast.frequency);
       for (const double a1 : {0.2, 1.0, 5.0}) {
@@ -262,7 +262,7 @@ void short_records() {
           fo.period = r.mean_period.mean_period, fo.signal_floor = r.n_points < series.size();
           const double later_lambda = mlce::fit_divergence(mlce::follow_pairs(analysed, ro, later), fo).slope / dt;
           const bool holds = r.ci95_low <= slow_rate && slow_rate <= r.ci95_high;
-          ++runs, held += holds;
+          ++runs, held += holds, stable += mlce::read_stability(r).stability == mlce::Stability::stable;
           by_default.add(r.lambda / slow_rate), by_uncut.add(u.lambda / slow_rate), by_later.add(later_lambda / slow_rate);
           std::printf(" %.3f [%.2f..%.2f]%s (%zu) | %.3f | %.3f;", r.lambda / slow_rate, r.ci95_high / slow_rate,
                       r.ci95_low / slow_rate, holds ? "" : "*", r.n_points, u.lambda / slow_rate, later_lambda / slow_rate);
@@ -270,7 +270,8 @@ void short_records() {
       }
       std::printf("\n");
     }
-    std::printf("%2.0f %% noise, the 95 %% interval holds lambda_1 on %d of %d\n", 100 * noise, held, runs);
+    std::printf("%2.0f %% noise, the 95 %% interval holds lambda_1 on %d of %d; read stable: %d\n", 100 * noise, held, runs,
+                stable);
     by_default.print("  default");
     by_uncut.print("  uncut (floor_ratio 0)");
     by_later.print("  later half of the references");
