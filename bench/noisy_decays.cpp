@@ -187,14 +187,21 @@ void grid() {
   all.print_all();
 }
 
+/// The two-mode decays of the modes and short studies: e^{r t} cos 2 pi t at amplitude a1 (the slow
+/// mode, lambda_1 = r) beside a faster mode of amplitude 1 and phase 0.7, n samples at dt.
+struct FastMode {
+  double rate, frequency;
+};
+constexpr FastMode kFastModes[] = {{-0.5, 0.45}, {-1.0, 1.37}, {-3.0, 3.3}};
+std::vector<double> two_mode_decay(std::size_t n, double dt, double slow_rate, double a1, const FastMode& fast) {
+  using mlce::reference::DecayingMode;
+  return mlce::reference::decaying_modes(
+      n, dt, {DecayingMode{slow_rate, 1.0, a1, 0.0}, DecayingMode{fast.rate, fast.frequency, 1.0, 0.7}});
+}
+
 /// The third study of the header: two-mode decays under noise.
 void modes() {
-  using mlce::reference::DecayingMode;
   const double dt = 0.01;
-  struct FastMode {
-    double rate, frequency;
-  };
-  const FastMode fast_modes[] = {{-0.5, 0.45}, {-1.0, 1.37}, {-3.0, 3.3}};
   Group all;
   std::printf("slow mode   noise  lambda / lambda_1 over the fast mode (-0.5 @ 0.45, -1 @ 1.37, -3 @ 3.3 Hz) x the slow "
               "mode's amplitude 0.2, 1, 5 x seeds 21, 22\n");
@@ -202,10 +209,9 @@ void modes() {
     for (const double noise : {0.01, 0.03}) {
       Group one;
       const auto n = static_cast<std::size_t>(6.0 / -slow_rate / dt);
-      for (const auto& fast : fast_modes)
+      for (const auto& fast : kFastModes)
         for (const double a1 : {0.2, 1.0, 5.0}) {
-          const auto clean = mlce::reference::decaying_modes(
-              n, dt, {DecayingMode{slow_rate, 1.0, a1, 0.0}, DecayingMode{fast.rate, fast.frequency, 1.0, 0.7}});
+          const auto clean = two_mode_decay(n, dt, slow_rate, a1, fast);
           for (std::uint64_t seed = 21; seed <= 22; ++seed) {
             const NoisyRun q = run_noisy(clean, dt, slow_rate, noise * a1, seed);
             char what[120];
@@ -223,12 +229,7 @@ void modes() {
 /// The fifth study of the header: the modes study's -0.3 1/s decays, whose records the floor cut
 /// leaves short, against two alternatives that were tried and not kept.
 void short_records() {
-  using mlce::reference::DecayingMode;
   const double dt = 0.01, slow_rate = -0.3;
-  struct FastMode {
-    double rate, frequency;
-  };
-  const FastMode fast_modes[] = {{-0.5, 0.45}, {-1.0, 1.37}, {-3.0, 3.3}};
   mlce::MlceOptions uncut;
   uncut.floor_ratio = 0.0;
   const auto n = static_cast<std::size_t>(6.0 / -slow_rate / dt);
@@ -238,11 +239,10 @@ void short_records() {
   for (const double noise : {0.01, 0.03}) {
     mlce::bench::Tally by_default, by_uncut, by_later;
     int held = 0, runs = 0, stable = 0;
-    for (const auto& fast : fast_modes) {
+    for (const auto& fast : kFastModes) {
       std::printf("%2.0f %% noise, fast %4g @ %4g Hz:", 100 * noise, fast.rate, fast.frequency);
       for (const double a1 : {0.2, 1.0, 5.0}) {
-        const auto clean = mlce::reference::decaying_modes(
-            n, dt, {DecayingMode{slow_rate, 1.0, a1, 0.0}, DecayingMode{fast.rate, fast.frequency, 1.0, 0.7}});
+        const auto clean = two_mode_decay(n, dt, slow_rate, a1, fast);
         for (std::uint64_t seed = 21; seed <= 22; ++seed) {
           const auto series = mlce::make_series_with_step({mlce::reference::with_white_noise(clean, noise * a1, seed)}, dt);
           const auto r = mlce::estimate_mlce(series, {});
@@ -323,22 +323,15 @@ void seeds() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1 && std::string(argv[1]) == "grid") {
-    grid();
-    return 0;
-  }
-  if (argc > 1 && std::string(argv[1]) == "modes") {
-    modes();
-    return 0;
-  }
-  if (argc > 1 && std::string(argv[1]) == "short") {
-    short_records();
-    return 0;
-  }
-  if (argc > 1 && std::string(argv[1]) == "seeds") {
-    seeds();
-    return 0;
-  }
+  const struct {
+    const char* name;
+    void (*run)();
+  } studies[] = {{"grid", grid}, {"modes", modes}, {"short", short_records}, {"seeds", seeds}};
+  for (const auto& study : studies)
+    if (argc > 1 && std::string(argv[1]) == study.name) {
+      study.run();
+      return 0;
+    }
   struct Case {
     double zeta, noise;
     std::size_t n;
