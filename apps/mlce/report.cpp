@@ -418,7 +418,9 @@ std::string to_text(const EachChannelResult& r, double t0) {
     if (c.result && !any) any = &*c.result;
     width = std::max(width, c.name.size());
   }
-  const std::string u = rate_unit(*any);  // at least one channel was estimated (or it threw)
+  // estimate_each_channel throws when no channel could be estimated
+  if (!any) throw std::logic_error("to_text: no channel was estimated");
+  const std::string u = rate_unit(*any);
   std::string s = fmt::format("{:<{}}  {:>12}  {:^28}  {:>10} {:>5} {:>3} {:>7} {:>11} {:>6}  {}\n", "channel", width,
                               "lambda " + u, "95 % interval", "from", "delay", "dim", "theiler", "fit", "R^2", "reading");
   for (const auto& c : r.channels) {

@@ -169,8 +169,8 @@ TimeInvariantForm time_invariant_form(const Scene& scene) {
       const double psi = W * t + p.azimuth0(i);
       T0(i, i) = 0.0;
       T0(i, 0) = 1.0;
-      for (int k = 1; k <= cyclic; ++k) {
-        const double c = std::cos(k * psi), s = std::sin(k * psi), kw = k * W;
+      for (Eigen::Index k = 1; k <= cyclic; ++k) {
+        const double kd = static_cast<double>(k), c = std::cos(kd * psi), s = std::sin(kd * psi), kw = kd * W;
         T0(i, 2 * k - 1) = c, T0(i, 2 * k) = s;
         T1(i, 2 * k - 1) = -kw * s, T1(i, 2 * k) = kw * c;
         T2(i, 2 * k - 1) = -kw * kw * c, T2(i, 2 * k) = -kw * kw * s;

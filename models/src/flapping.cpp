@@ -11,7 +11,7 @@ void FlappingParameters::validate() const {
   if (!(mu >= 0.0) || !std::isfinite(mu)) throw std::invalid_argument("mu: expected >= 0");
 }
 
-FlappingModel::FlappingModel(FlappingParameters p, bool check) : p_(p) {
+FlappingModel::FlappingModel(const FlappingParameters& p, bool check) : p_(p) {
   if (check) p_.validate();
 }
 

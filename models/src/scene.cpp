@@ -100,7 +100,7 @@ class KeyReader {
   const std::string& source() const { return source_; }
 
  private:
-  static std::string trim(std::string s) {
+  static std::string trim(const std::string& s) {
     const auto a = s.find_first_not_of(" \t"), b = s.find_last_not_of(" \t");
     return a == std::string::npos ? "" : s.substr(a, b - a + 1);
   }
@@ -190,7 +190,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
       throw std::invalid_argument(source + ": " + e.what());
     }
     const int nq = p.blades + 2;
-    s.x0 = Eigen::VectorXd::Zero(2 * nq);
+    s.x0 = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(nq));
     const auto z0 = r.list("zeta0", n, 0.0), zd0 = r.list("zetadot0", n, 0.0);
     for (int i = 0; i < p.blades; ++i) s.x0(i) = z0[static_cast<std::size_t>(i)], s.x0(nq + i) = zd0[static_cast<std::size_t>(i)];
     s.x0(p.blades) = r.number("x0", 0.1);

@@ -44,7 +44,7 @@ std::optional<std::uint64_t> check_classic_header(const std::string& path) {
   const std::uint64_t size = std::filesystem::file_size(path, ec);
   char magic[4] = {};
   if (!in || ec || !in.read(magic, 4) || magic[0] != 'C' || magic[1] != 'D' || magic[2] != 'F') return std::nullopt;
-  const int version = magic[3];
+  const int version = static_cast<unsigned char>(magic[3]);
   if (version != 1 && version != 2 && version != 5) return std::nullopt;  // nc_open names it
   const bool wide = version == 5;                                          // 64-bit counts
   std::uint64_t pos = 4, count_at = 4;  // the read position; where the last count was read
@@ -328,7 +328,7 @@ double netcdf4_time_limit(const std::string& path) {
   }
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  return 60.0 + (ec ? 0.0 : static_cast<double>(size / 10'000'000));  // whole seconds: a message says it
+  return 60.0 + (ec ? 0.0 : std::floor(static_cast<double>(size) / 1e7));  // whole seconds: a message says it
 }
 
 /// A ChannelSet or an Inventory as bytes and back (byte_codec.hpp), for the child's result.

@@ -14,14 +14,14 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 M3 to_eigen(const Matrix3& r) {
   M3 m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m(i, j) = r[static_cast<std::size_t>(3 * i + j)];
+  for (Eigen::Index i = 0; i < 3; ++i)
+    for (Eigen::Index j = 0; j < 3; ++j) m(i, j) = r[static_cast<std::size_t>(3 * i + j)];
   return m;
 }
 Matrix3 from_eigen(const M3& m) {
   Matrix3 r{};
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) r[static_cast<std::size_t>(3 * i + j)] = m(i, j);
+  for (Eigen::Index i = 0; i < 3; ++i)
+    for (Eigen::Index j = 0; j < 3; ++j) r[static_cast<std::size_t>(3 * i + j)] = m(i, j);
   return r;
 }
 M3 axis_rotation(int axis, double angle) {
@@ -75,8 +75,8 @@ Matrix3 rotation_matrix(Orientation o, std::span<const double> v) {
       break;
     }
     case Orientation::mat:
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) R(i, j) = v[static_cast<std::size_t>(3 * i + j)];
+      for (Eigen::Index i = 0; i < 3; ++i)
+        for (Eigen::Index j = 0; j < 3; ++j) R(i, j) = v[static_cast<std::size_t>(3 * i + j)];
       break;
     case Orientation::none: R = M3::Identity(); break;
   }

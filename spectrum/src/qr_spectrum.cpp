@@ -80,7 +80,7 @@ std::vector<std::vector<int>> merge_groups(const Eigen::VectorXd& sorted, const 
     while (i + 1 < n) {
       const bool join = o.merge == MergeRule::tolerance
                             ? sorted(i) - sorted(i + 1) <= o.merge_tolerance
-                            : unresolved(times, sums, order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(i + 1)]);
+                            : unresolved(times, sums, order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(i) + 1]);
       if (!join) break;
       g.push_back(++i);
     }

@@ -17,7 +17,7 @@ struct FlappingParameters {
 
 class FlappingModel {
  public:
-  explicit FlappingModel(FlappingParameters p, bool check = true);
+  explicit FlappingModel(const FlappingParameters& p, bool check = true);
   const FlappingParameters& parameters() const { return p_; }
   int dimension() const { return 2; }
   void operator()(const Eigen::VectorXd& x, Eigen::VectorXd& dxdt, double t) const;
