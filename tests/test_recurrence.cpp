@@ -4,6 +4,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
 #include <random>
 
 #include "mlce/estimate.hpp"
@@ -152,7 +155,8 @@ TEST(Recurrence, DefaultWindowAndTooFewReferences) {
   NeighbourPairs sparse;
   sparse.theiler = 50;
   for (std::size_t k = 0; k < all.references.size(); k += 20)
-    sparse.references.push_back(all.references[k]), sparse.nearest.neighbour.push_back(all.nearest.neighbour[k]);
+    sparse.references.push_back(all.references[k]), sparse.nearest.neighbour.push_back(all.nearest.neighbour[k]),
+        sparse.nearest.distance.push_back(all.nearest.distance[k]);
   RecurrenceOptions o;
   o.window = 200;
   const auto r = recurrent_start(sparse, 10000, o);
@@ -164,6 +168,50 @@ TEST(Recurrence, DefaultWindowAndTooFewReferences) {
   EXPECT_EQ(recurrent_start(NeighbourPairs{}, 40, o).window, 1u);
   o.transient = 0.9;  // above `recurrent`
   EXPECT_THROW(recurrent_start(sparse, 10000, o), OptionError);
+}
+
+// A reference whose neighbour lies at the data's resolution recurs wherever that neighbour lies
+// (RecurrenceOptions::repeat_distance): the same self-neighbours as the first test, at 1e-8 instead
+// of 1, are a motion that repeats itself one block on, not a start-up.
+TEST(Recurrence, NeighboursAtTheDataResolutionRecurWhereverTheyLie) {
+  auto pairs = hand_made_pairs(10000, 50, 600, 1);
+  for (std::size_t k = 0; k < 600; ++k) pairs.nearest.distance[k] = 1e-8;
+  RecurrenceOptions o;
+  o.window = 200;
+  const auto r = recurrent_start(pairs, 10000, o);
+  EXPECT_EQ(r.start, 0u);
+  ASSERT_GE(r.ratio.size(), 3u);
+  for (std::size_t w = 0; w < 3; ++w) EXPECT_GE(r.ratio[w], o.recurrent) << w;
+  o.repeat_distance = 0.0;  // no repeat credited: the windows' own neighbours make them a start-up
+  EXPECT_EQ(recurrent_start(pairs, 10000, o).start, 600u);
+  o.repeat_distance = -1.0;
+  EXPECT_THROW(recurrent_start(pairs, 10000, o), OptionError);
+  pairs.nearest.distance.pop_back();  // one distance short: refused, never read past the end
+  EXPECT_THROW(recurrent_start(pairs, 10000, RecurrenceOptions{}), std::invalid_argument);
+}
+
+// An exactly periodic signal visits every point of its start again each period: nothing is left
+// out. Its neighbours are the same phase one period (100 samples) on, inside the same window of the
+// rule, at rounding distance (~1e-13); counted by index alone its windows scored 0.1-0.6 and the
+// first 2618 samples were cut as a "start-up".
+TEST(Recurrence, ExactlyPeriodicSignalKeepsItsStart) {
+  std::vector<double> x(10000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    x[i] = std::sin(2.0 * std::numbers::pi * t) + 0.5 * std::sin(6.0 * std::numbers::pi * t);
+  }
+  const auto series = make_series_with_step({x}, 0.01);
+  const MlceResult r = estimate_mlce(series, {});
+  MlceOptions by_index;
+  by_index.recurrence.repeat_distance = 0.0;
+  const MlceResult old = estimate_mlce(series, by_index);
+  std::printf("sin 2 pi t + 0.5 sin 6 pi t: %zu samples left out, lambda %.4f (neighbours judged by index alone: "
+              "%zu left out)\n", r.skipped_start, r.lambda, old.skipped_start);
+  EXPECT_EQ(r.skipped_start, 0u);
+  EXPECT_EQ(r.n_points, x.size());
+  ASSERT_FALSE(r.recurrence.ratio.empty());
+  for (double ratio : r.recurrence.ratio) EXPECT_GE(ratio, RecurrenceOptions{}.recurrent);
+  for (const auto& w : r.warnings) EXPECT_EQ(w.find("do not recur"), std::string::npos) << w;
 }
 
 // Lorenz from (1, 1, 1) with nothing discarded spirals out of the fixed point C- first, and its

@@ -1,6 +1,10 @@
 #include "mlce/recurrence.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "mlce/neighbours.hpp"
 #include "mlce/numerics.hpp"
@@ -12,6 +16,8 @@ void RecurrenceOptions::validate() const {
     throw OptionError("recurrence: expected 0 < transient <= first_below <= recurrent <= 1");
   if (!(far > 1.0)) throw OptionError("recurrence.far: expected > 1 (a ratio to the typical distance)");
   if (typical_points == 0) throw OptionError("recurrence.typical_points: expected >= 1");
+  if (!(repeat_distance >= 0.0) || !std::isfinite(repeat_distance))
+    throw OptionError("recurrence.repeat_distance: expected a finite distance >= 0");
 }
 
 namespace {
@@ -56,6 +62,11 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
   r.window = options.window ? options.window : std::max<std::size_t>({1, 2 * theiler, A / 50});  // never 0
   const auto& refs = pairs.references;
   const auto& nn = pairs.nearest.neighbour;
+  const auto& distance = pairs.nearest.distance;
+  if (nn.size() != refs.size() || distance.size() != refs.size())
+    throw std::invalid_argument(fmt::format("recurrent_start: {} references, {} neighbours and {} distances; expected "
+                                            "one neighbour and one distance per reference",
+                                            refs.size(), nn.size(), distance.size()));
   std::size_t last_transient_end = 0, transient_windows = 0;
   bool joined = false;  // a window has scored `recurrent`
   std::size_t k = 0;  // references are in increasing sample order
@@ -65,7 +76,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
     for (; k < refs.size() && refs[k] < end; ++k) {
       if (nn[k] == NeighbourResult::none) continue;
       ++count;
-      later += nn[k] >= after;
+      later += nn[k] >= after || distance[k] <= options.repeat_distance;
     }
     if (count == 0 || count < options.min_references) break;
     const double expected = static_cast<double>(A - after) / static_cast<double>(A);

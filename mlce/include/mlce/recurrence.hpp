@@ -48,6 +48,17 @@ struct RecurrenceOptions {
   double far = 3.0;
   /// First-half points (evenly strided) whose median distance to the second half is the typical one.
   std::size_t typical_points = 2000;
+  /// A reference whose nearest neighbour lies at most this far (the search's coordinates: every
+  /// channel over its standard deviation) recurs wherever that neighbour lies: the motion passes
+  /// there again to the data's resolution. An exactly periodic signal finds its neighbours one
+  /// period on, inside the same window whenever the window spans more than a period, and its
+  /// windows scored 0.0-0.6: sin 2 pi t + 0.5 sin 6 pi t at dt = 0.01, N = 10^4, lost its first 2618
+  /// samples as a "start-up" (test_recurrence). A start-up's points stay a finite distance from
+  /// every other point (Lorenz x from (1, 1, 1), N = 10^4: geometric mean of the neighbour distances
+  /// 0.015; the 256 series of finite_time_spread starts and those of start_variants credit no point);
+  /// 1e-5 is above the rounding of six printed digits (MBDyn's default) on a signal whose mean is
+  /// within ~10 deviations of 0.
+  double repeat_distance = 1e-5;
   void validate() const;
 };
 
@@ -67,7 +78,8 @@ struct RecurrenceResult {
 /// The rule: consecutive windows from sample 0, while a window ends (with the Theiler window
 /// after it) in the first half of the admissible points, so that at least half of the candidates
 /// lie after it; for window w, ratio = (share of its references whose neighbour index is >= the
-/// window's end + Theiler window) / (share of admissible points there). A series whose first window
+/// window's end + Theiler window, or whose neighbour is a repeat: RecurrenceOptions::repeat_distance)
+/// / (share of admissible points there). A series whose first window
 /// scores below `first_below` does not start on the attractor, and the start that does not recur
 /// ends with the last window scoring below `transient` before the first one scoring at least
 /// `recurrent`, when at least `min_windows` windows score below `transient` before it: a window in between is where the motion joins the attractor, and is kept; a low
