@@ -30,6 +30,7 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
     for (std::size_t k = 0; k < q.size(); ++k) {
       EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k] << ", split " << split;  // exact search
       EXPECT_EQ(fast.neighbour[k], slow.neighbour[k]) << "query " << q[k] << ", split " << split;
+      EXPECT_EQ(fast.repeated[k], slow.repeated[k]) << "query " << q[k] << ", split " << split;
       const std::size_t j = fast.neighbour[k];
       EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
     }
@@ -86,6 +87,15 @@ TEST(Neighbours, RepeatedPointsAreSkippedNotReturnedAtZeroDistance) {
   const auto r = find_nearest_neighbours(emb, q, o);
   EXPECT_GT(r.zero_distance_candidates, 0u);
   for (std::size_t k = 0; k < q.size(); ++k) EXPECT_GT(r.distance[k], 0.0);
+  // Every point has its exact repeat a period (10 samples, beyond the window of 3) away: flagged.
+  ASSERT_EQ(r.repeated.size(), q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) EXPECT_EQ(r.repeated[k], 1) << k;
+  // A window of 390: the only candidates lie 391..398 samples away, none a whole number of periods.
+  o.theiler = 390;
+  const auto far = find_nearest_neighbours(emb, q, o), far_slow = find_nearest_neighbours_brute_force(emb, q, o);
+  EXPECT_EQ(far.zero_distance_candidates, 0u);
+  for (std::size_t k = 0; k < q.size(); ++k) EXPECT_EQ(far.repeated[k] + far_slow.repeated[k], 0) << k;
+  EXPECT_NE(far.neighbour.front(), NeighbourResult::none);  // neighbours found, none a repeat
 }
 
 TEST(Neighbours, WindowLargerThanSeriesLeavesNoNeighbour) {

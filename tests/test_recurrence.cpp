@@ -2,12 +2,15 @@
 // the answer is known exactly, and the estimator on Lorenz's start-up spiral.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <stdexcept>
-#include <vector>
 #include <random>
+#include <vector>
 
 #include "mlce/estimate.hpp"
 #include "mlce/recurrence.hpp"
@@ -212,6 +215,38 @@ TEST(Recurrence, ExactlyPeriodicSignalKeepsItsStart) {
   ASSERT_FALSE(r.recurrence.ratio.empty());
   for (double ratio : r.recurrence.ratio) EXPECT_GE(ratio, RecurrenceOptions{}.recurrent);
   for (const auto& w : r.warnings) EXPECT_EQ(w.find("do not recur"), std::string::npos) << w;
+}
+
+double printed_with_six_digits(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return std::strtod(text, nullptr);
+}
+
+// The same motion printed with six significant digits (MBDyn's default), as a rotating node's
+// coordinates would be: its points repeat exactly, the zero distances are passed over, and the
+// neighbour at a positive distance is another phase, often in the same window. The exact repeat
+// (NeighbourResult::repeated) says the point recurs: every window scores about 1.
+TEST(Recurrence, PeriodicSignalPrintedWithSixDigitsRecurs) {
+  for (const double period : {100.0, 80.0}) {  // samples
+    std::vector<double> x(10000), y(10000);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double phase = 2.0 * std::numbers::pi * static_cast<double>(i % static_cast<std::size_t>(period)) / period;
+      x[i] = printed_with_six_digits(2.5 * std::cos(phase));
+      y[i] = printed_with_six_digits(2.5 * std::sin(phase));
+    }
+    for (const auto& channels : {std::vector<std::vector<double>>{x}, std::vector<std::vector<double>>{x, y}}) {
+      const auto series = make_series_with_step(channels, 0.01);
+      const MlceResult r = estimate_mlce(series, {});
+      ASSERT_FALSE(r.recurrence.ratio.empty());
+      std::printf("period %g samples, %zu channel(s), six digits: %zu samples left out, windows score %.2f .. %.2f\n",
+                  period, channels.size(), r.skipped_start,
+                  *std::min_element(r.recurrence.ratio.begin(), r.recurrence.ratio.end()),
+                  *std::max_element(r.recurrence.ratio.begin(), r.recurrence.ratio.end()));
+      EXPECT_EQ(r.skipped_start, 0u);
+      for (double ratio : r.recurrence.ratio) EXPECT_GE(ratio, RecurrenceOptions{}.recurrent);
+    }
+  }
 }
 
 // Lorenz from (1, 1, 1) with nothing discarded spirals out of the fixed point C- first, and its

@@ -91,6 +91,7 @@ NeighbourResult make_result(std::size_t queries) {
   NeighbourResult r;
   r.neighbour.assign(queries, NeighbourResult::none);
   r.distance.assign(queries, std::numeric_limits<double>::infinity());
+  r.repeated.assign(queries, 0);
   return r;
 }
 
@@ -163,6 +164,7 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
         trees[p]->findNeighbors(set, q.data(), params);
       }
       zeros += set.zero_hits();
+      r.repeated[static_cast<std::size_t>(k)] = set.zero_hits() > 0;
       if (set.index() != NeighbourResult::none) {
         r.neighbour[static_cast<std::size_t>(k)] = set.index();
         r.distance[static_cast<std::size_t>(k)] = std::sqrt(set.squared_distance());
@@ -232,6 +234,7 @@ NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedd
       const double d2 = embedding.squared_distance(i, j);
       if (d2 == 0.0) {
         ++r.zero_distance_candidates;
+        r.repeated[k] = 1;
         continue;
       }
       if (d2 < best) {

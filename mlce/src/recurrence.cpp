@@ -63,10 +63,12 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
   const auto& refs = pairs.references;
   const auto& nn = pairs.nearest.neighbour;
   const auto& distance = pairs.nearest.distance;
-  if (nn.size() != refs.size() || distance.size() != refs.size())
-    throw std::invalid_argument(fmt::format("recurrent_start: {} references, {} neighbours and {} distances; expected "
-                                            "one neighbour and one distance per reference",
-                                            refs.size(), nn.size(), distance.size()));
+  const auto& repeated = pairs.nearest.repeated;  // may be empty: not known
+  if (nn.size() != refs.size() || distance.size() != refs.size() || (!repeated.empty() && repeated.size() != refs.size()))
+    throw std::invalid_argument(fmt::format("recurrent_start: {} references, {} neighbours, {} distances and {} repeat "
+                                            "flags; expected one neighbour and one distance per reference, and one "
+                                            "flag each or none",
+                                            refs.size(), nn.size(), distance.size(), repeated.size()));
   std::size_t last_transient_end = 0, transient_windows = 0;
   bool joined = false;  // a window has scored `recurrent`
   std::size_t k = 0;  // references are in increasing sample order
@@ -76,7 +78,7 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
     for (; k < refs.size() && refs[k] < end; ++k) {
       if (nn[k] == NeighbourResult::none) continue;
       ++count;
-      later += nn[k] >= after || distance[k] <= options.repeat_distance;
+      later += nn[k] >= after || distance[k] <= options.repeat_distance || (!repeated.empty() && repeated[k] != 0);
     }
     if (count == 0 || count < options.min_references) break;
     const double expected = static_cast<double>(A - after) / static_cast<double>(A);

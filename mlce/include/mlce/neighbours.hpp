@@ -34,6 +34,9 @@ struct NeighbourResult {
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> neighbour;  ///< per query; `none` when every candidate was excluded
   std::vector<double> distance;          ///< Euclidean, not squared; +inf for `none`
+  /// Per query: 1 when a candidate at exactly zero distance was passed over (the point repeats
+  /// exactly outside the Theiler window: a periodic or quantised signal), else 0.
+  std::vector<std::uint8_t> repeated;
   /// Candidates at exactly zero distance (repeated points) that were passed over: they would
   /// give log(0). The nearest neighbour at a positive distance is returned instead.
   std::size_t zero_distance_candidates = 0;

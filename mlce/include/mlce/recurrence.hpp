@@ -57,7 +57,9 @@ struct RecurrenceOptions {
   /// every other point (Lorenz x from (1, 1, 1), N = 10^4: geometric mean of the neighbour distances
   /// 0.015; the 256 series of finite_time_spread starts and those of start_variants credit no point);
   /// 1e-5 is above the rounding of six printed digits (MBDyn's default) on a signal whose mean is
-  /// within ~10 deviations of 0.
+  /// within ~10 deviations of 0. A reference with an exact repeat (NeighbourResult::repeated: a zero
+  /// distance passed over, as six printed digits give a periodic signal) recurs likewise: quantised
+  /// cos / sin of period 100 samples scored ~0.1 in every window.
   double repeat_distance = 1e-5;
   void validate() const;
 };
@@ -78,7 +80,7 @@ struct RecurrenceResult {
 /// The rule: consecutive windows from sample 0, while a window ends (with the Theiler window
 /// after it) in the first half of the admissible points, so that at least half of the candidates
 /// lie after it; for window w, ratio = (share of its references whose neighbour index is >= the
-/// window's end + Theiler window, or whose neighbour is a repeat: RecurrenceOptions::repeat_distance)
+/// window's end + Theiler window, or that repeats: RecurrenceOptions::repeat_distance)
 /// / (share of admissible points there). A series whose first window
 /// scores below `first_below` does not start on the attractor, and the start that does not recur
 /// ends with the last window scoring below `transient` before the first one scoring at least
