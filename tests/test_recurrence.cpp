@@ -7,9 +7,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
-#include <stdexcept>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "mlce/estimate.hpp"
@@ -187,16 +189,37 @@ TEST(Recurrence, NeighboursAtTheDataResolutionRecurWhereverTheyLie) {
   for (std::size_t w = 0; w < 3; ++w) EXPECT_GE(r.ratio[w], o.recurrent) << w;
   o.repeat_distance = 0.0;  // no repeat credited: the windows' own neighbours make them a start-up
   EXPECT_EQ(recurrent_start(pairs, 10000, o).start, 600u);
+  // An exact repeat passed over (NeighbourResult::repeated) is a distance 0: credited at any
+  // repeat_distance >= 0, not when it is off (negative).
+  for (std::size_t k = 0; k < 600; ++k) pairs.nearest.distance[k] = 1.0;
+  pairs.nearest.repeated.assign(pairs.references.size(), 0);
+  for (std::size_t k = 0; k < 600; ++k) pairs.nearest.repeated[k] = 1;
+  EXPECT_EQ(recurrent_start(pairs, 10000, o).start, 0u);
   o.repeat_distance = -1.0;
+  EXPECT_EQ(recurrent_start(pairs, 10000, o).start, 600u);
+  o.repeat_distance = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(recurrent_start(pairs, 10000, o), OptionError);
+  pairs.nearest.repeated.pop_back();  // one flag short: refused
+  EXPECT_THROW(recurrent_start(pairs, 10000, RecurrenceOptions{}), std::invalid_argument);
+  pairs.nearest.repeated.clear();
   pairs.nearest.distance.pop_back();  // one distance short: refused, never read past the end
   EXPECT_THROW(recurrent_start(pairs, 10000, RecurrenceOptions{}), std::invalid_argument);
 }
 
+/// "lo .. hi" of the windows' scores of `rec`, over the windows that end by `until` (all when 0).
+std::string score_range(const RecurrenceResult& rec, std::size_t until) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t w = 0; w < rec.ratio.size() && (until == 0 || (w + 1) * rec.window <= until); ++w)
+    lo = std::min(lo, rec.ratio[w]), hi = std::max(hi, rec.ratio[w]);
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f .. %.2f", lo, hi);
+  return text;
+}
+
 // An exactly periodic signal visits every point of its start again each period: nothing is left
 // out. Its neighbours are the same phase one period (100 samples) on, inside the same window of the
-// rule, at rounding distance (~1e-13); counted by index alone its windows scored 0.1-0.6 and the
-// first 2618 samples were cut as a "start-up".
+// rule, at rounding distance (~1e-13); judged by index alone (repeat_distance off) its first windows
+// scored low and 2618 samples were cut as a "start-up" (printed).
 TEST(Recurrence, ExactlyPeriodicSignalKeepsItsStart) {
   std::vector<double> x(10000);
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -206,10 +229,11 @@ TEST(Recurrence, ExactlyPeriodicSignalKeepsItsStart) {
   const auto series = make_series_with_step({x}, 0.01);
   const MlceResult r = estimate_mlce(series, {});
   MlceOptions by_index;
-  by_index.recurrence.repeat_distance = 0.0;
+  by_index.recurrence.repeat_distance = -1.0;
   const MlceResult old = estimate_mlce(series, by_index);
   std::printf("sin 2 pi t + 0.5 sin 6 pi t: %zu samples left out, lambda %.4f (neighbours judged by index alone: "
-              "%zu left out)\n", r.skipped_start, r.lambda, old.skipped_start);
+              "%zu left out, windows up to the cut score %s)\n",
+              r.skipped_start, r.lambda, old.skipped_start, score_range(old.recurrence, old.skipped_start).c_str());
   EXPECT_EQ(r.skipped_start, 0u);
   EXPECT_EQ(r.n_points, x.size());
   ASSERT_FALSE(r.recurrence.ratio.empty());
@@ -238,11 +262,14 @@ TEST(Recurrence, PeriodicSignalPrintedWithSixDigitsRecurs) {
     for (const auto& channels : {std::vector<std::vector<double>>{x}, std::vector<std::vector<double>>{x, y}}) {
       const auto series = make_series_with_step(channels, 0.01);
       const MlceResult r = estimate_mlce(series, {});
+      MlceOptions by_index;
+      by_index.recurrence.repeat_distance = -1.0;
+      const MlceResult old = estimate_mlce(series, by_index);
       ASSERT_FALSE(r.recurrence.ratio.empty());
-      std::printf("period %g samples, %zu channel(s), six digits: %zu samples left out, windows score %.2f .. %.2f\n",
-                  period, channels.size(), r.skipped_start,
-                  *std::min_element(r.recurrence.ratio.begin(), r.recurrence.ratio.end()),
-                  *std::max_element(r.recurrence.ratio.begin(), r.recurrence.ratio.end()));
+      std::printf("period %g samples, %zu channel(s), six digits: %zu samples left out, windows score %s (by index "
+                  "alone: %zu left out, windows score %s)\n",
+                  period, channels.size(), r.skipped_start, score_range(r.recurrence, 0).c_str(), old.skipped_start,
+                  score_range(old.recurrence, 0).c_str());
       EXPECT_EQ(r.skipped_start, 0u);
       for (double ratio : r.recurrence.ratio) EXPECT_GE(ratio, RecurrenceOptions{}.recurrent);
     }

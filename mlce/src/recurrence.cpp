@@ -16,8 +16,8 @@ void RecurrenceOptions::validate() const {
     throw OptionError("recurrence: expected 0 < transient <= first_below <= recurrent <= 1");
   if (!(far > 1.0)) throw OptionError("recurrence.far: expected > 1 (a ratio to the typical distance)");
   if (typical_points == 0) throw OptionError("recurrence.typical_points: expected >= 1");
-  if (!(repeat_distance >= 0.0) || !std::isfinite(repeat_distance))
-    throw OptionError("recurrence.repeat_distance: expected a finite distance >= 0");
+  if (!std::isfinite(repeat_distance))
+    throw OptionError("recurrence.repeat_distance: expected a finite distance (negative = off)");
 }
 
 namespace {
@@ -78,7 +78,8 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
     for (; k < refs.size() && refs[k] < end; ++k) {
       if (nn[k] == NeighbourResult::none) continue;
       ++count;
-      later += nn[k] >= after || distance[k] <= options.repeat_distance || (!repeated.empty() && repeated[k] != 0);
+      const double nearest = !repeated.empty() && repeated[k] != 0 ? 0.0 : distance[k];  // an exact repeat: 0
+      later += nn[k] >= after || nearest <= options.repeat_distance;
     }
     if (count == 0 || count < options.min_references) break;
     const double expected = static_cast<double>(A - after) / static_cast<double>(A);

@@ -48,18 +48,20 @@ struct RecurrenceOptions {
   double far = 3.0;
   /// First-half points (evenly strided) whose median distance to the second half is the typical one.
   std::size_t typical_points = 2000;
-  /// A reference whose nearest neighbour lies at most this far (the search's coordinates: every
-  /// channel over its standard deviation) recurs wherever that neighbour lies: the motion passes
-  /// there again to the data's resolution. An exactly periodic signal finds its neighbours one
-  /// period on, inside the same window whenever the window spans more than a period, and its
-  /// windows scored 0.0-0.6: sin 2 pi t + 0.5 sin 6 pi t at dt = 0.01, N = 10^4, lost its first 2618
-  /// samples as a "start-up" (test_recurrence). A start-up's points stay a finite distance from
+  /// A reference whose nearest candidate lies at most this far (the search's coordinates: every
+  /// channel over its standard deviation; an exact repeat passed over, NeighbourResult::repeated,
+  /// counts as distance 0) recurs wherever that neighbour lies: the motion passes there again to the
+  /// data's resolution. Negative = off: neighbours judged by their index alone. An exactly periodic
+  /// signal finds its neighbours one period on, inside the same window whenever the window spans
+  /// more than a period; judged by index alone, sin 2 pi t + 0.5 sin 6 pi t at dt = 0.01, N = 10^4,
+  /// lost its first 2618 samples as a "start-up" (test_recurrence prints its windows' scores both
+  /// ways). A start-up's points stay a finite distance from
   /// every other point (Lorenz x from (1, 1, 1), N = 10^4: geometric mean of the neighbour distances
   /// 0.015; the 256 series of finite_time_spread starts and those of start_variants credit no point);
   /// 1e-5 is above the rounding of six printed digits (MBDyn's default) on a signal whose mean is
-  /// within ~10 deviations of 0. A reference with an exact repeat (NeighbourResult::repeated: a zero
-  /// distance passed over, as six printed digits give a periodic signal) recurs likewise: quantised
-  /// cos / sin of period 100 samples scored ~0.1 in every window.
+  /// within ~10 deviations of 0. Six printed digits make a periodic signal repeat its points
+  /// exactly: its zero distances are passed over and the neighbour found is another phase, but the
+  /// exact repeat says the point recurs (cos / sin of period 80 or 100 samples: test_recurrence).
   double repeat_distance = 1e-5;
   void validate() const;
 };
