@@ -12,6 +12,13 @@
 // Lorenz, end before Roessler's linear region has begun; a fixed number of mean periods after the
 // start is the best on Lorenz and no better on Roessler. None is kept. The rule's own minimum length
 // (FitOptions::min_periods) at 0 (the rule before it), 1.2 and 1.6 periods beside its 1.5.
+// Last, no end at all: a model of the whole rise and plateau fitted by least squares (Eigen's
+// Levenberg-Marquardt) from the region's start, its slope the estimate. Each pair's ln d grows at
+// lambda until it saturates at the attractor's scale A, and pairs start at different distances, so
+// the bend is smooth: "soft minimum" y = A - ln(1 + e^{k (A - b - l i)}) / k, and "spread starts"
+// y = E[min(X + l i, A)] with X ~ N(b, s^2), to the curve's end or to the automatic end plus the
+// region's length. Both read high on both flows (means 1.1-1.7 lambda_1) and scatter several times
+// as far as the automatic fit: the real bend is not that shape, and the slope trades against it.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -20,6 +27,10 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
 
 #include "mlce/estimate.hpp"
 #include "mlce/numerics.hpp"
@@ -49,10 +60,54 @@ std::size_t first_reaching(const Curve& c, double level) {
   return e;
 }
 
+/// Saturating models of the curve, parameters p = (A, b, l, ln k or ln s), step i.
+double soft_minimum(const Eigen::VectorXd& p, double i) {
+  const double k = std::exp(p[3]), u = k * (p[0] - p[1] - p[2] * i);
+  return p[0] - (u > 30 ? u : std::log1p(std::exp(u))) / k;
+}
+double spread_starts(const Eigen::VectorXd& p, double i) {
+  const double s = std::exp(p[3]), mu = p[1] + p[2] * i, a = (p[0] - mu) / s;
+  const double below = 0.5 * std::erfc(-a / std::sqrt(2.0)), density = std::exp(-0.5 * a * a) / std::sqrt(2 * M_PI);
+  return mu * below - s * density + p[0] * (1 - below);
+}
+using CurveModel = double (*)(const Eigen::VectorXd&, double);
+
+/// Residuals of a model over steps first..last of a curve (Eigen's functor concept for the solver).
+struct ModelResiduals {
+  using Scalar = double;
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  const std::vector<double>* y = nullptr;
+  std::size_t first = 0, last = 0;
+  CurveModel model = nullptr;
+  int inputs() const { return 4; }
+  int values() const { return static_cast<int>(last - first + 1); }
+  int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& r) const {
+    for (std::size_t i = first; i <= last; ++i) r[static_cast<Eigen::Index>(i - first)] = (*y)[i] - model(p, static_cast<double>(i));
+    return 0;
+  }
+};
+
+/// The slope (per sample) of `model` fitted from the automatic region's start to `last`, started
+/// from the automatic line and the curve's top.
+double model_slope(const Curve& c, CurveModel model, std::size_t last) {
+  const auto line = mlce::fit_line(c.y.data(), c.first, c.last);
+  Eigen::VectorXd p(4);
+  p << *std::max_element(c.y.begin(), c.y.end()), line.intercept, line.slope, 0.0;
+  ModelResiduals residuals{&c.y, c.first, std::min(last, c.y.size() - 1), model};
+  Eigen::NumericalDiff<ModelResiduals> with_jacobian(residuals);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<ModelResiduals>> solver(with_jacobian);
+  solver.minimize(p);
+  return p[2];
+}
+
 struct Rule {
   std::string name;
   EndRule end;            // empty: the automatic estimate
   int other_minimum = -1;  // with no end: the automatic estimate with kOtherMinimum[this]
+  std::function<double(const Curve&)> slope = {};  // set: a model's slope, per sample
 };
 
 void evaluate(const char* system, const std::vector<Curve>& curves, double lambda_per_sample, const std::vector<Rule>& rules) {
@@ -61,7 +116,8 @@ void evaluate(const char* system, const std::vector<Curve>& curves, double lambd
     int within5[2] = {0, 0}, within10[2] = {0, 0}, count[2] = {0, 0};
     double sum[2] = {0, 0}, err2[2] = {0, 0};
     for (const auto& c : curves) {
-      const double slope = rule.end                  ? mlce::fit_line(c.y.data(), c.first, std::min(rule.end(c), c.y.size() - 1)).slope
+      const double slope = rule.slope                ? rule.slope(c)
+                           : rule.end                  ? mlce::fit_line(c.y.data(), c.first, std::min(rule.end(c), c.y.size() - 1)).slope
                            : rule.other_minimum >= 0 ? c.other_minimum[static_cast<std::size_t>(rule.other_minimum)]
                                                      : c.lambda;
       const double q = slope / lambda_per_sample;
@@ -108,6 +164,13 @@ std::vector<Rule> rules() {
   out.push_back({"automatic end kept between 1.4 and 1.0 below", [](const Curve& c) {
                    return std::clamp(c.last, first_reaching(c, c.attractor - 1.4), first_reaching(c, c.attractor - 1.0));
                  }});
+  const std::pair<CurveModel, std::string> models[] = {{soft_minimum, "soft minimum"}, {spread_starts, "spread starts"}};
+  for (const auto& [m, label] : models) {
+    out.push_back({std::string("model, ") + label + ", to the curve's end", {}, -1,
+                   [m](const Curve& c) { return model_slope(c, m, c.y.size() - 1); }});
+    out.push_back({std::string("model, ") + label + ", to the end + region", {}, -1,
+                   [m](const Curve& c) { return model_slope(c, m, 2 * c.last - c.first); }});
+  }
   return out;
 }
 
