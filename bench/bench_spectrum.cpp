@@ -24,7 +24,7 @@ void plain_integration(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(mlce::models::simulate(s).states.back().data());
 }
 
-void qr(benchmark::State& state, std::vector<std::string> params, mlce::spectrum::JacobianMethod method,
+void qr(benchmark::State& state, const std::vector<std::string>& params, mlce::spectrum::JacobianMethod method,
         std::size_t count = 0) {
   const auto s = scene();
   const auto sys = mlce::models::dynamical_system(s);

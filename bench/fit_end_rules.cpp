@@ -165,7 +165,8 @@ std::vector<Rule> rules() {
                    return std::clamp(c.last, first_reaching(c, c.attractor - 1.4), first_reaching(c, c.attractor - 1.0));
                  }});
   const std::pair<CurveModel, std::string> models[] = {{soft_minimum, "soft minimum"}, {spread_starts, "spread starts"}};
-  for (const auto& [m, label] : models) {
+  for (const auto& [model, label] : models) {
+    const CurveModel m = model;  // a structured binding is not captured before C++20 in every compiler
     out.push_back({std::string("model, ") + label + ", to the curve's end", {}, -1,
                    [m](const Curve& c) { return model_slope(c, m, c.y.size() - 1); }});
     out.push_back({std::string("model, ") + label + ", to the end + region", {}, -1,

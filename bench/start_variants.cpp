@@ -19,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <random>
 #include <string>
 #include <vector>
@@ -153,8 +154,13 @@ void solver_tolerances() {
 }  // namespace
 
 int main() {
-  starting_points();
-  ami_delays();
-  transient_cuts();
-  solver_tolerances();
+  try {
+    starting_points();
+    ami_delays();
+    transient_cuts();
+    solver_tolerances();
+  } catch (const std::exception& e) {  // a scene or series refused: say which, never terminate()
+    std::fprintf(stderr, "start_variants: %s\n", e.what());
+    return 1;
+  }
 }

@@ -41,7 +41,7 @@ namespace fs = std::filesystem;
 /// The CSV file at `path` (as slurp gives it): its first line is `header` and it has `lines` lines,
 /// the header included.
 std::string expect_csv(const fs::path& path, const std::string& header, long lines) {
-  const std::string text = slurp(path);
+  std::string text = slurp(path);
   EXPECT_EQ(text.substr(0, text.find('\n')), header) << path;
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), lines) << path;
   return text;

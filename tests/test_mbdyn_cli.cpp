@@ -220,18 +220,18 @@ TEST_F(MbdynCli, RowOutOfOrder) {
 }
 
 TEST_F(MbdynCli, WrongColumnCount) {
-  edit_line(".mov", 15, [](std::string l) { return l.substr(0, l.rfind(' ')); });
+  edit_line(".mov", 15, [](const std::string& l) { return l.substr(0, l.rfind(' ')); });
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov:15: label 2: 12 columns, expected 13");
 }
 
 TEST_F(MbdynCli, TextInANumericField) {
   // Line 50 is row 5 of block 6: joint 6 (axial rotation), 20 columns.
-  edit_line(".jnt", 50, [](std::string l) { return l.substr(0, l.rfind(' ')) + " abc"; });
+  edit_line(".jnt", 50, [](const std::string& l) { return l.substr(0, l.rfind(' ')) + " abc"; });
   expect_one_line_error(run("extract " + prefix + " --channel joint:6:20"), "run.jnt:50: column 20: 'abc' is not a number");
 }
 
 TEST_F(MbdynCli, NonFiniteValue) {
-  edit_line(".mov", 8, [](std::string l) { return "       2 nan" + l.substr(l.find(' ', 9)); });
+  edit_line(".mov", 8, [](const std::string& l) { return "       2 nan" + l.substr(l.find(' ', 9)); });
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov:8: column 2: 'nan': expected a finite number");
 }
 
@@ -262,7 +262,7 @@ TEST_F(MbdynCli, EntityFileCutShortSaysWhatEveryFileHoldsAndThatPartIsRead) {
   auto v = lines_of(prefix + ".mov");
   ASSERT_EQ(v.size(), 201u * 7);
   std::ofstream o(prefix + ".mov", std::ios::trunc);
-  for (std::size_t k = 0; k < 100 * 7; ++k) o << v[k] << "\n";
+  for (std::size_t k = 0; k < std::size_t{100} * 7; ++k) o << v[k] << "\n";
   o << v[700].substr(0, v[700].size() / 2);
   o.close();
   std::istringstream rows(intact.out);  // a header, then one row per block: row 100 is block 99's
@@ -288,10 +288,10 @@ TEST_F(MbdynCli, MissingFilesOfTheSet) {
 }
 
 TEST_F(MbdynCli, MalformedLogAndOut) {
-  edit_line(".log", 3, [](std::string) { return std::string("structural node: 2 0.1 zero 0 euler123 0 0 0"); });
+  edit_line(".log", 3, [](const std::string&) { return std::string("structural node: 2 0.1 zero 0 euler123 0 0 0"); });
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.log:3: node 2: position is not a number");
   fs::copy_file(kIso + ".log", prefix + ".log", fs::copy_options::overwrite_existing);
-  edit_line(".out", 10, [](std::string) { return std::string("Step 6 0.006 0.001"); });
+  edit_line(".out", 10, [](const std::string&) { return std::string("Step 6 0.006 0.001"); });
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.out:10: expected 'Step");
   // A problem block with 'output: none' leaves the .out without Step lines: no time axis.
   std::ofstream(prefix + ".out", std::ios::trunc) << "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
@@ -475,7 +475,7 @@ TEST_F(MbdynCli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
   std::ofstream mov(dir / "blown.mov");
   std::size_t n = 0;
   for (const auto& line : lines_of(kC3 + ".mov")) {
-    if (n++ < 1200 * 7) {
+    if (n++ < std::size_t{1200} * 7) {
       mov << line << "\n";
       continue;
     }

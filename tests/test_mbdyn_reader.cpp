@@ -2,6 +2,7 @@
 // orientation parametrization, and interrupted runs.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <chrono>
 #include <csignal>
 #include <cmath>
@@ -361,7 +362,8 @@ TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
   EXPECT_EQ(r.output, "");
   // A result far larger than a pipe's buffer (64 kB) arrives whole, every byte in its place.
-  std::string big(20'000'000, '\0');
+  std::string big;
+  big.resize(20'000'000);
   for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>((i * 2654435761u) >> 13);
   r = run_isolated([&] { return big; }, 60.0);
   EXPECT_EQ(r.kind, IsolatedOutcome::Kind::finished);
@@ -383,7 +385,7 @@ TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
   // runner's whose reader is gone (SIGPIPE).
   std::vector<bool> open_before(1024);
   for (int fd = 0; fd < 1024; ++fd) open_before[static_cast<std::size_t>(fd)] = ::fcntl(fd, F_GETFD) != -1;
-  auto writes_then_exits = [&](std::string frame) {
+  auto writes_then_exits = [&](const std::string& frame) {
     return [&open_before, frame]() -> std::string {
       for (int fd = 0; fd < 1024; ++fd)
         if (!open_before[static_cast<std::size_t>(fd)] && ::fcntl(fd, F_GETFD) != -1)
@@ -410,12 +412,13 @@ TEST(IsolatedRun, TellsWorkThatEndsFromWorkThatCrashesOrNeverEnds) {
 TEST(ByteCodec, CarriesValuesBitForBitAndRefusesToReadPastItsBytes) {
   using mlce::reader::detail::ByteReader;
   using mlce::reader::detail::ByteWriter;
+  using namespace std::string_literals;  // "...\0..."s keeps the embedded NUL
   const std::vector<double> values{0.0, -0.0, 1e-310, -1e308, std::numeric_limits<double>::infinity(),
                                    std::numeric_limits<double>::quiet_NaN(), 1.0 / 3.0};
   ByteWriter w;
   w.str("node:2:x");
   w.doubles(values);
-  w.strings({"", "a warning", std::string("with a \0 inside", 16)});
+  w.strings({"", "a warning", "with a \0 inside"s});
   w.i64(-42);
   w.f64(-0.0);
   const std::string bytes = w.take();
@@ -424,8 +427,8 @@ TEST(ByteCodec, CarriesValuesBitForBitAndRefusesToReadPastItsBytes) {
   const auto back = r.doubles();
   ASSERT_EQ(back.size(), values.size());
   for (std::size_t k = 0; k < values.size(); ++k)
-    EXPECT_EQ(std::memcmp(&back[k], &values[k], sizeof(double)), 0) << k;  // nan, -0 and subnormals too
-  EXPECT_EQ(r.strings(), (std::vector<std::string>{"", "a warning", std::string("with a \0 inside", 16)}));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(back[k]), std::bit_cast<std::uint64_t>(values[k])) << k;  // nan, -0 and subnormals too
+  EXPECT_EQ(r.strings(), (std::vector<std::string>{"", "a warning", "with a \0 inside"s}));
   EXPECT_EQ(r.i64(), -42);
   EXPECT_TRUE(std::signbit(r.f64()));
   EXPECT_NO_THROW(r.expect_end());

@@ -34,7 +34,7 @@ class MbdynVsAdHoc : public mlce::testing::CliFixture {
     return r.status == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
   }
   std::string simulate(const std::string& scene, double t_end) {
-    const std::string out = (dir / scene).string();
+    std::string out = (dir / scene).string();
     const CliRun r = run("simulate " + kScenes + scene + ".scene --t_end " + std::to_string(t_end) + " --out " + out +
                          " --quiet");
     EXPECT_EQ(r.status, 0) << r.err;

@@ -41,7 +41,7 @@ Eigen::MatrixXd complex_step_jacobian(const models::HammondModel& m, const Vecto
   return J;
 }
 
-models::Scene scene(std::vector<std::string> overrides) { return models::load_scene("", overrides); }
+models::Scene scene(const std::vector<std::string>& overrides) { return models::load_scene("", overrides); }
 
 }  // namespace
 
@@ -235,7 +235,8 @@ TEST(StepBudget, ARunWhoseStiffnessGrowsAlongTheWayIsRefusedWhereItStandsNotAtTh
       {"constant", [](double) { return 1.0; }},
       {"decaying start-up", [](double t) { return 1.0 + 99.0 * std::exp(-t); }},
       {"hump", [](double t) { return 1.0 + 4.0 * (t / 5.0) * std::exp(1.0 - t / 5.0); }}};
-  for (const auto& [name, a] : stiffness) {
+  for (const auto& [name, stiffness_of] : stiffness) {
+    const auto& a = stiffness_of;  // a structured binding is not captured before C++20 in every compiler
     const auto rhs = [&a](const VectorXd& x, VectorXd& dx, double t) { dx = -1e3 * a(t) * x; };
     VectorXd x = x0;
     double h = 0.0;
@@ -453,7 +454,7 @@ TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
     EXPECT_EQ(std::string(e.what()), path + ": h = -1e-3: expected a step >= 0 (0: dt_out / 4)");
   }
   // The span errors name the values they refuse, as typed (not std::to_string's 30000000000000.000000).
-  const auto message = [&](std::vector<std::string> args) {
+  const auto message = [&](const std::vector<std::string>& args) {
     try {
       models::load_scene(path, args);
     } catch (const std::invalid_argument& e) {

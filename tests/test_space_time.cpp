@@ -142,7 +142,7 @@ TEST(SpaceTime, ContoursAreTheOrderStatisticsOfEveryPairByBruteForce) {
   mean /= x.size();
   for (double v : x) var += (v - mean) * (v - mean);
   const double sd = std::sqrt(static_cast<double>(var / x.size()));  // over N, as the divergence curve's units
-  const std::size_t M = x.size() - 2 * 10;
+  const std::size_t M = x.size() - std::size_t{2} * 10;
   for (std::size_t k = 0; k < r.separation.size(); ++k) {
     const std::size_t D = r.separation[k];
     ASSERT_EQ(D, 7 * (k + 1));

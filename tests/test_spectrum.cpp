@@ -35,7 +35,7 @@ MatrixXd oscillator(double zeta, double w) {
   return A;
 }
 
-models::Scene scene(std::vector<std::string> overrides) { return models::load_scene("", overrides); }
+models::Scene scene(const std::vector<std::string>& overrides) { return models::load_scene("", overrides); }
 
 spectrum::QrOptions qr_options(double t_end, double step, spectrum::MergeRule merge = spectrum::MergeRule::none) {
   spectrum::QrOptions o;

@@ -38,7 +38,7 @@ class CliFixture : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir); }
 
   std::filesystem::path write(const std::string& name, const std::string& content) {
-    const std::filesystem::path p = dir / name;
+    std::filesystem::path p = dir / name;
     std::ofstream(p, std::ios::binary) << content;
     return p;
   }
