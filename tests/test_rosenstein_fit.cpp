@@ -733,6 +733,8 @@ TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignm
   for (const bool align : {false, true}) {
     o.align_phase = align;
     const DivergenceCurve c = follow_pairs(s, o, pairs);
+    const NeighbourPhases phases = neighbour_phases(s, o, pairs);  // where follow_pairs followed each neighbour from
+    ASSERT_EQ(phases.base.size(), pairs.references.size());
     std::vector<double> sum(o.horizon + 1, 0.0);
     std::size_t count = 0;
     for (std::size_t k = 0; k < pairs.references.size(); ++k) {
@@ -748,6 +750,8 @@ TEST(Rosenstein, CurveIsTheMeanLogOfBruteForceDistancesWithAndWithoutPhaseAlignm
           if (l < best) best = l, q = cand;
         }
       }
+      // The grid's phase within two of its steps of the least-squares one.
+      EXPECT_NEAR(static_cast<double>(phases.base[k]) + phases.fraction[k], q, align ? 2e-4 : 0.0) << "pair " << k;
       for (std::size_t i = 0; i <= o.horizon; ++i) sum[i] += log_distance(z, j + i, q + static_cast<double>(i), o.dim, o.delay);
       ++count;
     }

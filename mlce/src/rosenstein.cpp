@@ -7,6 +7,7 @@
 #include <memory>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include <boost/math/tools/minima.hpp>
 
@@ -164,39 +165,30 @@ double noise_level_sensitivity(const DivergenceCurve& curve, std::size_t first, 
   return fit_line(noise_level_shift(curve).data(), first, last).slope;
 }
 
-DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
-  options.validate();
-  validate_series(series);
-  if (!options.noise_deviation.empty() && options.noise_deviation.size() != series.channels.size())
-    throw std::logic_error("follow_pairs: noise_deviation needs one value per channel");
+namespace {
+
+/// The pairs were found for the options' m, delay and horizon, one neighbour per reference.
+void require_pairs_for(const char* who, const RosensteinOptions& options, const NeighbourPairs& pairs) {
   if (pairs.dim != options.dim || pairs.delay != options.delay || pairs.horizon != options.horizon ||
       pairs.references.size() != pairs.nearest.neighbour.size())
-    throw std::logic_error("follow_pairs: the pairs were found for other options (m, delay, horizon)");
-  const std::size_t n = series.size();
-  const Series s = scaled_to_unit_deviation(series);
-  std::vector<std::span<const double>> channels;
-  for (const auto& c : s.channels) channels.emplace_back(c);
-  const std::size_t H = options.horizon;
-  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
-  const DelayEmbedding all(channels, options.dim, options.delay, M);
+    throw std::logic_error(std::string(who) + ": the pairs were found for other options (m, delay, horizon)");
+}
+
+/// neighbour_phases over the embedding of the series in unit-deviation coordinates (follow_pairs has
+/// built it already).
+NeighbourPhases neighbour_phases(const DelayEmbedding& all, const RosensteinOptions& options, const NeighbourPairs& pairs) {
+  const std::size_t H = options.horizon, M = all.size();
   const auto& refs = pairs.references;
   const NeighbourResult& nn = pairs.nearest;
-
-  DivergenceCurve curve;
-  curve.dt = s.dt;
-  curve.admissible_points = M - H;
-  curve.references = refs.size();
-  curve.zero_distance_candidates = nn.zero_distance_candidates;
-  curve.pairs = refs.size() - nn.without_neighbour;
-  if (curve.pairs == 0)
-    throw InputError("no reference point has a neighbour outside the Theiler window of " +
-                     std::to_string(options.theiler) + " samples: the series is too short for it");
-
   // Neighbour positions along their own trajectories: base sample and fraction of the way to the
   // next one (align_phase), chosen on the two segments around the neighbour by least squares.
-  std::vector<std::size_t> base(refs.size(), 0);
-  std::vector<double> fraction(refs.size(), 0.0);
-  std::vector<char> cubic(refs.size(), 0);  // followed on the cubic (Interpolation::cubic)
+  NeighbourPhases out;
+  auto& base = out.base;
+  auto& fraction = out.fraction;
+  auto& cubic = out.cubic;
+  base.assign(refs.size(), 0);
+  fraction.assign(refs.size(), 0.0);
+  cubic.assign(refs.size(), 0);
   CompensatedSum shift;
   for (std::size_t k = 0; k < refs.size(); ++k) {
     if (nn.neighbour[k] == NeighbourResult::none) continue;
@@ -232,9 +224,56 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
     }
     shift.add(std::abs(static_cast<double>(base[k]) + fraction[k] - static_cast<double>(jn)));
   }
+  out.shift_sum = shift.value();
+  return out;
+}
+
+}  // namespace
+
+NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
+  options.validate();
+  validate_series(series);
+  require_pairs_for("neighbour_phases", options, pairs);
+  const Series s = scaled_to_unit_deviation(series);
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
+  const std::size_t M = DelayEmbedding::max_points(s.size(), options.dim, options.delay);  // eq. 17
+  return neighbour_phases(DelayEmbedding(channels, options.dim, options.delay, M), options, pairs);
+}
+
+DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
+  options.validate();
+  validate_series(series);
+  if (!options.noise_deviation.empty() && options.noise_deviation.size() != series.channels.size())
+    throw std::logic_error("follow_pairs: noise_deviation needs one value per channel");
+  require_pairs_for("follow_pairs", options, pairs);
+  const std::size_t n = series.size();
+  const Series s = scaled_to_unit_deviation(series);
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
+  const std::size_t H = options.horizon;
+  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
+  const DelayEmbedding all(channels, options.dim, options.delay, M);
+  const auto& refs = pairs.references;
+  const NeighbourResult& nn = pairs.nearest;
+
+  DivergenceCurve curve;
+  curve.dt = s.dt;
+  curve.admissible_points = M - H;
+  curve.references = refs.size();
+  curve.zero_distance_candidates = nn.zero_distance_candidates;
+  curve.pairs = refs.size() - nn.without_neighbour;
+  if (curve.pairs == 0)
+    throw InputError("no reference point has a neighbour outside the Theiler window of " +
+                     std::to_string(options.theiler) + " samples: the series is too short for it");
+
+  const NeighbourPhases phases = neighbour_phases(all, options, pairs);
+  const std::vector<std::size_t>& base = phases.base;
+  const std::vector<double>& fraction = phases.fraction;
+  const std::vector<char>& cubic = phases.cubic;
   curve.phase_aligned = options.align_phase;
   curve.cubic_pairs = static_cast<std::size_t>(std::count(cubic.begin(), cubic.end(), 1));
-  if (options.align_phase && curve.pairs > 0) curve.mean_phase_shift = shift.value() / static_cast<double>(curve.pairs);
+  if (options.align_phase && curve.pairs > 0) curve.mean_phase_shift = phases.shift_sum / static_cast<double>(curve.pairs);
 
   // Per batch of contiguous references: sums of ln d_j(i) (eq. 22), computed batch by batch so the
   // result is the same whatever the thread count.

@@ -135,6 +135,22 @@ class PairFinder {
   std::unique_ptr<State> state_;
 };
 
+/// Where follow_pairs follows each pair's neighbour from, one entry per reference of the pairs:
+/// the sample `base` and the `fraction` of the way to the next sample (the phase closest to the
+/// reference when align_phase moves the neighbour; else the neighbour itself, fraction 0), and
+/// whether it is read on the cubic through the samples around it (Interpolation::cubic). Distances
+/// i steps on are then those of DelayEmbedding::squared_distance_between(j + i, base + i, fraction)
+/// over the series in unit-deviation coordinates (linear phases). For diagnostics that follow the
+/// pairs one by one (bench/start_up_origin).
+struct NeighbourPhases {
+  std::vector<std::size_t> base;
+  std::vector<double> fraction;
+  std::vector<char> cubic;
+  double shift_sum = 0.0;  ///< sum over the pairs of |base + fraction - neighbour|, samples
+};
+
+NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
+
 /// The curve of given pairs (e.g. the same pairs with and without align_phase, one search).
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
 
