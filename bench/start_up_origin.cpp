@@ -15,6 +15,10 @@
 //   build/start_up_origin past     neighbours chosen over an embedding window that reaches p delays
 //                                  into the past (m + p coordinates), then followed in the usual m:
 //                                  a pair close over the past has lost its stable component
+//   build/start_up_origin replacement  Wolf et al. (1985)'s fixed-evolution algorithm: one pair at a
+//                                  time, its growth summed along the whole series (as the trajectory's
+//                                  own exponent is), the neighbour replaced when it has grown by the
+//                                  candidate whose separation points most nearly along the old one
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -190,6 +194,124 @@ void past() {
   }
 }
 
+
+/// Wolf et al. (1985)'s fixed-evolution algorithm over the same embedding: one pair followed for
+/// `evolve` steps at a time, its log growth summed along the whole series; the neighbour is kept
+/// while it stays within `keep` times the typical nearest distance and otherwise replaced by the
+/// point (outside the Theiler window, within that distance) whose separation points most nearly
+/// along the old one, so the replacement starts aligned with the unstable direction and has no
+/// start-up. The whole series' stretching is summed, as the trajectory's own exponent is.
+/// `align`: the neighbour (old and new) sits at its closest phase (linear between samples), as the
+/// estimator's pairs do, and angles are compared with the flow's direction removed.
+struct Wolf {
+  std::size_t evolve;
+  double keep;
+  bool align;
+};
+
+double wolf_estimate(const mlce::Series& series, const mlce::MlceResult& r, const Wolf& w) {
+  const mlce::Series s = mlce::scaled_to_unit_deviation(series);
+  const std::vector<std::span<const double>> channels{s.channels[0]};
+  const mlce::DelayEmbedding y(channels, r.dim, r.delay, mlce::DelayEmbedding::max_points(s.size(), r.dim, r.delay));
+  const std::size_t M = y.size(), D = y.dimension(), W = r.theiler;
+  const double d_keep = w.keep * std::exp(r.curve.mean_log_distance[0]);
+  // Position q (fractional sample) of the neighbour: the point (1 - f) y[b] + f y[b + 1].
+  auto at = [&](double q, std::size_t d) {
+    const auto b = static_cast<std::size_t>(q);
+    const double f = q - static_cast<double>(b);
+    return f > 0.0 ? (1.0 - f) * y.coordinate(b, d) + f * y.coordinate(b + 1, d) : y.coordinate(b, d);
+  };
+  auto separation = [&](std::size_t k, double q, std::vector<double>& v) {
+    double s2 = 0.0;
+    for (std::size_t d = 0; d < D; ++d) v[d] = at(q, d) - y.coordinate(k, d), s2 += v[d] * v[d];
+    return std::sqrt(s2);
+  };
+  // Closest phase of candidate p to reference k on the segments p-1..p..p+1.
+  auto closest = [&](std::size_t k, std::size_t p) {
+    double best_q = static_cast<double>(p), best = y.squared_distance(k, p);
+    for (const std::size_t a : {p - 1, p}) {
+      if (a + 1 >= M || (a == p - 1 && p == 0)) continue;
+      double num = 0.0, den = 0.0;
+      for (std::size_t d = 0; d < D; ++d) {
+        const double e = y.coordinate(a + 1, d) - y.coordinate(a, d);
+        num += (y.coordinate(k, d) - y.coordinate(a, d)) * e, den += e * e;
+      }
+      const double f = den > 0.0 ? std::clamp(num / den, 0.0, 1.0) : 0.0;
+      const double d2 = y.squared_distance_between(k, a, f);
+      if (d2 < best) best = d2, best_q = static_cast<double>(a) + f;
+    }
+    return best_q;
+  };
+  std::vector<double> flow(D), v(D), c(D);
+  auto remove_flow = [&](std::vector<double>& u) {
+    if (!w.align) return;
+    double uf = 0.0, ff = 0.0;
+    for (std::size_t d = 0; d < D; ++d) uf += u[d] * flow[d], ff += flow[d] * flow[d];
+    for (std::size_t d = 0; d < D; ++d) u[d] -= uf / ff * flow[d];
+  };
+  // Replacement for reference k: within d_keep, the separation most nearly along v (|cos|); none
+  // within d_keep: the nearest. v empty: the nearest.
+  auto replace = [&](std::size_t k, bool oriented) {
+    for (std::size_t d = 0; d < D; ++d) flow[d] = y.coordinate(k + 1, d) - y.coordinate(k, d);
+    if (oriented) remove_flow(v);
+    double vv = 0.0;
+    for (std::size_t d = 0; d < D; ++d) vv += v[d] * v[d];
+    double best_cos = -1.0, best_q = -1.0, near_d = 1e300, near_q = -1.0;
+    for (std::size_t p = 1; p + w.evolve + 2 < M; ++p) {
+      if ((p > k ? p - k : k - p) <= W) continue;
+      const double d2 = y.squared_distance(k, p);
+      if (d2 > 4.0 * d_keep * d_keep && d2 > near_d * near_d) continue;
+      const double q = w.align ? closest(k, p) : static_cast<double>(p);
+      const double dist = separation(k, q, c);
+      if (!(dist > 0.0)) continue;
+      if (dist < near_d) near_d = dist, near_q = q;
+      if (!oriented || dist > d_keep) continue;
+      remove_flow(c);
+      double cv = 0.0, cc = 0.0;
+      for (std::size_t d = 0; d < D; ++d) cv += c[d] * v[d], cc += c[d] * c[d];
+      const double cosine = std::abs(cv) / std::sqrt(cc * vv);
+      if (cosine > best_cos) best_cos = cosine, best_q = q;
+    }
+    return best_q >= 0.0 ? best_q : near_q;
+  };
+  double growth = 0.0;
+  std::size_t steps = 0;
+  std::size_t k = 0;
+  double q = replace(k, false);
+  while (q >= 0.0 && k + w.evolve + 1 < M && q + static_cast<double>(w.evolve) + 2 < static_cast<double>(M)) {
+    const double d0 = separation(k, q, v);
+    k += w.evolve, q += static_cast<double>(w.evolve);
+    const double d1 = separation(k, q, v);
+    growth += std::log(d1 / d0), steps += w.evolve;
+    if (k + w.evolve + 2 >= M) break;
+    if (d1 > d_keep || q + static_cast<double>(w.evolve) + 2 >= static_cast<double>(M)) q = replace(k, true);
+  }
+  return steps > 0 ? growth / (static_cast<double>(steps) * series.dt) : 0.0;
+}
+
+void replacement() {
+  std::vector<Wolf> variants;
+  for (const bool align : {false, true})
+    for (const std::size_t evolve : {10, 25, 50, 100})
+      for (const double keep : {2.0, 4.0, 8.0}) variants.push_back({evolve, keep, align});
+  std::vector<mlce::bench::Tally> tally(variants.size());
+  mlce::bench::Tally automatic;
+  for_each_series([&](int k, const mlce::Series& series, const mlce::MlceResult& r) {
+    automatic.add(r.lambda / kLambda);
+    for (std::size_t v = 0; v < variants.size(); ++v) tally[v].add(wolf_estimate(series, r, variants[v]) / kLambda);
+    std::fprintf(stderr, "\rseries %d of 32", k);
+  });
+  std::fprintf(stderr, "\n");
+  std::printf("Lorenz x, 32 series: Wolf's fixed-evolution replacement (one pair at a time, growth summed along the series), / lambda_1\n");
+  automatic.print("automatic");
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    char label[80];
+    std::snprintf(label, sizeof label, "evolve %3zu, keep within %.0f d(0)%s", variants[v].evolve, variants[v].keep,
+                  variants[v].align ? ", aligned" : "");
+    tally[v].print(label);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -197,8 +319,9 @@ int main(int argc, char** argv) {
   if (what == "groups") groups();
   else if (what == "scales") scales();
   else if (what == "past") past();
+  else if (what == "replacement") replacement();
   else {
-    std::fprintf(stderr, "usage: start_up_origin groups|scales|past\n");
+    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement\n");
     return 2;
   }
   return 0;
