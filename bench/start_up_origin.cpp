@@ -22,6 +22,9 @@
 //   build/start_up_origin robust   other averages over the pairs than eq. 23's mean of ln d: trimmed
 //                                  means and the median at each step (fitted by the estimator's rule),
 //                                  and the median of the pairs' own rises over the automatic region
+//   build/start_up_origin windows  the estimator's curve fitted over 25 fixed windows, the same steps
+//                                  on every series: the best of them, picked after the fact, bounds
+//                                  what any fit rule could read on these series
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -364,6 +367,35 @@ void robust() {
   pair_median.print("median of the pairs' rises over the automatic region");
 }
 
+/// How far a better fit region could go: the slope of the estimator's own curve over fixed windows
+/// (the same steps on every series, FitOptions::range as `--fit A:B`), the best of them chosen after
+/// the fact on these very 32 series. A fit rule cannot beat the best window it could pick here.
+void windows() {
+  std::vector<std::pair<std::size_t, std::size_t>> wins;
+  for (const std::size_t a : {50, 75, 100, 125, 150})
+    for (const std::size_t length : {100, 150, 200, 250, 300}) wins.emplace_back(a, a + length);
+  std::vector<mlce::bench::Tally> tally(wins.size());
+  mlce::bench::Tally automatic;
+  for_each_series([&](int, const mlce::Series&, const mlce::MlceResult& r) {
+    automatic.add(r.lambda / kLambda);
+    for (std::size_t w = 0; w < wins.size(); ++w) {
+      mlce::FitOptions fit;
+      fit.range = wins[w];
+      tally[w].add(mlce::fit_divergence(r.curve, fit).slope / kDt / kLambda);
+    }
+  });
+  std::printf("Lorenz x, 32 series: slope of the estimator's curve over fixed windows, / lambda_1\n");
+  automatic.print("automatic");
+  std::size_t best = 0;
+  for (std::size_t w = 0; w < wins.size(); ++w) {
+    char label[64];
+    std::snprintf(label, sizeof label, "steps %zu..%zu", wins[w].first, wins[w].second);
+    tally[w].print(label);
+    if (tally[w].err2 < tally[best].err2) best = w;
+  }
+  std::printf("best window after the fact (least rms error): steps %zu..%zu\n", wins[best].first, wins[best].second);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -373,8 +405,9 @@ int main(int argc, char** argv) {
   else if (what == "past") past();
   else if (what == "replacement") replacement();
   else if (what == "robust") robust();
+  else if (what == "windows") windows();
   else {
-    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust\n");
+    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust|windows\n");
     return 2;
   }
   return 0;
