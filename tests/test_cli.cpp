@@ -550,6 +550,7 @@ TEST_F(Cli, AmbiguousColumnsAndBadOptions) {
   const auto f = series_file(mlce::reference::henon_x(100), 1.0);
   expect_one_line_error(run("estimate " + f), "the file has 2 columns");
   expect_one_line_error(run("estimate " + f + " --column 5"), "--column 5 requested, but the file has 2 column(s)");
+  expect_one_line_error(run("estimate " + f + " --column 0"), "--column 0 requested, but the file has 2 column(s), numbered from 1");
   expect_one_line_error(run("estimate " + f + " --column 2 --delay x"), "--delay 'x'", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --fit 9:3"), "expected first < last", 2);
   expect_one_line_error(run("estimate " + f + " --column 2 --align-phase maybe"),

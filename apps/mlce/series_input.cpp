@@ -96,7 +96,7 @@ std::size_t resolve_column(const reader::Table& table, const std::string& file, 
   const auto [end, ec] = std::from_chars(given.data(), given.data() + given.size(), number);
   if (end == given.data() + given.size() && !given.empty()) {  // all digits (an overflow reads as too large)
     if (ec != std::errc() || number == 0 || number > ncols)
-      throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s)", file, option, given, ncols));
+      throw ReadError(fmt::format("{}: {} {} requested, but the file has {} column(s), numbered from 1", file, option, given, ncols));
     return number;
   }
   if (!table.has_header)
