@@ -195,6 +195,14 @@ TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
   r = run("channels " + f);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("col:1    t\n  col:2    henon\n  col:3    logistic\n"), std::string::npos) << r.out;
+  // R's write.csv quotes the header and the row names: the names read without their quotes.
+  std::ostringstream q;
+  q.precision(17);
+  q << "\"\",\"t\",\"henon\"\n";
+  for (std::size_t i = 0; i < henon.size(); ++i) q << '"' << i + 1 << "\"," << i << "," << henon[i] << "\n";
+  r = run("estimate " + write("r.csv", q.str()).string() + " --time-column t --column henon --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), 0.419, 0.02);
   // Names in the last comment before the data, one per column (`# time value`, as make_series,
   // `mlce simulate --format columns` and numpy.savetxt write them), name the columns too.
   const auto g = series_file(henon, 1.0);

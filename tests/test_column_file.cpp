@@ -131,6 +131,24 @@ TEST(ColumnFile, AnEmptyFieldIsRefusedNotSkipped) {
   EXPECT_EQ(error_of(",,\n1,2\n"), "f.txt:1: column 1: empty field: expected a number");  // commas only: no header
 }
 
+TEST(ColumnFile, QuotedFieldsReadAsTheirText) {
+  // R's write.csv: a quoted header whose first cell (the row names') is empty, and quoted row names.
+  const Table r = parse_column_text("\"\",\"time\",\"x\"\n\"1\",0,0.5\n\"2\",0.01,-0.25\n", "mem");
+  ASSERT_EQ(r.columns.size(), 3u);
+  EXPECT_EQ(r.names, (std::vector<std::string>{"", "time", "x"}));  // the row names' column has no name
+  EXPECT_EQ(r.columns[0], (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(r.columns[2], (std::vector<double>{0.5, -0.25}));
+  // A separator or a '#' inside the quotes is text; "" inside is a quote of the name.
+  const Table n = parse_column_text("\"t, s\"\t\"x#1\"\t\"say \"\"hi\"\"\"\n0 1 2\n", "mem");
+  EXPECT_EQ(n.names, (std::vector<std::string>{"t, s", "x#1", "say \"\"hi\"\""}));
+  EXPECT_EQ(n.columns[2], (std::vector<double>{2.0}));
+  // Quoted text among the data, a quote that never closes, and text after a closing quote: refused.
+  EXPECT_EQ(error_of("0,1\n\"a\",2\n"), "f.txt:2: column 1: 'a' is not a number");
+  EXPECT_EQ(error_of("0,1\n\"1,2\n"), "f.txt:2: column 1: '\"1' is not a number");
+  EXPECT_EQ(error_of("0,1\n\"1\"2,2\n"), "f.txt:2: column 1: '\"1\"2' is not a number");
+  EXPECT_EQ(error_of("0,1\n\"\",2\n"), "f.txt:2: column 1: empty field: expected a number");
+}
+
 TEST(ColumnFile, DecimalCommasAreRefusedNotReadAsMoreColumns) {
   // A spreadsheet with decimal commas and tabs between fields: every row would read as four
   // consistent columns of wrong numbers. A line that separates some fields by commas and others by

@@ -36,12 +36,39 @@ std::string shorten(std::string_view s) {
   return t;
 }
 
+/// Where the quoted field that opens at line[open] (a double quote) closes: the index of its closing
+/// quote, "" inside it being a quote of its text (RFC 4180); npos when the line ends first.
+std::size_t closing_quote(std::string_view line, std::size_t open) {
+  for (std::size_t k = open + 1; k < line.size(); ++k)
+    if (line[k] == '"') {
+      if (k + 1 < line.size() && line[k + 1] == '"') ++k;
+      else return k;
+    }
+  return std::string_view::npos;
+}
+
+/// Where a '#' comment starts (npos: none); a '#' inside a quoted field is text.
+std::size_t comment_start(std::string_view line) {
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    if (line[k] == '#') return k;
+    if (line[k] == '"') {
+      const std::size_t close = closing_quote(line, k);
+      if (close == std::string_view::npos) return line.find('#', k + 1);
+      k = close;
+    }
+  }
+  return std::string_view::npos;
+}
+
 /// The fields of a line into `out`. Blanks (spaces, tabs) separate fields, and so does one comma
 /// with blanks around it; two commas with nothing between them enclose an empty field (a missing
 /// value in a CSV), which is kept as "" so that it is refused, not skipped: skipping it would move
 /// every later field one column to the left. A comma ending the line (some exporters write one on
-/// every row) ends it and opens no field. Returns whether the line separates some fields by a
-/// comma and others by blanks only: "0,01<TAB>2,5", a spreadsheet's decimal commas, would
+/// every row) ends it and opens no field. A field in double quotes (RFC 4180: R's write.csv quotes
+/// its header and row names, other exporters every text) is the text between them, separators
+/// included (a doubled quote inside stays doubled); a quote that does not close before a separator or the line's end leaves the field as
+/// it stands, quotes and all, to be refused as text. Returns whether the line separates some fields
+/// by a comma and others by blanks only: "0,01<TAB>2,5", a spreadsheet's decimal commas, would
 /// otherwise read as four numbers.
 bool split_fields(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
@@ -51,8 +78,14 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& out) {
   bool by_comma = false, by_blank = false;
   while (true) {
     std::size_t j = i;
-    while (j < line.size() && !is_separator(line[j])) ++j;
-    out.push_back(line.substr(i, j - i));
+    const std::size_t close = line[i] == '"' ? closing_quote(line, i) : std::string_view::npos;
+    if (close != std::string_view::npos && (close + 1 == line.size() || is_separator(line[close + 1]))) {
+      out.push_back(line.substr(i + 1, close - i - 1));
+      j = close + 1;
+    } else {
+      while (j < line.size() && !is_separator(line[j])) ++j;
+      out.push_back(line.substr(i, j - i));
+    }
     while (j < line.size() && is_blank(line[j])) ++j;
     bool comma = false;
     if (j < line.size() && line[j] == ',') {
@@ -104,7 +137,7 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
   while (src.next(line)) {
     line_no = src.line_number();
     std::string_view comment;
-    if (const auto hash = line.find('#'); hash != std::string_view::npos) {
+    if (const auto hash = comment_start(line); hash != std::string_view::npos) {
       comment = line.substr(hash + 1);
       line = line.substr(0, hash);
     }
