@@ -168,6 +168,37 @@ TEST_F(Cli, OneColumnFileIsTheSeriesPerSample) {
   EXPECT_NEAR(j["lambda"].get<double>(), std::log(2.0), 0.03);
 }
 
+TEST_F(Cli, TextColumnsBesideTheSeriesAreNoError) {
+  // A spreadsheet / pandas export with a datetime and a label column beside the numbers: the
+  // numbers are analysed, text is refused only in a column asked for, and a run that overflowed
+  // into Fortran's "*****" after --to reads up to it.
+  const auto henon = mlce::reference::henon_x(4000);
+  std::ostringstream s;
+  s.precision(17);
+  s << "when,t,henon,note\n";
+  for (std::size_t i = 0; i < henon.size(); ++i)
+    s << "2026-11-27 01:00:" << i % 60 << "," << i << "," << henon[i] << "," << (i % 7 ? "ok" : "") << "\n";
+  s << "2026-11-27 02:07:00,4000,*****,overflow\n";
+  const auto f = write("labelled.csv", s.str()).string();
+  CliRun r = run("estimate " + f + " --time-column t --column henon --to 3999 --json --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NEAR(nlohmann::json::parse(r.out)["lambda"].get<double>(), 0.419, 0.02);
+  expect_one_line_error(run("estimate " + f + " --time-column t --column henon"),
+                        "labelled.csv:4002: column 3: '*****' is not a number");
+  expect_one_line_error(run("estimate " + f + " --time-column t --column note"),
+                        "labelled.csv:2: column 4: empty field: expected a number");
+  expect_one_line_error(run("estimate " + f + " --time-column when --column henon"),
+                        "labelled.csv:2: column 1: '2026-11-27 01:00:0' is not a number");
+  r = run("channels " + f);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* said : {"col:1 (when) can be analysed only before its first field that is no number: ",
+                           "labelled.csv:2: column 1: '2026-11-27 01:00:0' is not a number",
+                           "col:3 (henon) can be analysed only before", "labelled.csv:4002: column 3: '*****'",
+                           "col:4 (note) can be analysed only before"})
+    EXPECT_NE(r.err.find(said), std::string::npos) << said << "\n" << r.err;
+  EXPECT_EQ(r.err.find("col:2"), std::string::npos) << r.err;
+}
+
 TEST_F(Cli, ColumnsAreNamedByTheHeaderLine) {
   // A spreadsheet / pandas export: comma-separated, a header naming the columns.
   const auto henon = mlce::reference::henon_x(4000);

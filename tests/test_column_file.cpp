@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -147,6 +148,59 @@ TEST(ColumnFile, QuotedFieldsReadAsTheirText) {
   EXPECT_EQ(error_of("0,1\n\"1,2\n"), "f.txt:2: column 1: '\"1' is not a number");
   EXPECT_EQ(error_of("0,1\n\"1\"2,2\n"), "f.txt:2: column 1: '\"1\"2' is not a number");
   EXPECT_EQ(error_of("0,1\n\"\",2\n"), "f.txt:2: column 1: empty field: expected a number");
+}
+
+TEST(ColumnFile, TextWithBlanksIsOneFieldOfACommaSeparatedLine) {
+  // pandas writes datetimes as "2026-11-27 01:00:00", unquoted: between commas, one field of text.
+  ColumnFileOptions o;
+  o.keep = {2, 3};
+  const Table t = parse_column_text("when,t,x\n2026-11-27 01:00:00,0,0.5\n2026-11-27 01:00:01, 1 ,0.25\n", "mem", o);
+  EXPECT_EQ(t.names, (std::vector<std::string>{"t", "x"}));
+  EXPECT_EQ(t.columns[0], (std::vector<double>{0.0, 1.0}));
+  EXPECT_EQ(t.columns[1], (std::vector<double>{0.5, 0.25}));
+  // A header whose names hold blanks names as many columns as it has commas.
+  EXPECT_EQ(parse_column_text("time s, x m\n0,1\n", "mem").names, (std::vector<std::string>{"time s", "x m"}));
+  // Without asking for the columns it reads, the text stops the read where it stands.
+  EXPECT_EQ(error_of("t,x\n2026-11-27 01:00:00,0.5\n"), "f.txt:2: column 1: '2026-11-27 01:00:00' is not a number");
+}
+
+TEST(ColumnFile, TextColumnsAreMarkedAndRefusedOnlyWhereAsked) {
+  // A spreadsheet's label and date columns beside the numbers: read on, each column says where its
+  // first field of text is, and a caller refuses text only in the columns it analyses.
+  ColumnFileOptions o;
+  o.text_columns = true;
+  const Table t = parse_column_text("# run 7\nlabel,t,x,note\nA,0,0.5,ok\nB,0.1,0.25,\nC,0.2,*****,\n", "f.txt", o);
+  ASSERT_EQ(t.columns.size(), 4u);
+  ASSERT_EQ(t.text.size(), 4u);
+  EXPECT_EQ(t.text[0].line, 3u);
+  EXPECT_EQ(t.text[0].message, "f.txt:3: column 1: 'A' is not a number");
+  EXPECT_EQ(t.text[1].line, 0u);  // a column of numbers
+  EXPECT_EQ(t.text[2].message, "f.txt:5: column 3: '*****' is not a number");
+  EXPECT_EQ(t.text[3].message, "f.txt:3: column 4: 'ok' is not a number");
+  // "0.25," ends its row one field short: the last value is missing (pandas), not one column fewer.
+  EXPECT_EQ(t.columns[3].size(), 3u);
+  EXPECT_TRUE(std::isnan(t.columns[3][1]));
+  EXPECT_TRUE(std::isnan(t.columns[2][2]));
+  EXPECT_NO_THROW(t.require_numbers({1}));
+  EXPECT_NO_THROW(t.require_numbers({1, 2}, 4));  // x up to line 4: numbers
+  auto refusal = [&](const std::vector<std::size_t>& which) {
+    try {
+      t.require_numbers(which);
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // The file's order decides which is reported: line 3 before line 5, column 1 before column 4.
+  EXPECT_EQ(refusal({2, 3}), "f.txt:3: column 4: 'ok' is not a number");
+  EXPECT_EQ(refusal({3, 0}), "f.txt:3: column 1: 'A' is not a number");
+  EXPECT_EQ(refusal({2}), "f.txt:5: column 3: '*****' is not a number");
+  // Columns kept by number read only those fields: text elsewhere is no error.
+  ColumnFileOptions k;
+  k.keep = {3, 2};
+  const Table u = parse_column_text("A,0,0.5,ok\nB,0.1,0.25,x\n", "mem", k);
+  EXPECT_EQ(u.columns[0], (std::vector<double>{0.5, 0.25}));
+  EXPECT_TRUE(u.text.empty());
 }
 
 TEST(ColumnFile, DecimalCommasAreRefusedNotReadAsMoreColumns) {

@@ -157,6 +157,7 @@ LoadedSeries load_column_series(const SeriesInput& in) {
   if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
   reader::ColumnFileOptions read_options;
   read_options.keep_nonfinite = true;  // refused below, in the rows analysed
+  read_options.text_columns = true;    // text is refused below, in the columns analysed
   reader::Table table = reader::read_column_file(in.file, read_options);
   const std::size_t ncols = table.columns.size();
   std::optional<std::size_t> time_column;
@@ -174,9 +175,16 @@ LoadedSeries load_column_series(const SeriesInput& in) {
     }
   }
 
+  // Text is refused in the columns analysed only (a column of dates or labels beside them is no
+  // error): in the time column anywhere, in the others up to the last row analysed (--to), as
+  // non-finite values are (a diverged run's overflow, "*****" from Fortran, after it).
+  if (time_column) table.require_numbers({*time_column - 1});
   const std::size_t rows = rows_to_read(table, time_column, in);
   std::vector<std::size_t> used = cols;
   if (time_column) used.push_back(*time_column);
+  std::vector<std::size_t> used_index;  // 0-based
+  for (const std::size_t c : used) used_index.push_back(c - 1);
+  table.require_numbers(used_index, table.line_of(rows - 1));
   refuse_nonfinite(table, used, rows, time_column, in);
 
   LoadedSeries out;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 
 #include "line_source.hpp"
 
@@ -21,6 +22,16 @@ std::size_t Table::line_of(std::size_t row) const {
   return std::prev(run)->first_line + (row - std::prev(run)->first_row);
 }
 
+void Table::require_numbers(const std::vector<std::size_t>& which, std::size_t last_line) const {
+  const TextField* first = nullptr;
+  for (const std::size_t c : which) {
+    if (c >= text.size() || text[c].line == 0 || text[c].line > last_line) continue;
+    const TextField& f = text[c];
+    if (!first || f.line < first->line || (f.line == first->line && f.column < first->column)) first = &f;
+  }
+  if (first) throw ReadError(first->message);
+}
+
 std::string Table::where(std::size_t row) const {
   return row < rows_ ? source + ":" + std::to_string(line_of(row)) : source;
 }
@@ -28,7 +39,6 @@ std::string Table::where(std::size_t row) const {
 namespace {
 
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-bool is_separator(char c) { return is_blank(c) || c == ','; }
 
 std::string shorten(std::string_view s) {
   std::string t(s.substr(0, 40));
@@ -60,41 +70,120 @@ std::size_t comment_start(std::string_view line) {
   return std::string_view::npos;
 }
 
-/// The fields of a line into `out`. Blanks (spaces, tabs) separate fields, and so does one comma
-/// with blanks around it; two commas with nothing between them enclose an empty field (a missing
-/// value in a CSV), which is kept as "" so that it is refused, not skipped: skipping it would move
-/// every later field one column to the left. A comma ending the line (some exporters write one on
-/// every row) ends it and opens no field. A field in double quotes (RFC 4180: R's write.csv quotes
-/// its header and row names, other exporters every text) is the text between them, separators
-/// included (a doubled quote inside stays doubled); a quote that does not close before a separator or the line's end leaves the field as
-/// it stands, quotes and all, to be refused as text. Returns whether the line separates some fields
-/// by a comma and others by blanks only: "0,01<TAB>2,5", a spreadsheet's decimal commas, would
-/// otherwise read as four numbers.
-bool split_fields(std::string_view line, std::vector<std::string_view>& out) {
+/// 'tok' (shortened), for messages.
+std::string quoted(std::string_view tok) {
+  std::string q = "'";
+  q += shorten(tok);
+  q += '\'';
+  return q;
+}
+
+/// The number a field holds into v; "" when it is one, else what is wrong with it (the message
+/// after "file:line: column K: ").
+std::string read_number(std::string_view tok, const ColumnFileOptions& options, double& v) {
+  if (tok.empty()) return "empty field: expected a number";
+  const char* first = tok.data();
+  if (tok.front() == '+') ++first;  // from_chars rejects a leading '+'
+  auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
+  if (ec == std::errc() && ptr != tok.data() + tok.size() && (*ptr == 'D' || *ptr == 'd')) {
+    // Fortran's double-precision exponent (1.0D+00): read as 1.0e+00.
+    std::string e(first, tok.data() + tok.size());
+    e[static_cast<std::size_t>(ptr - first)] = 'e';
+    double w = 0.0;
+    const auto [p2, ec2] = std::from_chars(e.data(), e.data() + e.size(), w);
+    if (p2 == e.data() + e.size()) ptr = tok.data() + tok.size(), ec = ec2, v = w;  // ok or out of range
+  }
+  if (ec == std::errc::result_out_of_range) return quoted(tok) + " is out of the range of a double";
+  if (ec != std::errc() || ptr != tok.data() + tok.size())
+    return quoted(tok) + " is not a number" +
+           (tok.find(';') != std::string_view::npos ? " (fields are separated by spaces, tabs or commas)" : "");
+  if (!std::isfinite(v) && !options.keep_nonfinite) return quoted(tok) + ": expected a finite number";
+  return "";
+}
+
+/// How a line splits: `ambiguous` when a comma-separated field holds numbers separated by blanks
+/// ("0,01<TAB>2,5", a spreadsheet's decimal commas, would otherwise read as three or four numbers);
+/// `trailing_comma` when a comma ends the line.
+struct Split {
+  bool ambiguous = false, trailing_comma = false;
+};
+
+/// Every blank-separated piece of a field is a number (so the field is numbers, not one text).
+bool only_numbers(std::string_view field) {
+  static const ColumnFileOptions any;  // a piece that is nan or inf is a number here
+  bool pieces = false;
+  for (std::size_t i = 0; i < field.size();) {
+    while (i < field.size() && is_blank(field[i])) ++i;
+    std::size_t j = i;
+    while (j < field.size() && !is_blank(field[j])) ++j;
+    if (j > i) {
+      double v = 0.0;
+      ColumnFileOptions nonfinite = any;
+      nonfinite.keep_nonfinite = true;
+      if (!read_number(field.substr(i, j - i), nonfinite, v).empty()) return false;
+      pieces = true;
+    }
+    i = j;
+  }
+  return pieces;
+}
+
+/// Whether the line has a comma outside quoted fields: then it is comma-separated.
+bool has_comma(std::string_view line) {
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    if (line[k] == ',') return true;
+    if (line[k] == '"') {
+      const std::size_t close = closing_quote(line, k);
+      if (close == std::string_view::npos) return line.find(',', k + 1) != std::string_view::npos;
+      k = close;
+    }
+  }
+  return false;
+}
+
+/// The fields of a line into `out`. A line with a comma (outside quotes) is comma-separated: each
+/// field is what lies between commas, blanks around it dropped, so text with blanks inside ("2026-11-27
+/// 01:00:00", a datetime as pandas writes it) is one field; two commas with nothing between them
+/// enclose an empty field (a missing value), kept as "" so that it is refused, not skipped: skipping
+/// it would move every later field one column to the left. A comma ending the line (some exporters
+/// write one on every row) opens no field (the caller decides when it ends a row whose last value is
+/// missing). A line without a comma is blank-separated (spaces, tabs). A field in double quotes
+/// (RFC 4180: R's write.csv quotes its header and row names, other exporters every text) is the text
+/// between them, separators included (a doubled quote inside stays doubled); a quote that does not
+/// close before a separator or the line's end leaves the field as it stands, quotes and all, to be
+/// refused as text.
+Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
   out.clear();
+  Split split;
   std::size_t i = 0;
   while (i < line.size() && is_blank(line[i])) ++i;
-  if (i >= line.size()) return false;
-  bool by_comma = false, by_blank = false;
+  if (i >= line.size()) return split;
+  const bool by_comma = has_comma(line);
+  auto ends_field = [&](char c) { return by_comma ? c == ',' : is_blank(c); };
   while (true) {
     std::size_t j = i;
     const std::size_t close = line[i] == '"' ? closing_quote(line, i) : std::string_view::npos;
-    if (close != std::string_view::npos && (close + 1 == line.size() || is_separator(line[close + 1]))) {
+    std::size_t after = close == std::string_view::npos ? close : close + 1;
+    if (by_comma)
+      while (after < line.size() && is_blank(line[after])) ++after;
+    if (close != std::string_view::npos && (after >= line.size() || ends_field(line[after]))) {
       out.push_back(line.substr(i + 1, close - i - 1));
-      j = close + 1;
+      j = after;
     } else {
-      while (j < line.size() && !is_separator(line[j])) ++j;
-      out.push_back(line.substr(i, j - i));
+      while (j < line.size() && !ends_field(line[j])) ++j;
+      std::size_t e = j;
+      while (e > i && is_blank(line[e - 1])) --e;
+      const std::string_view field = line.substr(i, e - i);
+      if (by_comma && field.find_first_of(" \t") != std::string_view::npos && only_numbers(field)) split.ambiguous = true;
+      out.push_back(field);
     }
     while (j < line.size() && is_blank(line[j])) ++j;
-    bool comma = false;
-    if (j < line.size() && line[j] == ',') {
-      comma = true;
+    if (by_comma && j < line.size() && line[j] == ',') {
       ++j;
       while (j < line.size() && is_blank(line[j])) ++j;
+      if (j >= line.size()) split.trailing_comma = true;
     }
-    if (j >= line.size()) return by_comma && by_blank;
-    (comma ? by_comma : by_blank) = true;
+    if (j >= line.size()) return split;
     i = j;
   }
 }
@@ -130,6 +219,7 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
   std::string last_comment;  // the last comment-only line before the first data row
   std::vector<double> row;
   std::vector<std::string_view> fields;
+  std::vector<Table::TextField> field_text;  // text_columns: each file column's first field that is no number
   // The source drops a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") and a CR before the
   // newline, and returns a last line that has no newline: such a file is complete.
   src.keep_unterminated_tail();
@@ -149,40 +239,28 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
       header_line = line_no;
       continue;
     }
-    if (split_fields(line, fields)) {
+    const Split split = split_fields(line, fields);
+    if (split.ambiguous) {
       std::string shown;
       for (char ch : shorten(line)) shown += ch == '\t' ? std::string("\\t") : std::string(1, ch);
       throw ReadError(source + ":" + std::to_string(line_no) + ": '" + shown +
                       "': fields separated by commas and by blanks alike (decimal commas?): write decimal points, "
                       "and one kind of separator");
     }
+    // A comma ending a row one field short of the columns is its last value, missing (pandas writes
+    // "1,2," for a row whose last column is empty); on every row of a file it opens no column.
+    const std::size_t expected = ncols != 0 ? ncols : header.size();
+    if (split.trailing_comma && fields.size() + 1 == expected) fields.push_back(line.substr(line.size()));  // empty
     for (std::size_t field = 1; field <= fields.size(); ++field) {
-      const std::string_view tok = fields[field - 1];
-      if (tok.empty())
-        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) +
-                        ": empty field: expected a number");
-      const char* first = tok.data();
-      if (!tok.empty() && tok.front() == '+') ++first;  // from_chars rejects a leading '+'
-      double v = 0.0;
-      auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
-      if (ec == std::errc() && ptr != tok.data() + tok.size() && (*ptr == 'D' || *ptr == 'd')) {
-        // Fortran's double-precision exponent (1.0D+00): read as 1.0e+00.
-        std::string e(first, tok.data() + tok.size());
-        e[static_cast<std::size_t>(ptr - first)] = 'e';
-        double w = 0.0;
-        const auto [p2, ec2] = std::from_chars(e.data(), e.data() + e.size(), w);
-        if (p2 == e.data() + e.size()) ptr = tok.data() + tok.size(), ec = ec2, v = w;  // ok or out of range
+      double v = std::numeric_limits<double>::quiet_NaN();
+      if (options.keep.empty() || std::find(options.keep.begin(), options.keep.end(), field) != options.keep.end()) {
+        if (std::string error = read_number(fields[field - 1], options, v); !error.empty()) {
+          error = source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": " + error;
+          if (!options.text_columns) throw ReadError(error);
+          if (field_text.size() < field) field_text.resize(field);
+          if (field_text[field - 1].line == 0) field_text[field - 1] = {line_no, field, std::move(error)};
+        }
       }
-      if (ec == std::errc::result_out_of_range)
-        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
-                        shorten(tok) + "' is out of the range of a double");
-      if (ec != std::errc() || ptr != tok.data() + tok.size())
-        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
-                        shorten(tok) + "' is not a number" +
-                        (tok.find(';') != std::string_view::npos ? " (fields are separated by spaces, tabs or commas)" : ""));
-      if (!std::isfinite(v) && !options.keep_nonfinite)
-        throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": '" +
-                        shorten(tok) + "': expected a finite number");
       row.push_back(v);
     }
     if (row.empty()) {  // blank or comment-only line
@@ -226,6 +304,10 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
     t.add_row_line(line_no);
   }
   if (t.rows() == 0) throw ReadError(source + ": no data (the file is empty or holds only comments)");
+  if (options.text_columns) {
+    field_text.resize(ncols);
+    for (std::size_t k = 0; k < t.columns.size(); ++k) t.text.push_back(field_text[options.keep.empty() ? k : options.keep[k] - 1]);
+  }
   return t;
 }
 

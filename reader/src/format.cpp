@@ -66,13 +66,19 @@ class ColumnFormat final : public FormatReader {
   std::vector<std::string> extensions() const override { return {"txt", "csv", "dat", "tsv"}; }
   bool recognizes(const std::string& path) const override { return is_file(path); }
   Inventory describe(const std::string& path) const override {
-    const Table t = read_column_file(path);
+    ColumnFileOptions o;
+    o.text_columns = true;  // a column of dates or labels is listed, and said to be no channel
+    const Table t = read_column_file(path, o);
     Inventory inv;
     inv.source = path;
     inv.format = name();
     inv.columns = t.names;
     inv.blocks = t.rows();
     inv.warnings = t.warnings;
+    for (std::size_t k = 0; k < t.text.size(); ++k)
+      if (t.text[k].line != 0)
+        inv.warnings.push_back("col:" + std::to_string(k + 1) + (t.has_header ? " (" + t.names[k] + ")" : "") +
+                               " can be analysed only before its first field that is no number: " + t.text[k].message);
     if (const std::string hint = missing_mbdyn_out_hint(path); !hint.empty())
       inv.warnings.push_back("read as a column file" + hint);
     return inv;

@@ -2,6 +2,7 @@
 // What every format reader produces: named numeric columns, with where each row came from.
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,6 +22,20 @@ struct Table {
   bool has_header = false;                ///< names come from a header line of the file
   std::vector<std::vector<double>> columns;
   std::vector<std::string> warnings;
+  /// A field that is no number, where it is in the file and what is wrong with it.
+  struct TextField {
+    std::size_t line = 0, column = 0;  ///< 1-based file line and column; line 0: none
+    std::string message;               ///< "file:line: column K: 'abc' is not a number"
+  };
+  /// Per column, when a reader was asked to read on past fields that are no numbers (a column
+  /// file's ColumnFileOptions::text_columns): the column's first such field (line 0 for a column of
+  /// numbers). Empty when not asked.
+  std::vector<TextField> text;
+  /// Throws the message of the first field of text, in the file's order, among the 0-based columns
+  /// `which` on lines up to `last_line`: the error a read that stopped there would have thrown.
+  /// Nothing when they hold numbers there.
+  void require_numbers(const std::vector<std::size_t>& which,
+                       std::size_t last_line = std::numeric_limits<std::size_t>::max()) const;
 
   std::size_t rows() const { return rows_; }
   /// Appends the file line of the next row (lines increase). Kept as runs of consecutive lines, so
