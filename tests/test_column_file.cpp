@@ -160,6 +160,19 @@ TEST(ColumnFile, TextWithBlanksIsOneFieldOfACommaSeparatedLine) {
   EXPECT_EQ(t.columns[1], (std::vector<double>{0.5, 0.25}));
   // A header whose names hold blanks names as many columns as it has commas.
   EXPECT_EQ(parse_column_text("time s, x m\n0,1\n", "mem").names, (std::vector<std::string>{"time s", "x m"}));
+  // A European CSV, numbers between semicolons and decimal commas: refused however the columns are
+  // read (its first column would read as the integer parts); a note with a semicolon is text.
+  ColumnFileOptions text;
+  text.text_columns = true;
+  for (const auto& options : {ColumnFileOptions{}, text})
+    try {
+      parse_column_text("0,01;2,5\n0,02;2,6\n", "f.txt", options);
+      ADD_FAILURE() << "read";
+    } catch (const ReadError& e) {
+      EXPECT_STREQ(e.what(), "f.txt:1: column 2: '01;2' is not a number (fields are separated by spaces, tabs or commas)");
+    }
+  EXPECT_EQ(parse_column_text("t,x,note\n0,1,a;b\n", "mem", text).text[2].message,
+            "mem:2: column 3: 'a;b' is not a number (fields are separated by spaces, tabs or commas)");
   // Without asking for the columns it reads, the text stops the read where it stands.
   EXPECT_EQ(error_of("t,x\n2026-11-27 01:00:00,0.5\n"), "f.txt:2: column 1: '2026-11-27 01:00:00' is not a number");
 }

@@ -103,24 +103,28 @@ std::string read_number(std::string_view tok, const ColumnFileOptions& options, 
 
 /// How a line splits: `ambiguous` when a comma-separated field holds numbers separated by blanks
 /// ("0,01<TAB>2,5", a spreadsheet's decimal commas, would otherwise read as three or four numbers);
-/// `trailing_comma` when a comma ends the line.
+/// `semicolon_field` (1-based, 0 = none) the first field of numbers separated by semicolons (a
+/// European CSV, "0,01;2,5": its first column would read as the integer parts); `trailing_comma`
+/// when a comma ends the line.
 struct Split {
   bool ambiguous = false, trailing_comma = false;
+  std::size_t semicolon_field = 0;
 };
 
-/// Every blank-separated piece of a field is a number (so the field is numbers, not one text).
-bool only_numbers(std::string_view field) {
-  static const ColumnFileOptions any;  // a piece that is nan or inf is a number here
+/// Every piece of a field between blanks (and semicolons, with `semicolons`) is a number: the field
+/// is numbers in another separator, not one text.
+bool only_numbers(std::string_view field, bool semicolons = false) {
+  ColumnFileOptions any;
+  any.keep_nonfinite = true;  // a piece that is nan or inf is a number here
+  auto splits = [&](char c) { return is_blank(c) || (semicolons && c == ';'); };
   bool pieces = false;
   for (std::size_t i = 0; i < field.size();) {
-    while (i < field.size() && is_blank(field[i])) ++i;
+    while (i < field.size() && splits(field[i])) ++i;
     std::size_t j = i;
-    while (j < field.size() && !is_blank(field[j])) ++j;
+    while (j < field.size() && !splits(field[j])) ++j;
     if (j > i) {
       double v = 0.0;
-      ColumnFileOptions nonfinite = any;
-      nonfinite.keep_nonfinite = true;
-      if (!read_number(field.substr(i, j - i), nonfinite, v).empty()) return false;
+      if (!read_number(field.substr(i, j - i), any, v).empty()) return false;
       pieces = true;
     }
     i = j;
@@ -175,6 +179,8 @@ Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
       while (e > i && is_blank(line[e - 1])) --e;
       const std::string_view field = line.substr(i, e - i);
       if (by_comma && field.find_first_of(" \t") != std::string_view::npos && only_numbers(field)) split.ambiguous = true;
+      if (split.semicolon_field == 0 && field.find(';') != std::string_view::npos && only_numbers(field, true))
+        split.semicolon_field = out.size() + 1;
       out.push_back(field);
     }
     while (j < line.size() && is_blank(line[j])) ++j;
@@ -247,6 +253,10 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
                       "': fields separated by commas and by blanks alike (decimal commas?): write decimal points, "
                       "and one kind of separator");
     }
+    if (split.semicolon_field != 0)  // never read on past it: the columns before it would be wrong numbers
+      throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(split.semicolon_field) + ": " +
+                      quoted(fields[split.semicolon_field - 1]) +
+                      " is not a number (fields are separated by spaces, tabs or commas)");
     // A comma ending a row one field short of the columns is its last value, missing (pandas writes
     // "1,2," for a row whose last column is empty); on every row of a file it opens no column.
     const std::size_t expected = ncols != 0 ? ncols : header.size();
