@@ -57,18 +57,21 @@ std::size_t closing_quote(std::string_view line, std::size_t open) {
   return std::string_view::npos;
 }
 
-/// Where a '#' comment starts (npos: none); a '#' inside a quoted field is text.
-std::size_t comment_start(std::string_view line) {
-  for (std::size_t k = 0; k < line.size(); ++k) {
-    if (line[k] == '#') return k;
-    if (line[k] == '"') {
-      const std::size_t close = closing_quote(line, k);
-      if (close == std::string_view::npos) return line.find('#', k + 1);
-      k = close;
-    }
+/// Where the first `c` outside quoted fields is (npos: none). A quote that never closes quotes
+/// nothing. (This runs on every line of a file: a line without quotes costs two memchr.)
+std::size_t find_unquoted(std::string_view line, char c) {
+  std::size_t at = line.find(c);
+  for (std::size_t quote = line.find('"'); quote < at; quote = line.find('"', quote + 1)) {
+    const std::size_t close = closing_quote(line, quote);
+    if (close == std::string_view::npos) return at;
+    if (close > at) at = line.find(c, close + 1);  // that one was quoted
+    quote = close;
   }
-  return std::string_view::npos;
+  return at;
 }
+
+/// Where a '#' comment starts (npos: none); a '#' inside a quoted field is text.
+std::size_t comment_start(std::string_view line) { return find_unquoted(line, '#'); }
 
 /// 'tok' (shortened), for messages.
 std::string quoted(std::string_view tok) {
@@ -133,17 +136,7 @@ bool only_numbers(std::string_view field, bool semicolons = false) {
 }
 
 /// Whether the line has a comma outside quoted fields: then it is comma-separated.
-bool has_comma(std::string_view line) {
-  for (std::size_t k = 0; k < line.size(); ++k) {
-    if (line[k] == ',') return true;
-    if (line[k] == '"') {
-      const std::size_t close = closing_quote(line, k);
-      if (close == std::string_view::npos) return line.find(',', k + 1) != std::string_view::npos;
-      k = close;
-    }
-  }
-  return false;
-}
+bool has_comma(std::string_view line) { return find_unquoted(line, ',') != std::string_view::npos; }
 
 /// The fields of a line into `out`. A line with a comma (outside quotes) is comma-separated: each
 /// field is what lies between commas, blanks around it dropped, so text with blanks inside ("2026-11-27
@@ -174,13 +167,17 @@ Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
       out.push_back(line.substr(i + 1, close - i - 1));
       j = after;
     } else {
-      while (j < line.size() && !ends_field(line[j])) ++j;
+      bool blank = false, semicolon = false;  // seen in the field: the rare cases looked at below
+      if (by_comma)  // two loops, not one asking which kind of line at every character (every line of a file)
+        for (; j < line.size() && line[j] != ','; ++j) blank |= is_blank(line[j]), semicolon |= line[j] == ';';
+      else
+        for (; j < line.size() && !is_blank(line[j]); ++j) semicolon |= line[j] == ';';
       std::size_t e = j;
       while (e > i && is_blank(line[e - 1])) --e;
       const std::string_view field = line.substr(i, e - i);
-      if (by_comma && field.find_first_of(" \t") != std::string_view::npos && only_numbers(field)) split.ambiguous = true;
-      if (split.semicolon_field == 0 && field.find(';') != std::string_view::npos && only_numbers(field, true))
-        split.semicolon_field = out.size() + 1;
+      if (by_comma && blank && field.find_first_of(" \t") != std::string_view::npos && only_numbers(field))
+        split.ambiguous = true;
+      if (semicolon && split.semicolon_field == 0 && only_numbers(field, true)) split.semicolon_field = out.size() + 1;
       out.push_back(field);
     }
     while (j < line.size() && is_blank(line[j])) ++j;
