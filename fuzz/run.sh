@@ -20,6 +20,7 @@ head -n 30 "$iso.jnt" > "$corpus/mbdyn_blocks/seed.jnt"
 head -n 50 "$here/data/lorenz_x.txt" > "$corpus/column_file/seed.txt"
 printf '"","t","x # m"\n"1",0,0.5\n"2",0.01,"-0.25"\n' > "$corpus/column_file/quoted.csv"  # R's write.csv
 printf 'when,t,x,note\n2026-11-27 01:00:00,0,0.5,ok\n2026-11-27 01:00:01,1,*****,\n' > "$corpus/column_file/labelled.csv"
+printf 'when\tt\tx\n27-Nov-2026 01:00:00\t0\t\t0.5\n"a b"\t 1 2\t3\n' > "$corpus/column_file/tab.tsv"
 for s in node:2:x joint:33:14 rel:13:4:z ine:11:3 col:2; do printf '%s' "$s" > "$corpus/channel_spec/$s"; done
 # the NetCDF header and its first records (a file cut short: the reader's truncated-file path)
 head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"

@@ -158,6 +158,14 @@ TEST(ColumnFile, TextWithBlanksIsOneFieldOfACommaSeparatedLine) {
   EXPECT_EQ(t.names, (std::vector<std::string>{"t", "x"}));
   EXPECT_EQ(t.columns[0], (std::vector<double>{0.0, 1.0}));
   EXPECT_EQ(t.columns[1], (std::vector<double>{0.5, 0.25}));
+  // Tab-separated, as MATLAB's writetable and spreadsheets write dates: the date is one field, a run
+  // of tabs one separator; numbers aligned by spaces and tabs alike stay numbers.
+  const Table tab = parse_column_text("when\tt\tx\n27-Nov-2026 01:00:00\t0\t\t0.5\n27-Nov-2026 01:00:01\t 1\t0.25\n", "mem", o);
+  EXPECT_EQ(tab.names, (std::vector<std::string>{"t", "x"}));
+  EXPECT_EQ(tab.columns[1], (std::vector<double>{0.5, 0.25}));
+  const Table aligned = parse_column_text("0  1.5\t2\n1 \t2.5   3\n", "mem");
+  ASSERT_EQ(aligned.columns.size(), 3u);
+  EXPECT_EQ(aligned.columns[1], (std::vector<double>{1.5, 2.5}));
   // A header whose names hold blanks names as many columns as it has commas.
   EXPECT_EQ(parse_column_text("time s, x m\n0,1\n", "mem").names, (std::vector<std::string>{"time s", "x m"}));
   // A European CSV, numbers between semicolons and decimal commas: refused however the columns are

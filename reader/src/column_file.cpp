@@ -138,50 +138,51 @@ bool only_numbers(std::string_view field, bool semicolons = false) {
 /// Whether the line has a comma outside quoted fields: then it is comma-separated.
 bool has_comma(std::string_view line) { return find_unquoted(line, ',') != std::string_view::npos; }
 
-/// The fields of a line into `out`. A line with a comma (outside quotes) is comma-separated: each
-/// field is what lies between commas, blanks around it dropped, so text with blanks inside ("2026-11-27
-/// 01:00:00", a datetime as pandas writes it) is one field; two commas with nothing between them
-/// enclose an empty field (a missing value), kept as "" so that it is refused, not skipped: skipping
-/// it would move every later field one column to the left. A comma ending the line (some exporters
-/// write one on every row) opens no field (the caller decides when it ends a row whose last value is
-/// missing). A line without a comma is blank-separated (spaces, tabs). A field in double quotes
-/// (RFC 4180: R's write.csv quotes its header and row names, other exporters every text) is the text
-/// between them, separators included (a doubled quote inside stays doubled); a quote that does not
-/// close before a separator or the line's end leaves the field as it stands, quotes and all, to be
-/// refused as text.
-Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
+/// How a line's fields are separated: by commas, by tabs (blanks inside a field are its text), or by
+/// blanks (spaces and tabs alike).
+enum class Separator { comma, tab, blank };
+
+/// The fields of a line into `out`, separated as `by` says; with Separator::tab, `tab_fallback` is
+/// set (and the fields are not complete) when a field holds numbers between spaces: the line then
+/// separates by blanks.
+Split split_fields_by(std::string_view line, std::vector<std::string_view>& out, Separator by, bool& tab_fallback) {
   out.clear();
   Split split;
   std::size_t i = 0;
   while (i < line.size() && is_blank(line[i])) ++i;
   if (i >= line.size()) return split;
-  const bool by_comma = has_comma(line);
-  auto ends_field = [&](char c) { return by_comma ? c == ',' : is_blank(c); };
+  const char sep = by == Separator::comma ? ',' : '\t';
+  auto ends_field = [&](char c) { return by == Separator::blank ? is_blank(c) : c == sep; };
   while (true) {
     std::size_t j = i;
     const std::size_t close = line[i] == '"' ? closing_quote(line, i) : std::string_view::npos;
     std::size_t after = close == std::string_view::npos ? close : close + 1;
-    if (by_comma)
-      while (after < line.size() && is_blank(line[after])) ++after;
+    if (by != Separator::blank)
+      while (after < line.size() && line[after] != sep && is_blank(line[after])) ++after;
     if (close != std::string_view::npos && (after >= line.size() || ends_field(line[after]))) {
       out.push_back(line.substr(i + 1, close - i - 1));
       j = after;
     } else {
       bool blank = false, semicolon = false;  // seen in the field: the rare cases looked at below
-      if (by_comma)  // two loops, not one asking which kind of line at every character (every line of a file)
-        for (; j < line.size() && line[j] != ','; ++j) blank |= is_blank(line[j]), semicolon |= line[j] == ';';
-      else
+      if (by == Separator::blank)  // one loop per kind of line, not a question at every character
         for (; j < line.size() && !is_blank(line[j]); ++j) semicolon |= line[j] == ';';
+      else
+        for (; j < line.size() && line[j] != sep; ++j) blank |= is_blank(line[j]), semicolon |= line[j] == ';';
       std::size_t e = j;
       while (e > i && is_blank(line[e - 1])) --e;
       const std::string_view field = line.substr(i, e - i);
-      if (by_comma && blank && field.find_first_of(" \t") != std::string_view::npos && only_numbers(field))
+      if (blank && field.find_first_of(" \t\r") != std::string_view::npos && only_numbers(field)) {
+        if (by == Separator::tab) {
+          tab_fallback = true;
+          return split;
+        }
         split.ambiguous = true;
+      }
       if (semicolon && split.semicolon_field == 0 && only_numbers(field, true)) split.semicolon_field = out.size() + 1;
       out.push_back(field);
     }
-    while (j < line.size() && is_blank(line[j])) ++j;
-    if (by_comma && j < line.size() && line[j] == ',') {
+    while (j < line.size() && is_blank(line[j])) ++j;  // a run of tabs is one separator, as a run of blanks
+    if (by == Separator::comma && j < line.size() && line[j] == ',') {
       ++j;
       while (j < line.size() && is_blank(line[j])) ++j;
       if (j >= line.size()) split.trailing_comma = true;
@@ -189,6 +190,29 @@ Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
     if (j >= line.size()) return split;
     i = j;
   }
+}
+
+/// The fields of a line into `out`. A line with a comma (outside quotes) is comma-separated: each
+/// field is what lies between commas, blanks around it dropped, so text with blanks inside ("2026-11-27
+/// 01:00:00", a datetime as pandas writes it) is one field; two commas with nothing between them
+/// enclose an empty field (a missing value), kept as "" so that it is refused, not skipped: skipping
+/// it would move every later field one column to the left. A comma ending the line (some exporters
+/// write one on every row) opens no field (the caller decides when it ends a row whose last value is
+/// missing). A line with a tab and no comma is tab-separated (a run of tabs is one separator) when
+/// no field between its tabs holds numbers between spaces ("27-Nov-2026 01:00:00" as MATLAB and
+/// spreadsheets write dates is one field; "1 2<TAB>3" is three numbers aligned by blanks and tabs);
+/// any other line is blank-separated (spaces, tabs). A field in double quotes (RFC 4180: R's
+/// write.csv quotes its header and row names, other exporters every text) is the text between them,
+/// separators included (a doubled quote inside stays doubled); a quote that does not close before a
+/// separator or the line's end leaves the field as it stands, quotes and all, to be refused as text.
+Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
+  bool tab_fallback = false;
+  if (has_comma(line)) return split_fields_by(line, out, Separator::comma, tab_fallback);
+  if (find_unquoted(line, '\t') != std::string_view::npos) {
+    const Split split = split_fields_by(line, out, Separator::tab, tab_fallback);
+    if (!tab_fallback) return split;
+  }
+  return split_fields_by(line, out, Separator::blank, tab_fallback);
 }
 
 std::vector<std::string> split_fields(std::string_view line) {

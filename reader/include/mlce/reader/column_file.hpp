@@ -5,8 +5,9 @@
 // two commas with nothing between them enclose an empty field, which is an error (a missing value;
 // skipping it would shift the later columns); a comma ending a line is dropped, unless it ends a
 // row one field short (its last value missing). A comma-separated field of numbers separated by
-// blanks is an error (decimal commas: "0,01<TAB>2,5" would read as three numbers). A field in
-// double quotes is the text between them (RFC 4180).
+// blanks is an error (decimal commas: "0,01<TAB>2,5" would read as three numbers). A line with a
+// tab and no comma is tab-separated unless a field between its tabs holds numbers between spaces
+// (then blanks and tabs alike separate). A field in double quotes is the text between them (RFC 4180).
 // An optional header line (the first line that is not blank or a comment, with no field that
 // reads as a number; an empty cell is an unnamed column) names the columns. Without one, the last
 // comment line before the data names them when it holds exactly one such word per column
