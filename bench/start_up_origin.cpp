@@ -25,6 +25,10 @@
 //   build/start_up_origin windows  the estimator's curve fitted over 25 fixed windows, the same steps
 //                                  on every series: the best of them, picked after the fact, bounds
 //                                  what any fit rule could read on these series
+//   build/start_up_origin along    growth per sample along the series: the pairs at one time t = j + i
+//                                  (past `start` steps and below a level) all sit around x(t), so their
+//                                  mean one-step growth is the unstable direction's there, and its mean
+//                                  over t the trajectory's own exponent if they were aligned and linear
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,8 +72,10 @@ mlce::RosensteinOptions curve_options(const mlce::MlceResult& r) {
   return o;
 }
 
-/// ln d_k(i), i = 0..horizon, of every phase-aligned pair k (unit-deviation coordinates, as the curve's).
-std::vector<std::vector<double>> pair_log_distances(const mlce::Series& series, const mlce::RosensteinOptions& o) {
+/// ln d_k(i), i = 0..horizon, of every phase-aligned pair k (unit-deviation coordinates, as the curve's);
+/// with `references`, also each pair's reference sample j_k.
+std::vector<std::vector<double>> pair_log_distances(const mlce::Series& series, const mlce::RosensteinOptions& o,
+                                                    std::vector<std::size_t>* references = nullptr) {
   const auto pairs = mlce::find_pairs(series, o);
   const auto phases = mlce::neighbour_phases(series, o, pairs);
   const mlce::Series s = mlce::scaled_to_unit_deviation(series);
@@ -87,7 +93,10 @@ std::vector<std::vector<double>> pair_log_distances(const mlce::Series& series, 
       positive = d2 > 0.0;  // never log 0 (no such pair on these series)
       l[i] = 0.5 * std::log(d2);
     }
-    if (positive) out.push_back(std::move(l));
+    if (positive) {
+      out.push_back(std::move(l));
+      if (references) references->push_back(j);
+    }
   }
   return out;
 }
@@ -396,6 +405,63 @@ void windows() {
   std::printf("best window after the fact (least rms error): steps %zu..%zu\n", wins[best].first, wins[best].second);
 }
 
+/// Time-resolved growth: every aligned pair past `start` steps and below `level` tells the growth of
+/// ln d over its next step at the reference's time t = j + i; all such pairs at one t sit around the
+/// same point x(t), so their growth is that of the unstable direction there. The exponent is the
+/// mean over the covered times of the per-time mean (or median) growth.
+void along() {
+  struct Variant {
+    std::size_t start;
+    double below;  // level = attractor scale - below
+    bool median;
+    mlce::bench::Tally tally;
+    double coverage = 0;
+  };
+  std::vector<Variant> variants;
+  for (const std::size_t start : {50, 100, 150, 200})
+    for (const double below : {0.5, 1.0, 2.0})
+      for (const bool median : {false, true}) variants.push_back({start, below, median, {}});
+  mlce::bench::Tally automatic;
+  for_each_series([&](int, const mlce::Series& series, const mlce::MlceResult& r) {
+    automatic.add(r.lambda / kLambda);
+    std::vector<std::size_t> refs;
+    const auto logs = pair_log_distances(series, curve_options(r), &refs);
+    const std::size_t T = series.size() + 1;
+    for (auto& v : variants) {
+      std::vector<std::vector<double>> at(T);
+      const double level = r.curve.attractor_log_distance - v.below;
+      for (std::size_t k = 0; k < logs.size(); ++k)
+        for (std::size_t i = v.start; i + 1 < logs[k].size() && logs[k][i] < level; ++i)
+          at[refs[k] + i].push_back(logs[k][i + 1] - logs[k][i]);
+      double sum = 0;
+      std::size_t covered = 0, first = T, last = 0;
+      for (std::size_t t = 0; t < T; ++t) {
+        auto& g = at[t];
+        if (g.empty()) continue;
+        double x;
+        if (v.median) {
+          std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
+          x = g[g.size() / 2];
+        } else {
+          x = 0;
+          for (double d : g) x += d;
+          x /= static_cast<double>(g.size());
+        }
+        sum += x, ++covered, first = std::min(first, t), last = t;
+      }
+      v.tally.add(covered ? sum / covered / kDt / kLambda : 0.0);
+      v.coverage += covered ? static_cast<double>(covered) / static_cast<double>(last - first + 1) / 32 : 0;
+    }
+  });
+  automatic.print("automatic");
+  for (auto& v : variants) {
+    char label[80];
+    std::snprintf(label, sizeof label, "from %zu, %.1f below, %s (cov %.2f)", v.start, v.below, v.median ? "median" : "mean",
+                  v.coverage);
+    v.tally.print(label);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -406,8 +472,9 @@ int main(int argc, char** argv) {
   else if (what == "replacement") replacement();
   else if (what == "robust") robust();
   else if (what == "windows") windows();
+  else if (what == "along") along();
   else {
-    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust|windows\n");
+    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust|windows|along\n");
     return 2;
   }
   return 0;
