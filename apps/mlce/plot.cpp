@@ -90,7 +90,7 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
   render_png(png_path, table.csv, [&](const std::string& png, const std::string& data) {
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
-        "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
+        "set key below\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
         "set y2label 'local slope over one mean period (1/{})'\nset y2tics\nset ytics nomirror\n{}"
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
         "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
@@ -132,7 +132,7 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
     }
     return fmt::format(
         "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
-        "set key top left\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)> (channel standard deviations)'\n"
+        "set key below\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)> (channel standard deviations)'\n"
         "set title 'Rosenstein divergence of each channel, lambda in 1/{}; {}'\nplot {}\n",
         png, quoted(time_unit), quoted(time_unit),
         r.estimated < 2 ? "one channel estimated" : r.verdict.agree ? "the channels agree" : "the channels do NOT agree", terms);
