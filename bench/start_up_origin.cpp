@@ -29,6 +29,7 @@
 //                                  (past `start` steps and below a level) all sit around x(t), so their
 //                                  mean one-step growth is the unstable direction's there, and its mean
 //                                  over t the trajectory's own exponent if they were aligned and linear
+//                                  (and the same on the trajectories' true (x, y, z), no embedding)
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -36,6 +37,7 @@
 #include <random>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "mlce/embedding.hpp"
@@ -59,7 +61,10 @@ void for_each_series(Visit visit) {
     const std::array<double, 3> x0{u(gen), u(gen), std::abs(u(gen)) / 3};
     const auto x = mlce::reference::sample_flow<3>(mlce::reference::lorenz_rhs, x0, kDt, 10000, 50.0, 10);
     const auto series = mlce::make_series_with_step({x}, kDt);
-    visit(k + 1, series, mlce::estimate_mlce(series, {}));
+    if constexpr (std::is_invocable_v<Visit, int, const mlce::Series&, const mlce::MlceResult&, const std::array<double, 3>&>)
+      visit(k + 1, series, mlce::estimate_mlce(series, {}), x0);
+    else
+      visit(k + 1, series, mlce::estimate_mlce(series, {}));
   }
 }
 
@@ -79,7 +84,8 @@ std::vector<std::vector<double>> pair_log_distances(const mlce::Series& series, 
   const auto pairs = mlce::find_pairs(series, o);
   const auto phases = mlce::neighbour_phases(series, o, pairs);
   const mlce::Series s = mlce::scaled_to_unit_deviation(series);
-  const std::vector<std::span<const double>> channels{s.channels[0]};
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
   const mlce::DelayEmbedding points(channels, o.dim, o.delay, mlce::DelayEmbedding::max_points(s.size(), o.dim, o.delay));
   std::vector<std::vector<double>> out;
   for (std::size_t k = 0; k < pairs.references.size(); ++k) {
@@ -408,7 +414,9 @@ void windows() {
 /// Time-resolved growth: every aligned pair past `start` steps and below `level` tells the growth of
 /// ln d over its next step at the reference's time t = j + i; all such pairs at one t sit around the
 /// same point x(t), so their growth is that of the unstable direction there. The exponent is the
-/// mean over the covered times of the per-time mean (or median) growth.
+/// mean over the covered times of the per-time mean (or median) growth. Read in the estimator's
+/// embedding of x and, with the same pairs' rule, in the true state space (x, y, z): does the
+/// embedding or the pairs' finite size make them outgrow lambda_1?
 void along() {
   struct Variant {
     std::size_t start;
@@ -421,45 +429,66 @@ void along() {
   for (const std::size_t start : {50, 100, 150, 200})
     for (const double below : {0.5, 1.0, 2.0})
       for (const bool median : {false, true}) variants.push_back({start, below, median, {}});
-  mlce::bench::Tally automatic;
-  for_each_series([&](int, const mlce::Series& series, const mlce::MlceResult& r) {
+  std::vector<Variant> state_variants = variants;
+  const auto read = [](const std::vector<std::vector<double>>& logs, const std::vector<std::size_t>& refs, std::size_t T,
+                       double scale, Variant& v) {
+    std::vector<std::vector<double>> at(T);
+    const double level = scale - v.below;
+    for (std::size_t k = 0; k < logs.size(); ++k)
+      for (std::size_t i = v.start; i + 1 < logs[k].size() && logs[k][i] < level; ++i)
+        at[refs[k] + i].push_back(logs[k][i + 1] - logs[k][i]);
+    double sum = 0;
+    std::size_t covered = 0, first = T, last = 0;
+    for (std::size_t t = 0; t < T; ++t) {
+      auto& g = at[t];
+      if (g.empty()) continue;
+      double x = 0;
+      if (v.median) {
+        std::nth_element(g.begin(), g.begin() + static_cast<std::ptrdiff_t>(g.size() / 2), g.end());
+        x = g[g.size() / 2];
+      } else {
+        for (const double d : g) x += d;
+        x /= static_cast<double>(g.size());
+      }
+      sum += x, ++covered, first = std::min(first, t), last = t;
+    }
+    v.tally.add(covered ? sum / static_cast<double>(covered) / kDt / kLambda : 0.0);
+    v.coverage += covered ? static_cast<double>(covered) / static_cast<double>(last - first + 1) / 32 : 0;
+  };
+  mlce::bench::Tally automatic, state_curve;
+  for_each_series([&](int, const mlce::Series& series, const mlce::MlceResult& r, const std::array<double, 3>& x0) {
     automatic.add(r.lambda / kLambda);
     std::vector<std::size_t> refs;
     const auto logs = pair_log_distances(series, curve_options(r), &refs);
-    const std::size_t T = series.size() + 1;
-    for (auto& v : variants) {
-      std::vector<std::vector<double>> at(T);
-      const double level = r.curve.attractor_log_distance - v.below;
-      for (std::size_t k = 0; k < logs.size(); ++k)
-        for (std::size_t i = v.start; i + 1 < logs[k].size() && logs[k][i] < level; ++i)
-          at[refs[k] + i].push_back(logs[k][i + 1] - logs[k][i]);
-      double sum = 0;
-      std::size_t covered = 0, first = T, last = 0;
-      for (std::size_t t = 0; t < T; ++t) {
-        auto& g = at[t];
-        if (g.empty()) continue;
-        double x;
-        if (v.median) {
-          std::nth_element(g.begin(), g.begin() + g.size() / 2, g.end());
-          x = g[g.size() / 2];
-        } else {
-          x = 0;
-          for (double d : g) x += d;
-          x /= static_cast<double>(g.size());
-        }
-        sum += x, ++covered, first = std::min(first, t), last = t;
-      }
-      v.tally.add(covered ? sum / covered / kDt / kLambda : 0.0);
-      v.coverage += covered ? static_cast<double>(covered) / static_cast<double>(last - first + 1) / 32 : 0;
-    }
+    for (auto& v : variants) read(logs, refs, series.size() + 1, r.curve.attractor_log_distance, v);
+    // The same trajectory's (x, y, z): no embedding, the estimator's Theiler window and horizon.
+    std::vector<std::vector<double>> xyz;
+    for (std::size_t c = 0; c < 3; ++c)
+      xyz.push_back(mlce::reference::sample_flow<3>(mlce::reference::lorenz_rhs, x0, kDt, 10000, 50.0, 10, c));
+    const auto state = mlce::make_series_with_step(xyz, kDt);
+    mlce::MlceOptions so;
+    so.dim = 1, so.delay = 1, so.theiler = r.theiler, so.horizon = r.horizon;
+    so.phase_alignment = mlce::PhaseAlignment::on;
+    const auto rs = mlce::estimate_mlce(state, so);
+    state_curve.add(rs.lambda / kLambda);
+    std::vector<std::size_t> state_refs;
+    const auto state_logs = pair_log_distances(state, curve_options(rs), &state_refs);
+    for (auto& v : state_variants) read(state_logs, state_refs, state.size() + 1, rs.curve.attractor_log_distance, v);
   });
+  const auto print = [](std::vector<Variant>& vs) {
+    for (auto& v : vs) {
+      char label[80];
+      std::snprintf(label, sizeof label, "from %zu, %.1f below, %s (cov %.2f)", v.start, v.below,
+                    v.median ? "median" : "mean", v.coverage);
+      v.tally.print(label);
+    }
+  };
+  std::printf("Lorenz x, 32 series, the estimator's embedding:\n");
   automatic.print("automatic");
-  for (auto& v : variants) {
-    char label[80];
-    std::snprintf(label, sizeof label, "from %zu, %.1f below, %s (cov %.2f)", v.start, v.below, v.median ? "median" : "mean",
-                  v.coverage);
-    v.tally.print(label);
-  }
+  print(variants);
+  std::printf("the same trajectories in (x, y, z), phase-aligned pairs:\n");
+  state_curve.print("estimator's fit rule");
+  print(state_variants);
 }
 
 }  // namespace
