@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -124,10 +125,16 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
     for (std::size_t k = 0; k < r.channels.size(); ++k) {
       const auto& c = r.channels[k];
       if (!c.result) continue;
-      // The fit lines in black over the coloured curves (in a curve's own colour it hides in it).
-      terms += fmt::format("{}'{}' every ::1 using 4:($2 == {} ? $5 : 1/0) with lines lw 2 lc {} title '{}: {:.5g}', "
+      // The fit lines in black over the coloured curves (in a curve's own colour it hides in it). The
+      // curves take colours of their own, none black or grey: gnuplot's default cycle draws the 8th
+      // channel black, like the fits, and repeats after 8. Past the list a curve is dash-dotted.
+      static constexpr std::array<const char*, 15> kColours = {
+          "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22",
+          "#17becf", "#0b3d91", "#b35806", "#1b5e20", "#7f0000", "#4a148c", "#4e342e"};
+      terms += fmt::format("{}'{}' every ::1 using 4:($2 == {} ? $5 : 1/0) with lines lw 2 lc rgb '{}'{} title '{}: {:.5g}', "
                            "'' every ::1 using 4:($2 == {} && $7 > 0 ? $8 : 1/0) with lines lw 1.5 dt 2 lc rgb 'black' {}",
-                           terms.empty() ? "" : ", ", data, k, k + 1, quoted(c.name), c.result->lambda, k,
+                           terms.empty() ? "" : ", ", data, k, kColours[k % kColours.size()],
+                           k >= kColours.size() ? " dt 4" : "", quoted(c.name), c.result->lambda, k,
                            terms.empty() ? "title 'least-squares fits'" : "notitle");
     }
     return fmt::format(
