@@ -28,6 +28,23 @@ std::string quoted(const std::string& text) {
   }
   return out;
 }
+
+/// Line colours, none black or grey (the fit lines are black, marks grey): gnuplot's default cycle
+/// has 8 and its 8th is black, so the 8th channel of a plot looked like a fit and the 9th took the
+/// 1st one's colour. Every plot's linetypes 1..15 take these (a `plot for` over columns too).
+constexpr std::array<const char*, 15> kCurveColours = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                                        "#8c564b", "#e377c2", "#bcbd22", "#17becf", "#0b3d91",
+                                                        "#b35806", "#1b5e20", "#7f0000", "#4a148c", "#4e342e"};
+
+std::string curve_linetypes() {
+  std::string out;
+  for (std::size_t k = 0; k < kCurveColours.size(); ++k)
+    out += fmt::format("set linetype {} lc rgb '{}' lw 1 dt solid\n", k + 1, kCurveColours[k]);
+  // Past the list the colours come round again, dash-dotted.
+  for (std::size_t k = 0; k < kCurveColours.size(); ++k)
+    out += fmt::format("set linetype {} lc rgb '{}' lw 1 dt 4\n", kCurveColours.size() + k + 1, kCurveColours[k]);
+  return out + fmt::format("set linetype cycle {}\n", 2 * kCurveColours.size());
+}
 }  // namespace
 
 void render_png(const std::string& png_path, const std::string& csv,
@@ -56,7 +73,7 @@ void render_png(const std::string& png_path, const std::string& csv,
   } ignore_sigpipe;
   FILE* gp = popen(("gnuplot >" + shell_log + " 2>&1").c_str(), "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
-  std::fputs(script(quoted(tmp_png.string()), quoted(data.string())).c_str(), gp);
+  std::fputs((curve_linetypes() + script(quoted(tmp_png.string()), quoted(data.string()))).c_str(), gp);
   const int rc = pclose(gp);
   std::error_code ec;
   fs::remove(data, ec);
@@ -125,16 +142,11 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
     for (std::size_t k = 0; k < r.channels.size(); ++k) {
       const auto& c = r.channels[k];
       if (!c.result) continue;
-      // The fit lines in black over the coloured curves (in a curve's own colour it hides in it). The
-      // curves take colours of their own, none black or grey: gnuplot's default cycle draws the 8th
-      // channel black, like the fits, and repeats after 8. Past the list a curve is dash-dotted.
-      static constexpr std::array<const char*, 15> kColours = {
-          "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22",
-          "#17becf", "#0b3d91", "#b35806", "#1b5e20", "#7f0000", "#4a148c", "#4e342e"};
-      terms += fmt::format("{}'{}' every ::1 using 4:($2 == {} ? $5 : 1/0) with lines lw 2 lc rgb '{}'{} title '{}: {:.5g}', "
+      // The fit lines in black over the coloured curves (in a curve's own colour it hides in it);
+      // the curves in linetypes k + 1 (curve_linetypes: none black).
+      terms += fmt::format("{}'{}' every ::1 using 4:($2 == {} ? $5 : 1/0) with lines lt {} lw 2 title '{}: {:.5g}', "
                            "'' every ::1 using 4:($2 == {} && $7 > 0 ? $8 : 1/0) with lines lw 1.5 dt 2 lc rgb 'black' {}",
-                           terms.empty() ? "" : ", ", data, k, kColours[k % kColours.size()],
-                           k >= kColours.size() ? " dt 4" : "", quoted(c.name), c.result->lambda, k,
+                           terms.empty() ? "" : ", ", data, k, k + 1, quoted(c.name), c.result->lambda, k,
                            terms.empty() ? "title 'least-squares fits'" : "notitle");
     }
     return fmt::format(
