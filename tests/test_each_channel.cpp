@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "mlce/each_channel.hpp"
 #include "reference_systems.hpp"
@@ -79,6 +80,42 @@ TEST(EachChannel, TwoDecaysAtDifferentRatesDisagreeAndTheWarningNamesThem) {
   ASSERT_EQ(r.warnings.size(), 1u);
   for (const char* word : {"disagree", "first", "second"})
     EXPECT_NE(r.warnings[0].find(word), std::string::npos) << word << ": " << r.warnings[0];
+}
+
+TEST(EachChannel, AChannelOfNoiseIsLeftOutOfTheVerdictAndNamed) {
+  // A constrained coordinate holds the solver's rounding (node:2:y of the bundled MBDyn runs): white
+  // noise, whose curve plateaus within one embedding window. Its "lambda" measures the window, not a
+  // divergence; it must not make the channels that do carry the decay disagree.
+  const double dt = 0.01, zeta = 0.05, omega = kTwoPi;
+  const std::size_t n = 2000;
+  std::mt19937_64 gen(20261127);
+  std::normal_distribution<double> white(0.0, 1e-22);
+  std::vector<double> noise(n);
+  for (auto& e : noise) e = white(gen);
+  mlce::Series s = mlce::make_series_with_step(
+      {mlce::reference::damped_oscillator(n, dt, zeta, omega), damped_velocity(n, dt, zeta, omega), noise}, dt);
+  s.names = {"first", "second", "rounding"};
+  const mlce::EachChannelResult r = mlce::estimate_each_channel(s, {});
+  ASSERT_EQ(r.estimated, 3u);
+  ASSERT_TRUE(r.channels[2].result);
+  EXPECT_FALSE(r.channels[2].result->unreliable.empty()) << r.channels[2].result->lambda;
+  EXPECT_EQ(r.compared, 2u);
+  for (std::size_t c = 0; c < 2; ++c) EXPECT_NEAR(r.channels[c].result->lambda, -zeta * omega, 0.03 * zeta * omega);
+  EXPECT_TRUE(r.verdict.agree) << r.verdict.gap << " " << r.verdict.tolerance_floor;
+  EXPECT_NEAR(r.verdict.median_lambda, -zeta * omega, 0.03 * zeta * omega);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("rounding is left out of the comparison"), std::string::npos) << r.warnings[0];
+  // Judged over all three, the noise's interval would stand apart.
+  EXPECT_FALSE(mlce::judge_agreement({&*r.channels[0].result, &*r.channels[1].result, &*r.channels[2].result}).agree);
+  // Noise beside noise: estimated, nothing compared, no verdict.
+  mlce::Series both = mlce::make_series_with_step({noise, std::vector<double>(noise.rbegin(), noise.rend())}, dt);
+  const mlce::EachChannelResult none = mlce::estimate_each_channel(both, {});
+  EXPECT_EQ(none.estimated, 2u);
+  EXPECT_EQ(none.compared, 0u);
+  EXPECT_FALSE(none.verdict.agree);
+  EXPECT_TRUE(std::isnan(none.verdict.gap) && std::isnan(none.verdict.median_lambda));
+  ASSERT_EQ(none.warnings.size(), 3u);
+  EXPECT_NE(none.warnings[2].find("0 of the 2 estimated channels measure a divergence"), std::string::npos) << none.warnings[2];
 }
 
 TEST(EachChannel, AChannelThatCannotBeEstimatedIsRecordedAndTheOthersGoOn) {

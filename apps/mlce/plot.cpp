@@ -154,7 +154,11 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
         "set key below\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)> (channel standard deviations)'\n"
         "set title 'Rosenstein divergence of each channel, lambda in 1/{}; {}'\nplot {}\n",
         png, quoted(time_unit), quoted(time_unit),
-        r.estimated < 2 ? "one channel estimated" : r.verdict.agree ? "the channels agree" : "the channels do NOT agree", terms);
+        r.estimated < 2   ? "one channel estimated"
+        : r.compared < 2  ? "fewer than two channels measure a divergence"
+        : r.verdict.agree ? "the channels agree"
+                          : "the channels do NOT agree",
+        terms);
   });
 }
 

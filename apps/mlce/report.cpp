@@ -389,7 +389,7 @@ nlohmann::json to_json(const Agreement& a) {
 }
 
 std::string agreement_text(const Agreement& a, std::size_t estimates, const std::string& rate_unit) {
-  if (estimates < 2) return "not judged: fewer than two estimates";
+  if (estimates < 2) return "not judged: fewer than two estimates that measure a divergence (the warnings say why)";
   if (a.gap <= 0.0)
     return fmt::format("yes: the {} intervals share {:.6g} .. {:.6g} {} (median lambda {:.6g})", estimates, a.common_low,
                        a.common_high, rate_unit, a.median_lambda);
@@ -407,6 +407,7 @@ nlohmann::json to_json(const EachChannelResult& r) {
   nlohmann::json j = to_json(r.verdict);
   j["channels"] = channels;
   j["estimated"] = r.estimated;
+  j["compared"] = r.compared;
   j["warnings"] = r.warnings;
   return j;
 }
@@ -435,7 +436,7 @@ std::string to_text(const EachChannelResult& r, double t0) {
                      c.name, width, e.lambda, e.ci95_low, e.ci95_high, from, e.delay, e.dim, e.theiler,
                      fmt::format("{}..{}", e.fit.first, e.fit.last), e.r2, to_string(reading.stability), reading.motion);
   }
-  s += "agreement       " + agreement_text(r.verdict, r.estimated, u) + "\n";
+  s += "agreement       " + agreement_text(r.verdict, r.compared, u) + "\n";
   for (const auto& c : r.channels)
     if (c.result)
       for (const auto& w : c.result->warnings) s += "warning: " + c.name + ": " + w + "\n";

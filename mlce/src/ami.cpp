@@ -211,7 +211,9 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
     if (d == 0) {
       any_fallback = true;
       d = autocorrelation_time(s.channels[c], max_delay);
-      r.warnings.push_back(channel_name(series, c) + ": AMI has no significant minimum up to tau = " +
+      // The channel is named where there are several (mlce estimate --each names its own channels).
+      r.warnings.push_back((s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string()) +
+                           "AMI has no significant minimum up to tau = " +
                            std::to_string(max_delay) + " (decays into its noise floor, as for maps): delay = " +
                            "autocorrelation 1/e time = " + std::to_string(d));
     }

@@ -32,9 +32,12 @@ Series one_channel(const Series& series, std::size_t c, const std::string& name)
 
 Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, double relative_tolerance,
                           double frequency_tolerance) {
-  if (estimates.empty()) throw std::logic_error("judge_agreement: no estimate");
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   Agreement a;
+  if (estimates.empty()) {  // nothing to judge: no number, no agreement
+    a.gap = a.common_low = a.common_high = a.median_lambda = a.tolerance_floor = nan;
+    return a;
+  }
   std::vector<double> lambdas;
   double largest_frequency = 0.0;
   for (std::size_t k = 0; k < estimates.size(); ++k) {
@@ -82,17 +85,31 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
   }
   if (result.estimated == 0) throw InputError("no channel could be estimated; " + first_error);
 
-  // The verdict: do the 95 % intervals share a part (up to the resolution of the estimates)?
+  // The verdict: do the 95 % intervals share a part (up to the resolution of the estimates)? Over
+  // the channels whose lambda measures a divergence: an estimate that says it does not
+  // (MlceResult::unreliable: a curve that plateaus within one embedding window as noise does, a
+  // drift, a wrapped angle, an embedding window of several periods) has no exponent to compare, and
+  // a constrained coordinate's rounding noise (34 1/s) would otherwise make every run "disagree".
   std::vector<const MlceResult*> estimates;
   std::vector<const ChannelEstimate*> of;
-  for (const auto& ce : result.channels)
-    if (ce.result) estimates.push_back(&*ce.result), of.push_back(&ce);
+  for (const auto& ce : result.channels) {
+    if (!ce.result) {
+      result.warnings.push_back(ce.name + " could not be estimated: " + ce.error);
+    } else if (!ce.result->unreliable.empty()) {
+      result.warnings.push_back(ce.name + " is left out of the comparison (its lambda does not measure a divergence: " +
+                                ce.result->unreliable + ")");
+    } else {
+      estimates.push_back(&*ce.result), of.push_back(&ce);
+    }
+  }
+  result.compared = estimates.size();
   result.verdict = judge_agreement(estimates, options.relative_tolerance, options.frequency_tolerance);
   const Agreement& v = result.verdict;
-  for (const auto& ce : result.channels)
-    if (!ce.result) result.warnings.push_back(ce.name + " could not be estimated: " + ce.error);
   if (result.estimated < 2) {
     result.warnings.push_back("only one channel could be estimated: there is nothing to compare it with");
+  } else if (result.compared < 2) {
+    result.warnings.push_back(fmt::format("{} of the {} estimated channels measure a divergence: there is nothing to "
+                                          "compare", result.compared, result.estimated));
   } else if (!v.agree) {
     const MlceResult& a = *estimates[v.highest_low];
     const MlceResult& b = *estimates[v.lowest_high];

@@ -41,7 +41,7 @@ struct Agreement {
   bool agree = false;         ///< gap <= tolerance_floor, over at least two estimates
   std::size_t highest_low = 0, lowest_high = 0;  ///< indices of the two intervals farthest apart
 };
-/// `estimates` must not be empty.
+/// With no estimate every number is NaN and agree false.
 Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, double relative_tolerance = 0.05,
                           double frequency_tolerance = 0.01);
 
@@ -54,8 +54,12 @@ struct ChannelEstimate {
 struct EachChannelResult {
   std::vector<ChannelEstimate> channels;  ///< in the series' order
   std::size_t estimated = 0;              ///< channels with a result
-  /// Over the estimated channels (indices into them, not into `channels`), with the options'
-  /// tolerances; gap and common part NaN when fewer than two were estimated.
+  /// Estimated channels whose lambda measures a divergence (MlceResult::unreliable empty): the ones
+  /// the verdict compares; a warning names each one left out and why.
+  std::size_t compared = 0;
+  /// Over the compared channels (indices into them, not into `channels`), with the options'
+  /// tolerances; gap and common part NaN when fewer than two were compared (every number NaN when
+  /// none was).
   Agreement verdict;
   std::vector<std::string> warnings;  ///< the verdict's (each channel's own are in its result)
 };
