@@ -5,6 +5,7 @@
 #include <boost/program_options.hpp>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -39,23 +40,42 @@ struct MlceWindow {
 /// The window every channel's MLCE is read on: [--from, --to], or from the latest end of A's
 /// transient over the compared channels, each detected on its own (its own mean period and RMS
 /// windows): the system settles as a whole, and a hub driven by a blade's limit cycle may look
-/// steady while the blade still grows.
+/// steady while the blade still grows. A channel whose exponent on its own settled part does not
+/// measure a divergence (MlceResult::unreliable: a constrained coordinate's rounding noise, whose
+/// RMS wanders) has no transient to wait for and does not move the window, unless every channel is
+/// such.
 MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>& channels, const HistoryComparisonOptions& o) {
   SeriesInput in;
   in.file = file_a;
   in.from = std::isfinite(o.from) ? fmt::format("{}", o.from) : "auto";
   if (std::isfinite(o.to)) in.to = o.to;
-  MlceWindow w;
-  w.from = -std::numeric_limits<double>::infinity();
+  MlceWindow w, any;
+  w.from = any.from = -std::numeric_limits<double>::infinity();
+  std::string left_out;
   for (const auto& ch : channels) {
     in.channels = {ch};
     const LoadedSeries a = load_series(in);
-    if (a.series.time(0) > w.from) {
-      w.from = a.series.time(0);
-      w.to = a.series.time(a.series.size() - 1);
-      w.rule = std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
+    const std::string rule =
+        std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
+    const MlceWindow mine{a.series.time(0), a.series.time(a.series.size() - 1), rule};
+    if (mine.from > any.from) any = mine;
+    if (!std::isfinite(o.from)) {
+      MlceOptions eo;
+      eo.skip_nonrecurrent_start = false;
+      std::string unreliable;
+      try {
+        unreliable = estimate_mlce(a.series, eo).unreliable;
+      } catch (const InputError&) {  // too short on its own: mlce_of_both says so on the window
+      }
+      if (!unreliable.empty()) {
+        left_out += (left_out.empty() ? "" : ", ") + ch;
+        continue;
+      }
     }
+    if (mine.from > w.from) w = mine;
   }
+  if (!std::isfinite(w.from)) return any;  // no channel measures a divergence: the latest of all
+  if (!left_out.empty()) w.rule += "; not waited for: " + left_out + " (its exponent does not measure a divergence)";
   return w;
 }
 
@@ -86,8 +106,13 @@ bool intervals_overlap(const MlceResult& a, const MlceResult& b) {
   return a.ci95_low <= b.ci95_high && b.ci95_low <= a.ci95_high;
 }
 
-/// The verdict of mlce estimate --each (and the resolution of mlce convergence) on the two runs.
-Agreement agreement(const MlcePair& e) { return judge_agreement({&e.a, &e.b}); }
+/// The verdict of mlce estimate --each (and the resolution of mlce convergence) on the two runs;
+/// none when either lambda does not measure a divergence (MlceResult::unreliable), which --each
+/// leaves out of its verdict too.
+std::optional<Agreement> agreement(const MlcePair& e) {
+  if (!e.a.unreliable.empty() || !e.b.unreliable.empty()) return std::nullopt;
+  return judge_agreement({&e.a, &e.b});
+}
 
 nlohmann::json mlce_json(const MlceResult& r) {
   return {{"lambda", r.lambda}, {"ci95", {r.ci95_low, r.ci95_high}}, {"curve_end", to_string(r.fit.end)},
@@ -177,6 +202,10 @@ int cmd_compare(const std::vector<std::string>& args) {
   for (std::size_t c = 0; c < exponents.size(); ++c) {
     for (const auto& w : exponents[c].a.warnings) warnings.push_back(channels[c] + ": MLCE of A: " + w);
     for (const auto& w : exponents[c].b.warnings) warnings.push_back(channels[c] + ": MLCE of B: " + w);
+    if (!agreement(exponents[c]))
+      warnings.push_back(channels[c] + ": the two exponents are not compared: the MLCE of " +
+                         (exponents[c].a.unreliable.empty() ? "B" : "A") + " does not measure a divergence: " +
+                         (exponents[c].a.unreliable.empty() ? exponents[c].b.unreliable : exponents[c].a.unreliable));
   }
   if (json) {
     nlohmann::json j;
@@ -195,7 +224,7 @@ int cmd_compare(const std::vector<std::string>& args) {
                                         {"a", mlce_json(e.a)}, {"b", mlce_json(e.b)},
                                         {"difference", e.b.lambda - e.a.lambda},
                                         {"intervals_overlap", intervals_overlap(e.a, e.b)},
-                                        {"agreement", to_json(agreement(e))}};
+                                        {"agreement", agreement(e) ? to_json(*agreement(e)) : nlohmann::json(nullptr)}};
       }
     }
     j["warnings"] = warnings;
@@ -221,7 +250,7 @@ int cmd_compare(const std::vector<std::string>& args) {
         const Reading ra = read_stability(e.a), rb = read_stability(e.b);
         std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}  {} ({}) / {} ({})\n", channels[c],
                                  e.from, e.to, cell(e.a), cell(e.b), e.b.lambda - e.a.lambda,
-                                 agreement(e).agree ? "yes" : "NO", to_string(ra.stability), ra.motion,
+                                 !agreement(e) ? "n/a" : agreement(e)->agree ? "yes" : "NO", to_string(ra.stability), ra.motion,
                                  to_string(rb.stability), rb.motion);
       }
       for (std::size_t c = 0; c < exponents.size(); ++c)

@@ -96,8 +96,8 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
     if (!ce.result) {
       result.warnings.push_back(ce.name + " could not be estimated: " + ce.error);
     } else if (!ce.result->unreliable.empty()) {
-      result.warnings.push_back(ce.name + " is left out of the comparison (its lambda does not measure a divergence: " +
-                                ce.result->unreliable + ")");
+      result.warnings.push_back(ce.name + " is left out of the comparison, its lambda does not measure a divergence: " +
+                                ce.result->unreliable);
     } else {
       estimates.push_back(&*ce.result), of.push_back(&ce);
     }
