@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <boost/program_options.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -49,34 +50,41 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
   in.file = file_a;
   in.from = std::isfinite(o.from) ? fmt::format("{}", o.from) : "auto";
   if (std::isfinite(o.to)) in.to = o.to;
-  MlceWindow w, any;
-  w.from = any.from = -std::numeric_limits<double>::infinity();
-  std::string left_out;
+  struct Candidate {
+    MlceWindow window;
+    Series series;
+    std::string channel;
+  };
+  std::vector<Candidate> candidates;
   for (const auto& ch : channels) {
     in.channels = {ch};
-    const LoadedSeries a = load_series(in);
+    LoadedSeries a = load_series(in);
     const std::string rule =
         std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
-    const MlceWindow mine{a.series.time(0), a.series.time(a.series.size() - 1), rule};
-    if (mine.from > any.from) any = mine;
-    if (!std::isfinite(o.from)) {
-      MlceOptions eo;
-      eo.skip_nonrecurrent_start = false;
-      std::string unreliable;
-      try {
-        unreliable = estimate_mlce(a.series, eo).unreliable;
-      } catch (const InputError&) {  // too short on its own: mlce_of_both says so on the window
-      }
-      if (!unreliable.empty()) {
-        left_out += (left_out.empty() ? "" : ", ") + ch;
-        continue;
-      }
-    }
-    if (mine.from > w.from) w = mine;
+    candidates.push_back({{a.series.time(0), a.series.time(a.series.size() - 1), rule}, std::move(a.series), ch});
   }
-  if (!std::isfinite(w.from)) return any;  // no channel measures a divergence: the latest of all
-  if (!left_out.empty()) w.rule += "; not waited for: " + left_out + " (its exponent does not measure a divergence)";
-  return w;
+  // Latest first; the first whose exponent measures a divergence sets the window, so only the
+  // channels that would otherwise set it are estimated here.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.window.from > y.window.from; });
+  if (std::isfinite(o.from)) return candidates.front().window;
+  std::string left_out;
+  for (const auto& c : candidates) {
+    MlceOptions eo;
+    eo.skip_nonrecurrent_start = false;
+    std::string unreliable;
+    try {
+      unreliable = estimate_mlce(c.series, eo).unreliable;
+    } catch (const InputError&) {  // too short on its own: mlce_of_both says so on the window
+    }
+    if (unreliable.empty()) {
+      MlceWindow w = c.window;
+      if (!left_out.empty()) w.rule += "; not waited for: " + left_out + " (its exponent does not measure a divergence)";
+      return w;
+    }
+    left_out += (left_out.empty() ? "" : ", ") + c.channel;
+  }
+  return candidates.front().window;  // no channel measures a divergence: the latest of all
 }
 
 MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, const std::string& channel,
@@ -202,7 +210,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   for (std::size_t c = 0; c < exponents.size(); ++c) {
     for (const auto& w : exponents[c].a.warnings) warnings.push_back(channels[c] + ": MLCE of A: " + w);
     for (const auto& w : exponents[c].b.warnings) warnings.push_back(channels[c] + ": MLCE of B: " + w);
-    if (!agreement(exponents[c]))
+    if (!agreement(exponents[c]))  // which run, and why
       warnings.push_back(channels[c] + ": the two exponents are not compared: the MLCE of " +
                          (exponents[c].a.unreliable.empty() ? "B" : "A") + " does not measure a divergence: " +
                          (exponents[c].a.unreliable.empty() ? exponents[c].b.unreliable : exponents[c].a.unreliable));
@@ -220,11 +228,12 @@ int cmd_compare(const std::vector<std::string>& args) {
                                {"range_b", {r.min_b, r.max_b}}, {"range_relative_difference", r.range_relative_difference}});
       if (c < exponents.size()) {
         const auto& e = exponents[c];
+        const std::optional<Agreement> ag = agreement(e);
         j["channels"].back()["mlce"] = {{"window", {e.from, e.to}}, {"window_rule", e.window_rule},
                                         {"a", mlce_json(e.a)}, {"b", mlce_json(e.b)},
                                         {"difference", e.b.lambda - e.a.lambda},
                                         {"intervals_overlap", intervals_overlap(e.a, e.b)},
-                                        {"agreement", agreement(e) ? to_json(*agreement(e)) : nlohmann::json(nullptr)}};
+                                        {"agreement", ag ? to_json(*ag) : nlohmann::json(nullptr)}};
       }
     }
     j["warnings"] = warnings;
@@ -248,9 +257,10 @@ int cmd_compare(const std::vector<std::string>& args) {
         auto cell = [](const MlceResult& r) { return fmt::format("{:.5g} [{:.4g}, {:.4g}]", r.lambda, r.ci95_low, r.ci95_high); };
         // What each run says about the motion (reading.hpp): do the two runs reach one verdict?
         const Reading ra = read_stability(e.a), rb = read_stability(e.b);
+        const std::optional<Agreement> ag = agreement(e);
         std::cout << fmt::format("{:<16} {:>8.4g}..{:<8.4g} {:>34} {:>34} {:>10.3g} {:>8}  {} ({}) / {} ({})\n", channels[c],
                                  e.from, e.to, cell(e.a), cell(e.b), e.b.lambda - e.a.lambda,
-                                 !agreement(e) ? "n/a" : agreement(e)->agree ? "yes" : "NO", to_string(ra.stability), ra.motion,
+                                 !ag ? "n/a" : ag->agree ? "yes" : "NO", to_string(ra.stability), ra.motion,
                                  to_string(rb.stability), rb.motion);
       }
       for (std::size_t c = 0; c < exponents.size(); ++c)
