@@ -482,12 +482,15 @@ TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["estimated"], 1);
+  EXPECT_EQ(j["compared"], 1);  // the decay measures a divergence; alone, it is compared with nothing
+  EXPECT_FALSE(j["agree"].get<bool>());
   EXPECT_TRUE(j["channels"][0].contains("lambda"));
   EXPECT_TRUE(j["channels"][1].contains("error"));
   EXPECT_NE(j["channels"][1]["error"].get<std::string>().find("mean period"), std::string::npos) << j["channels"][1];
   r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --quiet");
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.out.find("not estimated (why: the warning below)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("agreement       not judged: fewer than two estimates"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("could not be estimated: series too short"), std::string::npos) << r.out;
 }
 
