@@ -84,6 +84,69 @@ TEST_F(MbdynCli, ReadingOfTheRealRunsFollowsTheirKnownStability) {
   }
 }
 
+TEST_F(MbdynCli, SeveralRunsAreOneTableWithTheirKnownStabilityAndWhereItChanges) {
+  // The three real runs of the test above in one command (as an analyst reads a set of MBDyn runs
+  // over a parameter, paper 001 Figs. 11-12): each row is the run's own estimate and reading, the
+  // growth within 10 % of its Floquet exponent (+0.2985 1/s, data/mbdyn/README.md), and the table
+  // says where the reading changes, with the straight line's zero between a stable and an unstable run.
+  const std::string mbdyn = std::string(MLCE_DATA_DIR) + "/mbdyn/";
+  const std::string runs = mbdyn + "iso_200rpm_5s/iso_200rpm " + mbdyn + "c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf " +
+                           mbdyn + "c3zero_242rpm_cyhalf_lco/c3zero_242rpm_cyhalf";
+  const fs::path csv = dir / "runs.csv";
+  const CliRun r = run("estimate " + runs + " --channel rel:13:4:z --param case=1:3:1 --json --quiet --csv " + csv.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["runs"].size(), 3u);
+  const char* stability[] = {"stable", "unstable", "neutral"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(j["runs"][k]["reading"]["stability"], stability[k]) << j["runs"][k].dump();
+    EXPECT_EQ(j["runs"][k]["case"].get<double>(), static_cast<double>(k + 1));
+  }
+  const double stable = j["runs"][0]["lambda"].get<double>(), growth = j["runs"][1]["lambda"].get<double>();
+  EXPECT_NEAR(growth, 0.2985, 0.1 * 0.2985);
+  EXPECT_LT(stable, 0.0);
+  EXPECT_EQ(j["estimated"].get<std::size_t>(), 3u);
+  ASSERT_EQ(j["stability_changes"].size(), 2u) << j["stability_changes"].dump();
+  EXPECT_EQ(j["stability_changes"][0]["from"], "stable");
+  EXPECT_EQ(j["stability_changes"][0]["to"], "unstable");
+  EXPECT_NEAR(j["stability_changes"][0]["lambda_zero_at"].get<double>(), 1.0 + stable / (stable - growth), 1e-12);
+  EXPECT_TRUE(j["stability_changes"][1]["lambda_zero_at"].is_null()) << "unstable to neutral: no rate to draw a line through";
+  const auto table = lines_of(csv);
+  ASSERT_EQ(table.size(), 4u);
+  EXPECT_EQ(table[0].rfind("run,file,case,lambda,ci95_low,ci95_high,unit,", 0), 0u) << table[0];
+  EXPECT_NE(table[3].find(",neutral,limit cycle,"), std::string::npos) << table[3];
+
+  const fs::path png = dir / "runs.png";
+  const CliRun text = run("estimate " + runs + " --channel rel:13:4:z --param case=1,2,3 --quiet --plot " + png.string());
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_GT(fs::file_size(png), 1000u);
+  EXPECT_NE(text.out.find("stability changes between case = 1 (stable) and case = 2 (unstable): lambda = 0 at case = "),
+            std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("stability changes between case = 2 (unstable) and case = 3 (neutral)\n"), std::string::npos)
+      << text.out;
+}
+
+TEST_F(MbdynCli, ARunThatCannotBeEstimatedKeepsItsRowAndIsADataError) {
+  const std::string missing = (dir / "missing").string();
+  const CliRun r = run("estimate " + kC3 + " " + missing + " " + kC3 + " --channel rel:13:4:z --json --quiet");
+  EXPECT_EQ(r.status, 1);
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["runs"].size(), 3u);
+  EXPECT_EQ(j["estimated"].get<std::size_t>(), 2u);
+  EXPECT_NE(j["runs"][1]["error"].get<std::string>().find(missing), std::string::npos) << j["runs"][1].dump();
+  EXPECT_EQ(j["runs"][0]["lambda"], j["runs"][2]["lambda"]);
+  EXPECT_EQ(j["runs"][0]["reading"]["stability"], "unstable");
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("error: 1 of 3 runs could not be estimated (" + missing + ")"), std::string::npos) << r.err;
+  // Options that fit no set of runs are usage errors, before anything is read.
+  expect_one_line_error(run("estimate " + kC3 + " " + kC3 + " " + kC3 + " --channel rel:13:4:z --param rpm=1,2"),
+                        "--param rpm=1,2: 2 values for 3 runs", 2);
+  expect_one_line_error(run("estimate " + kC3 + " " + kC3 + " --channel rel:13:4:z --channel node:2:x --each"), "--each", 2);
+  expect_one_line_error(run("estimate " + kC3 + " --channel rel:13:4:z --csv " + (dir / "t.csv").string()),
+                        "--csv: the table of several runs", 2);
+  EXPECT_FALSE(fs::exists(dir / "t.csv"));
+}
+
 TEST_F(MbdynCli, BladeHingeOfTheGrowingRunIsUnstableNotChaotic) {
   // node:12:x of the growing run (Floquet +0.2985 1/s): blade 2's hinge, e = 0.3048 m off the axis,
   // carries the rotation, a steady carrier over the hub's growth. Unstable; no chaos claimed.

@@ -9,14 +9,15 @@ namespace po = boost::program_options;
 
 namespace mlce::cli {
 
-/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
-/// --help was given: the description is then printed and the command has nothing else to do.
-std::optional<po::variables_map> parse(const std::vector<std::string>& args, po::options_description& d) {
+/// One positional FILE, or with several_files any number (a std::vector<std::string>); adds --help.
+/// nullopt when --help was given: the description is then printed and there is nothing else to do.
+std::optional<po::variables_map> parse(const std::vector<std::string>& args, po::options_description& d, bool several_files) {
   d.add_options()("help", "this help");
   po::positional_options_description pos;
-  pos.add("file", 1);
+  pos.add("file", several_files ? -1 : 1);
   po::options_description all = d;
-  all.add_options()("file", po::value<std::string>(), "input file");
+  if (several_files) all.add_options()("file", po::value<std::vector<std::string>>()->composing(), "input files");
+  else all.add_options()("file", po::value<std::string>(), "input file");
   po::variables_map vm;
   po::store(po::command_line_parser(args).options(all).positional(pos).run(), vm);
   if (vm.count("help")) {

@@ -14,10 +14,12 @@ namespace mlce::cli {
 constexpr int kExitData = 1;   // bad input file or data
 constexpr int kExitUsage = 2;  // bad command line
 
-/// Parses a subcommand's options (one positional FILE) and adds --help. Returns nullopt when
-/// --help was given: the description is then printed and the command has nothing else to do.
+/// Parses a subcommand's options (one positional FILE; with several_files any number of them, stored
+/// as a std::vector<std::string>) and adds --help. Returns nullopt when --help was given: the
+/// description is then printed and the command has nothing else to do.
 std::optional<boost::program_options::variables_map> parse(const std::vector<std::string>& args,
-                                                           boost::program_options::options_description& d);
+                                                           boost::program_options::options_description& d,
+                                                           bool several_files = false);
 
 void print_warnings(const std::vector<std::string>& w);
 

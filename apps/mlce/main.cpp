@@ -29,6 +29,7 @@
 #include "cli_common.hpp"
 #include "spectrum_commands.hpp"
 #include "compare_command.hpp"
+#include "estimate_runs.hpp"
 
 namespace po = boost::program_options;
 using namespace mlce;
@@ -43,7 +44,8 @@ using cli::print_warnings;
 const char* kUsage =
     "usage: mlce <command> [options]\n"
     "commands:\n"
-    "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic\n"
+    "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic;\n"
+    "                  of several runs (FILE FILE ...) as a table, against --param NAME=values\n"
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
     "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
@@ -93,7 +95,9 @@ void finish_series_options(const po::variables_map& vm, cli::SeriesInput& in) {
   if (vm.count("to")) in.to = vm["to"].as<double>();
   if (in.to && std::isnan(*in.to)) throw po::error("--to 'nan': expected a time (inf reads to the end)");
   if (!vm.count("file")) throw po::error("missing FILE");
-  in.file = vm["file"].as<std::string>();
+  // One FILE, or the first of several (mlce estimate RUN1 RUN2 ...: parse(..., several_files)).
+  const auto* several = boost::any_cast<std::vector<std::string>>(&vm["file"].value());
+  in.file = several ? several->front() : vm["file"].as<std::string>();
 }
 
 /// Stage messages on stderr once a run has lasted a second (short runs stay quiet).
@@ -154,9 +158,9 @@ int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
               align = "auto", interpolation = "linear", compensation = "auto";
-  std::string curve_path, plot_path;
+  std::string curve_path, plot_path, csv_path, param;
   bool json = false, quiet = false, keep_start = false, each = false;
-  po::options_description d("mlce estimate FILE [options]");
+  po::options_description d("mlce estimate FILE [FILE ...] [options]");
   d.add(series_options(in));
   po::options_description e("estimator");
   e.add_options()
@@ -179,7 +183,13 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("plot", po::value(&plot_path), "write the divergence curve and fit as PNG (gnuplot; --each: every channel's)")
       ("quiet", po::bool_switch(&quiet), "no progress messages");
   d.add(e);
-  const auto parsed = parse(args, d);
+  po::options_description runs("several runs (FILE FILE ...: the same channels of each, one estimate a run, as a table)");
+  runs.add_options()
+      ("param", po::value(&param), "NAME=v1,v2,... or NAME=first:last:step: the value of a parameter in each run, in the order "
+                                   "the runs are given (the table's column and the plot's x axis)")
+      ("csv", po::value(&csv_path), "write the table as CSV");
+  d.add(runs);
+  const auto parsed = parse(args, d, /*several_files=*/true);
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
@@ -228,6 +238,24 @@ int cmd_estimate(const std::vector<std::string>& args) {
 
   if (each && in.channels.size() + in.columns.size() < 2)
     throw po::error("--each: give two or more --channel or --column to estimate one by one");
+
+  const auto& files = vm["file"].as<std::vector<std::string>>();
+  if (files.size() > 1) {
+    if (each) throw po::error("--each: one FILE's channels one by one; with several runs give one channel set");
+    if (!curve_path.empty()) throw po::error("--curve: one run's divergence curve; with several runs --csv writes the table");
+    std::optional<cli::RunParameter> parameter;
+    if (!param.empty()) {
+      try {
+        parameter = cli::parse_run_parameter(param, files.size());
+      } catch (const std::invalid_argument& x) {
+        throw po::error(x.what());
+      }
+    }
+    return cli::estimate_runs(files, in, o, parameter, {json, quiet, csv_path, plot_path});
+  }
+  if (!param.empty() || !csv_path.empty())
+    throw po::error(std::string(param.empty() ? "--csv" : "--param") +
+                    ": the table of several runs; give two or more FILEs (one run's curve: --curve)");
 
   cli::LoadedSeries loaded = cli::load_series(in);
   if (each) return estimate_each(in, loaded, o, json, curve_path, plot_path);

@@ -181,6 +181,18 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
   });
 }
 
+void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
+                        const std::string& ylabel, const std::string& png_path) {
+  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+    return fmt::format(
+        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
+        "set key below\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\nset offsets graph 0.05, graph 0.05, 0, 0\n"
+        "set xzeroaxis lt -1 lc 'gray40'\n"
+        "plot '{}' every ::1 using 1:2:3:4 with yerrorbars pt 7 ps 1 lw 2 title 'lambda and its 95 % interval'\n",
+        png, quoted(xlabel), quoted(ylabel), quoted(title), data);
+  });
+}
+
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path) {
   render_png(png_path, csv, [&](const std::string& png, const std::string& data) {

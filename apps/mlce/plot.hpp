@@ -21,6 +21,12 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path);
 
+/// PNG of estimates with their 95 % intervals as error bars (no line joins them: the runs need not be
+/// given in the parameter's order) and a line at 0: csv "x,lambda,low,high"
+/// with a header line (mlce estimate RUN1 RUN2 ...: lambda against a parameter or the run's number).
+void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
+                        const std::string& ylabel, const std::string& png_path);
+
 /// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each;
 /// `marks`: dashed vertical lines at x, each labelled.
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,
