@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
 # Paper 001 §5 reads the MLCE of MBDyn runs over the rotor speed. Here the runs are written by the
 # ad-hoc model in MBDyn's text format (`mlce simulate --format mbdyn`: .log, .out, .mov, read by the
-# same reader as a real MBDyn set), blade 3's damper inoperative, x_h(0) = 0.1 m, 20 s each, at
+# same reader as a real MBDyn set), blade 3's damper inoperative, x_h(0) = 0.1 m, 20 s each (T_END), at
 # 180..340 rpm; `mlce estimate RUN1 RUN2 ... --param rpm=...` reads blade 3's lag (rel:13:4:z) of
 # every run in one table, beside the largest Floquet exponent of the same model (`mlce sweep
 # --method floquet`), an independent computation from the linearisation: unstable from 210.37 to
 # 307.08 rpm (README "Blade 3 inoperative: the unstable band").
-#   studies/mbdyn_runs_vs_rpm.sh [BUILD_DIR] [OUT_DIR] -> runs_vs_rpm_{mlce,floquet}.csv, runs_vs_rpm.png
+#   studies/mbdyn_runs_vs_rpm.sh [BUILD_DIR] [OUT_DIR] [T_END] -> runs_vs_rpm_{mlce,floquet}.csv, runs_vs_rpm.png
 set -euo pipefail
-build="${1:-build}"; out="${2:-studies/out}"; mkdir -p "$out"
+build="${1:-build}"; out="${2:-studies/out}"; t_end="${3:-20}"; mkdir -p "$out"
 scene=scenes/c3zero_242rpm.scene
 runs=()
 for rpm in 180 200 220 240 260 280 300 320 340; do
   mkdir -p "$out/runs/rpm$rpm"
-  "$build/mlce" simulate $scene --rpm $rpm --t_end 20 --out "$out/runs/rpm$rpm/hammond" --format mbdyn --quiet
+  "$build/mlce" simulate $scene --rpm $rpm --t_end "$t_end" --out "$out/runs/rpm$rpm/hammond" --format mbdyn --quiet
   runs+=("$out/runs/rpm$rpm/hammond.mov")
 done
 "$build/mlce" estimate "${runs[@]}" --channel rel:13:4:z --param rpm=180:340:20 --csv "$out/runs_vs_rpm_mlce.csv" --quiet
