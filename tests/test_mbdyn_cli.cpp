@@ -138,6 +138,13 @@ TEST_F(MbdynCli, ARunThatCannotBeEstimatedKeepsItsRowAndIsADataError) {
   EXPECT_EQ(j["runs"][0]["reading"]["stability"], "unstable");
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("error: 1 of 3 runs could not be estimated (" + missing + ")"), std::string::npos) << r.err;
+  // None estimated: every row says why, no plot is drawn (there is nothing to draw), one error line.
+  const CliRun none = run("estimate " + missing + " " + missing + "2 --channel rel:13:4:z --quiet --plot " + (dir / "n.png").string());
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.out.find("error: " + missing + "2: "), std::string::npos) << none.out;
+  EXPECT_NE(none.err.find("error: none of the 2 runs could be estimated"), std::string::npos) << none.err;
+  EXPECT_EQ(std::count(none.err.begin(), none.err.end(), '\n'), 1) << none.err;
+  EXPECT_FALSE(fs::exists(dir / "n.png"));
   // Options that fit no set of runs are usage errors, before anything is read.
   expect_one_line_error(run("estimate " + kC3 + " " + kC3 + " " + kC3 + " --channel rel:13:4:z --param rpm=1,2"),
                         "--param rpm=1,2: 2 values for 3 runs", 2);

@@ -135,7 +135,11 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
   }
 
   if (!output.csv_path.empty()) write_file_atomically(output.csv_path, table_csv(rows, parameter));
-  if (!output.plot_path.empty()) {
+  std::vector<std::string> failed;
+  for (const auto& row : rows)
+    if (!row.result) failed.push_back(row.file);
+  // No estimate, no plot (gnuplot would refuse an empty one): the error line below says why.
+  if (!output.plot_path.empty() && failed.size() < rows.size()) {
     std::string unit;
     std::string data = std::string(parameter ? parameter->name : "run") + ",lambda,low,high\n";
     for (std::size_t k = 0; k < rows.size(); ++k)
@@ -149,10 +153,6 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
                        output.plot_path);
   }
   const auto changes = stability_changes(rows, parameter);
-
-  std::vector<std::string> failed;
-  for (const auto& row : rows)
-    if (!row.result) failed.push_back(row.file);
   if (output.json) {
     nlohmann::json j;
     j["runs"] = nlohmann::json::array();
@@ -190,9 +190,9 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
         s += fmt::format("{:>12.6g} {:>10} {:>12.6g} .. {:<12.6g} {:>12} {:<20} {:>10.6g} {:>3} {:>4}  {}\n", r->lambda,
                          r->time_unit.empty() ? "1/sample" : "1/" + r->time_unit, r->ci95_low, r->ci95_high,
                          to_string(row.reading.stability), row.reading.motion, row.from, r->dim, r->delay, row.file);
-      else
-        s += fmt::format("{:>12} {:>10} {:>27} {:>12} {:<20} {:>10} {:>3} {:>4}  {}: error: {}\n", "-", "", "", "", "", "", "", "",
-                         row.file, row.error);
+      else  // the reader's and the estimator's messages name the file already
+        s += fmt::format("{:>12} {:>10} {:>27} {:>12} {:<20} {:>10} {:>3} {:>4}  error: {}\n", "-", "", "", "", "", "", "", "",
+                         row.error.rfind(row.file, 0) == 0 ? row.error : row.file + ": " + row.error);
     }
     for (const auto& c : changes)
       s += fmt::format("stability changes between {} ({}) and {} ({}){}\n", run_name(parameter, c.first),
@@ -208,8 +208,13 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
     std::cout << s;
   }
   if (failed.empty()) return 0;
-  std::fprintf(stderr, "mlce estimate: error: %zu of %zu runs could not be estimated (%s); the others are above\n", failed.size(),
-               rows.size(), fmt::format("{}", fmt::join(failed, ", ")).c_str());
+  const std::string which = fmt::format("{}", fmt::join(failed, ", "));
+  if (failed.size() == rows.size())
+    std::fprintf(stderr, "mlce estimate: error: none of the %zu runs could be estimated (%s): see each run's error above\n",
+                 rows.size(), which.c_str());
+  else
+    std::fprintf(stderr, "mlce estimate: error: %zu of %zu runs could not be estimated (%s); the others are above\n",
+                 failed.size(), rows.size(), which.c_str());
   return kExitData;
 }
 
