@@ -36,6 +36,11 @@ struct MlcePair {
 struct MlceWindow {
   double from = 0.0, to = 0.0;
   std::string rule;
+  /// The channel whose transient set the window, and its estimate on A over that very window (the
+  /// series `--from auto` left, which starts at `from`): mlce_of_both takes it instead of
+  /// estimating the same samples again.
+  std::string channel;
+  std::optional<MlceResult> a;
 };
 
 /// The window every channel's MLCE is read on: [--from, --to], or from the latest end of A's
@@ -61,7 +66,7 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
     LoadedSeries a = load_series(in);
     const std::string rule =
         std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
-    candidates.push_back({{a.series.time(0), a.series.time(a.series.size() - 1), rule}, std::move(a.series), ch});
+    candidates.push_back({{a.series.time(0), a.series.time(a.series.size() - 1), rule, {}, std::nullopt}, std::move(a.series), ch});
   }
   // Latest first; the first whose exponent measures a divergence sets the window, so only the
   // channels that would otherwise set it are estimated here.
@@ -72,14 +77,16 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
   for (const auto& c : candidates) {
     MlceOptions eo;
     eo.skip_nonrecurrent_start = false;
-    std::string unreliable;
+    std::optional<MlceResult> a;
     try {
-      unreliable = estimate_mlce(c.series, eo).unreliable;
+      a = estimate_mlce(c.series, eo);
     } catch (const InputError&) {  // too short on its own: mlce_of_both says so on the window
     }
-    if (unreliable.empty()) {
+    if (a && a->unreliable.empty()) {
       MlceWindow w = c.window;
       if (!left_out.empty()) w.rule += "; not waited for: " + left_out + " (its exponent does not measure a divergence)";
+      w.channel = c.channel;
+      w.a = std::move(a);
       return w;
     }
     left_out += (left_out.empty() ? "" : ", ") + c.channel;
@@ -101,8 +108,12 @@ MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, cons
   MlceOptions o;
   o.skip_nonrecurrent_start = false;
   in.file = file_a;
-  const LoadedSeries a = load_series(in);
-  p.a = on_file(in, [&] { return estimate_mlce(a.series, o); });
+  if (window.a && window.channel == channel) {
+    p.a = *window.a;  // estimated with the same options on the same samples when the window was set
+  } else {
+    const LoadedSeries a = load_series(in);
+    p.a = on_file(in, [&] { return estimate_mlce(a.series, o); });
+  }
   in.file = file_b;
   const LoadedSeries b = load_series(in);
   p.b = on_file(in, [&] { return estimate_mlce(b.series, o); });
