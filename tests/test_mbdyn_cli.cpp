@@ -152,6 +152,13 @@ TEST_F(MbdynCli, ARunThatCannotBeEstimatedKeepsItsRowAndIsADataError) {
   expect_one_line_error(run("estimate " + kC3 + " --channel rel:13:4:z --csv " + (dir / "t.csv").string()),
                         "--csv: the table of several runs", 2);
   EXPECT_FALSE(fs::exists(dir / "t.csv"));
+  expect_one_line_error(run("estimate " + kC3 + " " + kC3 + " --channel rel:13:4:z --delay 0"), "delay = 0: expected >= 1", 2);
+  expect_one_line_error(run("estimate " + kC3 + " " + kC3 + " --channel rel:13:4"), "channel 'rel:13:4': expected", 2);
+  // What fits one file and not another is that run's: a column file among MBDyn sets.
+  const CliRun mixed = run("estimate " + std::string(MLCE_DATA_DIR) + "/lorenz_x.txt " + kC3 + " --channel rel:13:4:z --quiet");
+  EXPECT_EQ(mixed.status, 1);
+  EXPECT_NE(mixed.out.find("lorenz_x.txt is a column file: channel 'rel:13:4:z' does not apply"), std::string::npos) << mixed.out;
+  EXPECT_NE(mixed.out.find("unstable growing oscillation"), std::string::npos) << mixed.out;
 }
 
 TEST_F(MbdynCli, BladeHingeOfTheGrowingRunIsUnstableNotChaotic) {

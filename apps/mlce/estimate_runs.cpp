@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <boost/program_options/errors.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -43,6 +42,12 @@ RunParameter parse_run_parameter(const std::string& spec, std::size_t runs) {
 }
 
 namespace {
+
+/// An estimator's OptionError on its way out of the loop over the runs (which keeps every other
+/// error as the run's own).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct RunRow {
   std::string file;
@@ -106,6 +111,7 @@ std::string table_csv(const std::vector<RunRow>& rows, const std::optional<RunPa
 
 int estimate_runs(const std::vector<std::string>& files, const SeriesInput& input, const MlceOptions& options,
                   const std::optional<RunParameter>& parameter, const RunsOutput& output) {
+  check_series_options(input);  // a mistake in the options is one usage error, not one per run
   const auto start = std::chrono::steady_clock::now();
   std::vector<RunRow> rows;
   for (std::size_t k = 0; k < files.size(); ++k) {
@@ -118,17 +124,21 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
     row.file = files[k];
     try {
       LoadedSeries loaded = load_series(in);
-      MlceResult r = on_file(in, [&] { return estimate_mlce(loaded.series, options); });
+      MlceResult r = on_file(in, [&] {
+        try {
+          return estimate_mlce(loaded.series, options);
+        } catch (const OptionError& e) {  // the estimator checks its options first: wrong for every run
+          throw UsageError(e.what());
+        }
+      });
       r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
       row.from = loaded.series.time(r.skipped_start);
       row.transient_rule = loaded.transient_rule;
       row.reading = read_stability(r);
       row.result = std::move(r);
-    } catch (const OptionError&) {  // the options are wrong for every run: a usage error
-      throw;
-    } catch (const boost::program_options::error&) {
-      throw;
-    } catch (const std::exception& e) {
+    } catch (const UsageError& e) {
+      throw OptionError(e.what());
+    } catch (const std::exception& e) {  // the run's own: a channel its set lacks, a column file among MBDyn sets, ...
       row.error = e.what();
     }
     rows.push_back(std::move(row));

@@ -63,8 +63,22 @@ LoadedSeries load_solver_channels(const SeriesInput& in) {
 LoadedSeries load_column_series(const SeriesInput& in);
 LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out);
 
+void check_series_options(const SeriesInput& in) {
+  for (const auto& spec : in.channels) {
+    try {
+      reader::parse_channel_spec(spec);
+    } catch (const reader::ReadError& e) {
+      throw OptionError(e.what());
+    }
+  }
+  if (in.time_column && in.dt) throw OptionError("give either --time-column or --dt, not both");
+  if (!in.start_is_automatic() && !parse_finite(in.from))
+    throw OptionError("--from '" + in.from + "': expected a time or 'auto'");
+}
+
 LoadedSeries load_series(const SeriesInput& in_) {
   using reader::ReadError;
+  check_series_options(in_);
   SeriesInput in = in_;
   LoadedSeries out;
   if (reader::default_registry().for_path(in.file).name() != "column") {

@@ -38,7 +38,13 @@ struct LoadedSeries {
 reader::ChannelSet load_channels(const std::string& file, const std::vector<std::string>& specs,
                                  const reader::ReadOptions& options = {});
 
-/// Throws std::runtime_error with a one-line message naming the file (and line) on bad input.
+/// The options' own mistakes, whatever the file (a channel spec's syntax, --time-column with --dt,
+/// a --from that is no time): throws OptionError. load_series checks them first; a command that
+/// reads several files checks them once, so that what is left to go wrong is the file's.
+void check_series_options(const SeriesInput& in);
+
+/// Throws std::runtime_error with a one-line message naming the file (and line) on bad input, and
+/// OptionError when the options do not fit the file (or at all: check_series_options).
 LoadedSeries load_series(const SeriesInput& in);
 
 /// Runs an estimation stage on a series loaded from `in`: an InputError it raises about the data
