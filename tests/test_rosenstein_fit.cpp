@@ -547,6 +547,27 @@ TEST(Fit, LimitCycleCurveThatRisesAndFallsBackIsBounded) {
   EXPECT_NE(fit_divergence(synthetic(fall, 0.34), o).end, CurveEnd::bounded);
 }
 
+TEST(Fit, ShortSlowDecayThatRisesFirstIsADecayNotABoundedCurve) {
+  // The curve of a slow decay recorded for few periods (Hammond at 200 rpm, blade 3 inoperative,
+  // 20 s): the start-up lifts it by 0.41 over 120 steps, then it falls at -4.35e-4 per step for 1124
+  // steps, ending below its start, so it starts in the lower half of its range and its second half
+  // falls by more than 0.25, as a limit cycle's that closes in again does. What tells them apart is the
+  // signal: a limit cycle's amplitude persists, a decay's falls as the curve does.
+  const double fall = -4.35e-4;
+  std::vector<double> y;
+  for (int i = 0; i <= 1244; ++i) y.push_back(i <= 120 ? -2.16 + 0.41 * i / 120.0 : -1.75 + fall * (i - 120));
+  FitOptions o;
+  o.period = 211;
+  const DivergenceCurve c = synthetic(y, 0.3);
+  EXPECT_EQ(fit_divergence(c, o).end, CurveEnd::bounded) << "no signal rate known: the limit cycle's rule";
+  o.signal_rate = 0.0;  // the amplitude persists: a limit cycle
+  EXPECT_EQ(fit_divergence(c, o).end, CurveEnd::bounded);
+  o.signal_rate = 0.95 * fall;  // the signal decays as the curve falls: a decay
+  const FitResult r = fit_divergence(c, o);
+  EXPECT_NE(r.end, CurveEnd::bounded) << r.rule;
+  EXPECT_NEAR(r.slope, fall, 1e-3 * std::abs(fall)) << r.rule;
+}
+
 TEST(Fit, SteadyRiseOrDecayFarBelowTheAttractorIsNotBounded) {
   std::vector<double> rise, decay;
   for (int i = 0; i <= 600; ++i) rise.push_back(-9.0 + 0.005 * i), decay.push_back(-3.0 - 0.005 * i);

@@ -380,6 +380,14 @@ bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitRes
   const std::size_t n = y.size();
   const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin) : Bounded::no;
   if (kind == Bounded::no) return false;
+  // A curve that falls back while the signal's own amplitude decays at least persist_share x as fast
+  // is a decay to rest, not a limit cycle closing in again: its early rise is the start-up, and a
+  // short record of a slow decay starts low in its range (Hammond at 200 rpm, blade 3 inoperative,
+  // 20 s: the curve rose by 0.4 in 0.6 s, then fell at -0.087 1/s with the signal's -0.083; fitted
+  // from step 0 it read -0.071). The decay stages fit it.
+  if (kind == Bounded::falls_back && std::isfinite(options.signal_rate) &&
+      options.signal_rate <= options.persist_share * fit_line(y.data(), n / 2, n - 1).slope)
+    return false;
   std::size_t first = n / 2;
   if (kind == Bounded::falls_back) {
     first = 0;

@@ -190,6 +190,9 @@ struct FitResult {
 ///     second half falls back by more than that tolerance (a growth saturates and never falls; a
 ///     limit cycle that has not fully settled closes in again as its residual decaying mode dies
 ///     out): it is fitted from where it first reached its final level, rise and fall together.
+///     Not when the signal's own amplitude decays at least persist_share x as fast as that second
+///     half falls (signal_rate): a decay to rest whose curve rose over its start-up (a short record
+///     of a slow decay starts low in its range) goes on to stage 1.
 ///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
