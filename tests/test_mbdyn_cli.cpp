@@ -100,12 +100,13 @@ TEST_F(MbdynCli, SeveralRunsAreOneTableWithTheirKnownStabilityAndWhereItChanges)
   const char* stability[] = {"stable", "unstable", "neutral"};
   for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_EQ(j["runs"][k]["reading"]["stability"], stability[k]) << j["runs"][k].dump();
-    EXPECT_EQ(j["runs"][k]["case"].get<double>(), static_cast<double>(k + 1));
+    EXPECT_EQ(j["runs"][k]["parameter"].get<double>(), static_cast<double>(k + 1));
   }
   const double stable = j["runs"][0]["lambda"].get<double>(), growth = j["runs"][1]["lambda"].get<double>();
   EXPECT_NEAR(growth, 0.2985, 0.1 * 0.2985);
   EXPECT_LT(stable, 0.0);
   EXPECT_EQ(j["estimated"].get<std::size_t>(), 3u);
+  EXPECT_EQ(j["parameter"], "case");
   ASSERT_EQ(j["stability_changes"].size(), 2u) << j["stability_changes"].dump();
   EXPECT_EQ(j["stability_changes"][0]["from"], "stable");
   EXPECT_EQ(j["stability_changes"][0]["to"], "unstable");

@@ -170,7 +170,9 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
       const RunRow& row = rows[k];
       nlohmann::json r = row.result ? to_json(*row.result) : nlohmann::json::object();
       r["file"] = row.file;
-      if (parameter) r[parameter->name] = parameter->values[k];
+      // The value under a fixed key (its name is the object's "parameter"): a name such as "lambda"
+      // would otherwise overwrite the estimate's own field.
+      if (parameter) r["parameter"] = parameter->values[k];
       if (row.result) {
         r["from"] = row.from;
         if (!row.transient_rule.empty()) r["transient_rule"] = row.transient_rule;
