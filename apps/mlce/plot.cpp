@@ -48,7 +48,7 @@ std::string curve_linetypes() {
 }  // namespace
 
 void render_png(const std::string& png_path, const std::string& csv,
-                const std::function<std::string(const std::string&, const std::string&)>& script) {
+                const std::function<std::string(const std::string&)>& script, int height) {
   namespace fs = std::filesystem;
   const fs::path tmp_png = png_path + ".tmp-mlce.png";
   const fs::path data = png_path + ".tmp-mlce.csv";
@@ -73,7 +73,11 @@ void render_png(const std::string& png_path, const std::string& csv,
   } ignore_sigpipe;
   FILE* gp = popen(("gnuplot >" + shell_log + " 2>&1").c_str(), "w");
   if (!gp) throw std::runtime_error(png_path + ": cannot start gnuplot (install gnuplot-nox)");
-  std::fputs((curve_linetypes() + script(quoted(tmp_png.string()), quoted(data.string()))).c_str(), gp);
+  // Every plot: a PNG 900 pixels wide, the CSV's commas, no enhanced text (a '_' in a channel name is a '_').
+  const std::string preamble = fmt::format(
+      "set terminal pngcairo size 900,{} noenhanced\nset output '{}'\nset datafile separator ','\n", height,
+      quoted(tmp_png.string()));
+  std::fputs((preamble + curve_linetypes() + script(quoted(data.string()))).c_str(), gp);
   const int rc = pclose(gp);
   std::error_code ec;
   fs::remove(data, ec);
@@ -105,16 +109,15 @@ void plot_curve_png(const MlceResult& r, const std::string& png_path) {
       a > 0.0 && std::isfinite(a)
           ? fmt::format("set y2range [{:.6g}:{:.6g}]\n", r.lambda > 0 ? -0.5 * a : -2.5 * a, r.lambda > 0 ? 2.5 * a : 0.5 * a)
           : "";
-  render_png(png_path, table.csv, [&](const std::string& png, const std::string& data) {
+  render_png(png_path, table.csv, [&](const std::string& data) {
     return fmt::format(
-        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key below\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)>'\n"
         "set y2label 'local slope over one mean period (1/{})'\nset y2tics\nset ytics nomirror\n{}"
         "set title 'Rosenstein divergence: lambda = {:.5g} 1/{} (fit steps {}..{}, R2 {:.4f})'\n"
         "plot '{}' every ::1 using 2:3 with lines lw 2 title '{}', "
         "'' every ::1 using 2:($5 > 0 ? $6 : 1/0) with lines lw 3 dt 2 lc rgb 'black' title 'least-squares fit'{}{}"
         "{:.10g} axes x1y2 with lines lw 1 dt 3 lc rgb 'dark-orange' title 'lambda (right axis)'\n",
-        png, quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
+        quoted(u), quoted(u), y2range, r.lambda, quoted(u), r.fit.first, r.fit.last, r.r2, data,
         r.curve.phase_aligned ? "mean log divergence, neighbours phase-aligned"
         : r.noise_compensated ? "ln <d^2> / 2, noise-compensated"
                               : "mean log divergence",
@@ -136,7 +139,7 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
       if (c.result) return c.result->time_unit.empty() ? std::string("sample") : c.result->time_unit;
     return std::string("sample");
   }();
-  render_png(png_path, each_channel_curves_csv(r), [&](const std::string& png, const std::string& data) {
+  render_png(png_path, each_channel_curves_csv(r), [&](const std::string& data) {
     // Columns: 1 channel, 2 index, 3 step, 4 time, 5 mean_log_distance, 6 terms, 7 in_fit, 8 fit_line.
     std::string terms;
     for (std::size_t k = 0; k < r.channels.size(); ++k) {
@@ -150,10 +153,9 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
                            terms.empty() ? "title 'least-squares fits'" : "notitle");
     }
     return fmt::format(
-        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key below\nset grid\nset xlabel 'time ({})'\nset ylabel '<ln d_j(i)> (channel standard deviations)'\n"
         "set title 'Rosenstein divergence of each channel, lambda in 1/{}; {}'\nplot {}\n",
-        png, quoted(time_unit), quoted(time_unit),
+        quoted(time_unit), quoted(time_unit),
         r.estimated < 2   ? "one channel estimated"
         : r.compared < 2  ? "fewer than two channels measure a divergence"
         : r.verdict.agree ? "the channels agree"
@@ -172,39 +174,36 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
     lines += fmt::format("set arrow from first {0:.10g}, graph 0 to first {0:.10g}, graph 1 nohead dashtype 2 lc 'gray40'\n"
                          "set label '{1}' at first {0:.10g}, graph 0.97 offset 0.5,0 tc 'gray40'\n",
                          x, quoted(label));
-  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+  render_png(png_path, csv, [&](const std::string& data) {
     return fmt::format(
-        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n{}"
         "plot for [c=2:{}] '{}' using 1:c with lines lw 2\n",
-        png, quoted(xlabel), quoted(ylabel), quoted(title), lines, columns, data);
+        quoted(xlabel), quoted(ylabel), quoted(title), lines, columns, data);
   });
 }
 
 void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
                         const std::string& ylabel, const std::string& png_path) {
-  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+  render_png(png_path, csv, [&](const std::string& data) {
     return fmt::format(
-        "set terminal pngcairo size 900,600 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set key below\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\nset offsets graph 0.05, graph 0.05, 0, 0\n"
         "set xzeroaxis lt -1 lc 'gray40'\n"
         "plot '{}' every ::1 using 1:2:3:4 with yerrorbars pt 7 ps 1 lw 2 title 'lambda and its 95 % interval'\n",
-        png, quoted(xlabel), quoted(ylabel), quoted(title), data);
+        quoted(xlabel), quoted(ylabel), quoted(title), data);
   });
 }
 
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path) {
-  render_png(png_path, csv, [&](const std::string& png, const std::string& data) {
+  render_png(png_path, csv, [&](const std::string& data) {
     return fmt::format(
-        "set terminal pngcairo size 900,700 noenhanced\nset output '{}'\nset datafile separator ','\n"
         "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
         "set palette defined (0 'blue', 1 'white', 2 'red')\nset key off\n"
         "stats '{}' every ::1 using 3 nooutput\nm = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)\n"
         "if (m > 0) set cbrange [-m:m]\n"  // white is 0: stable blue, unstable red
         "plot '{}' every ::1 using 1:2:3 with image\n",
-        png, quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), data, data);
-  });
+        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), data, data);
+  }, 700);
 }
 
 }  // namespace mlce::cli

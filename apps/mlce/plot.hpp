@@ -8,11 +8,12 @@
 #include "mlce/estimate.hpp"
 
 namespace mlce::cli {
-/// Runs gnuplot (Debian gnuplot-nox) on script(png_tmp, csv_tmp) with `csv` as its data and moves
-/// the PNG into place only when gnuplot succeeded; throws std::runtime_error naming png_path.
-/// script() receives both paths ready for a gnuplot single-quoted string.
+/// Runs gnuplot (Debian gnuplot-nox) on script(csv_tmp) with `csv` as its data and moves the PNG
+/// into place only when gnuplot succeeded; throws std::runtime_error naming png_path. The terminal
+/// (pngcairo, 900 x `height` pixels), the output file and the CSV separator are set before the
+/// script; script() receives the data path ready for a gnuplot single-quoted string.
 void render_png(const std::string& png_path, const std::string& csv,
-                const std::function<std::string(const std::string& png, const std::string& data)>& script);
+                const std::function<std::string(const std::string& data)>& script, int height = 600);
 /// PNG of the divergence curve with the fit region and line.
 void plot_curve_png(const MlceResult& r, const std::string& png_path);
 /// PNG of every estimated channel's divergence curve with its fit line (mlce estimate --each).
