@@ -19,6 +19,8 @@
 // y = E[min(X + l i, A)] with X ~ N(b, s^2), to the curve's end or to the automatic end plus the
 // region's length. Both read high on both flows (means 1.1-1.7 lambda_1) and scatter several times
 // as far as the automatic fit: the real bend is not that shape, and the slope trades against it.
+// And no region: the mode of the slopes of every segment (Deshmukh et al. 2021, slope_mode) reads
+// low on both flows, whose local slope falls all along the growth.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -103,6 +105,35 @@ double model_slope(const Curve& c, CurveModel model, std::size_t last) {
   return p[2];
 }
 
+/// Deshmukh et al., Chaos 31, 123102 (2021) (FractalDimensions.jl issue #19): no region at all, the
+/// slope is the mode of the distribution of the least-squares slopes of every segment [a, b] of the
+/// curve between the automatic region's start and `end(c)` (a, b on a grid of 5 steps, b - a at
+/// least half a mean period), each weighted by its length; the mode is the peak of a Gaussian
+/// kernel density (bandwidth by Silverman's rule on the weighted spread).
+double slope_mode(const Curve& c, std::size_t end) {
+  end = std::min(end, c.y.size() - 1);
+  const std::size_t stride = 5, shortest = std::max<std::size_t>(c.mean_period / 2, 2 * stride);
+  std::vector<std::pair<double, double>> slopes;  // slope, weight
+  for (std::size_t a = c.first; a + shortest <= end; a += stride)
+    for (std::size_t b = a + shortest; b <= end; b += stride)
+      slopes.emplace_back(mlce::fit_line(c.y.data(), a, b).slope, static_cast<double>(b - a));
+  if (slopes.empty()) return mlce::fit_line(c.y.data(), c.first, end).slope;
+  double w = 0, m = 0, v = 0;
+  for (const auto& [q, wt] : slopes) w += wt, m += wt * q;
+  m /= w;
+  for (const auto& [q, wt] : slopes) v += wt * (q - m) * (q - m);
+  const double sd = std::sqrt(v / w), h = std::max(1.06 * sd * std::pow(static_cast<double>(slopes.size()), -0.2), 1e-12);
+  double best = m, best_density = -1;
+  const auto [lo, hi] = std::minmax_element(slopes.begin(), slopes.end());
+  for (int g = 0; g <= 400; ++g) {
+    const double q = lo->first + (hi->first - lo->first) * g / 400.0;
+    double density = 0;
+    for (const auto& [s, wt] : slopes) density += wt * std::exp(-0.5 * (q - s) * (q - s) / (h * h));
+    if (density > best_density) best_density = density, best = q;
+  }
+  return best;
+}
+
 struct Rule {
   std::string name;
   EndRule end;            // empty: the automatic estimate
@@ -164,6 +195,11 @@ std::vector<Rule> rules() {
   out.push_back({"automatic end kept between 1.4 and 1.0 below", [](const Curve& c) {
                    return std::clamp(c.last, first_reaching(c, c.attractor - 1.4), first_reaching(c, c.attractor - 1.0));
                  }});
+  for (double g : {0.3, 0.8})
+    out.push_back({"slope mode (Deshmukh) up to " + std::to_string(g).substr(0, 3) + " below the attractor scale", {}, -1,
+                   [g](const Curve& c) { return slope_mode(c, first_reaching(c, c.attractor - g)); }});
+  out.push_back({"slope mode (Deshmukh) up to the end + region", {}, -1,
+                 [](const Curve& c) { return slope_mode(c, 2 * c.last - c.first); }});
   const std::pair<CurveModel, std::string> models[] = {{soft_minimum, "soft minimum"}, {spread_starts, "spread starts"}};
   for (const auto& [model, label] : models) {
     const CurveModel m = model;  // a structured binding is not captured before C++20 in every compiler
