@@ -316,7 +316,28 @@ TEST_F(MbdynCli, NonFiniteValue) {
 TEST_F(MbdynCli, UnknownLabels) {
   expect_one_line_error(run("extract " + prefix + " --channel node:99:x"), "run.log: channel 'node:99:x': no structural node 99");
   expect_one_line_error(run("extract " + prefix + " --channel joint:99:2"), "run.jnt: no rows of label 99");
-  expect_one_line_error(run("extract " + kIso + ".nc --channel joint:99:2"), "no joint 99");
+  expect_one_line_error(run("extract " + kIso + ".nc --channel joint:99:2"),
+                        "no joint 99; with output: 2 3 4 5 6 31 32 33 34");
+}
+
+// The real NetCDF file lists joints 1 and 21..24 and node 1 among its labels but writes no variable
+// of theirs (output off in the run): a channel of one says so and names those that write output,
+// and `mlce channels` marks them.
+TEST_F(MbdynCli, NetcdfLabelsWithTheirOutputOff) {
+  expect_one_line_error(run("extract " + kIso + ".nc --channel joint:21:2"),
+                        "joint 21 writes no output in this file (listed in 'elem.joint', no 'elem.joint.21.f'); "
+                        "with output: 2 3 4 5 6 31 32 33 34");
+  for (const char* spec : {"node:1:x", "node:1:r1", "rel:1:13:z"})
+    expect_one_line_error(run("extract " + kIso + ".nc --channel " + spec),
+                          "structural node 1 writes no output in this file (listed in 'node.struct', no "
+                          "'node.struct.1.X'); with output: 2 3 4 11 12 13 14");
+  const auto listing = run("channels " + kIso + ".nc --json");
+  ASSERT_EQ(listing.status, 0) << listing.err;
+  const auto j = nlohmann::json::parse(listing.out);
+  std::vector<long> off;
+  for (const auto& e : j["entities"])
+    if (e["type"] == "output off") off.push_back(e["label"].get<long>());
+  EXPECT_EQ(off, (std::vector<long>{1, 21, 22, 23, 24}));
 }
 
 TEST_F(MbdynCli, ColumnBeyondTheRow) {

@@ -226,6 +226,27 @@ class NcFile {
   std::uint64_t max_records_ = std::numeric_limits<std::uint64_t>::max();
 };
 
+/// What a channel of a node or joint (`what`: "structural node", "joint") of `group` ("node.struct",
+/// "elem.joint") that writes no `group.L<data_suffix>` variable gets: the file's label list may hold
+/// it with its output off (MBDyn lists every element, outputs some), or not at all; either way the
+/// labels that do write output are named, as the text reader names a block's labels.
+[[noreturn]] void no_output(const NcFile& nc, const std::string& what, const std::string& group, long label,
+                            const std::string& data_suffix) {
+  const auto listed = nc.labels(group);
+  std::string message = nc.path() + ": ";
+  const std::string id = what + ' ' + std::to_string(label);
+  if (std::find(listed.begin(), listed.end(), label) != listed.end())
+    message.append(id).append(" writes no output in this file (listed in '").append(group).append("', no '")
+        .append(group).append(".").append(std::to_string(label)).append(data_suffix).append("')");
+  else
+    message.append("no ").append(id);
+  std::string with_output;
+  for (long l : listed)
+    if (nc.var(group + '.' + std::to_string(l) + data_suffix)) with_output.append(" ").append(std::to_string(l));
+  message.append(with_output.empty() ? std::string("; none writes output") : "; with output:" + with_output);
+  throw ReadError(message);
+}
+
 struct NodeOrientation {
   Orientation kind;
   std::string var;  ///< full variable name
@@ -242,7 +263,7 @@ NodeOrientation node_orientation(const NcFile& nc, long label) {
   }
   if (nc.var(base + ".Phi")) return {Orientation::phi, base + ".Phi"};
   if (nc.var(base + ".R")) return {Orientation::mat, base + ".R"};
-  if (!nc.var(base + ".X")) throw ReadError(nc.path() + ": no structural node " + std::to_string(label));
+  if (!nc.var(base + ".X")) no_output(nc, "structural node", "node.struct", label, ".X");
   return {Orientation::none, ""};
 }
 
@@ -267,7 +288,7 @@ std::vector<std::vector<double>> orientation_columns(const NcFile& nc, const Nod
 /// it; a matrix variable (time, 3, 3), e.g. a revolute hinge's .R, is written row by row there.
 std::pair<std::string, std::size_t> joint_column(const NcFile& nc, long label, std::size_t K) {
   const std::string base = "elem.joint." + std::to_string(label);
-  if (!nc.var(base + ".f")) throw ReadError(nc.path() + ": no joint " + std::to_string(label));
+  if (!nc.var(base + ".f")) no_output(nc, "joint", "elem.joint", label, ".f");
   std::vector<std::string> order = {base + ".f", base + ".m", base + ".F", base + ".M"};
   const std::string prefix = base + ".";
   for (const auto& name : nc.variable_names())
@@ -472,6 +493,7 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
       case ChannelSpec::Kind::node: {
         const auto f = *detail::parse_node_field(s.field);
         const std::string base = "node.struct." + std::to_string(s.label);
+        if (!nc.var(base + ".X")) no_output(nc, "structural node", "node.struct", s.label, ".X");
         if (f.group == detail::NodeGroup::orientation) {
           const auto o = node_orientation(nc, s.label);
           if (o.kind == Orientation::none || f.component >= orientation_size(o.kind))
@@ -562,8 +584,9 @@ Inventory describe(const std::string& path) {
     inv.nodes.push_back({l, v ? nc.text_attribute(*v, "type") : "unknown", orientation_name(o.kind), 0});
   }
   for (long l : nc.labels("elem.joint")) {
-    const auto v = nc.var("elem.joint." + std::to_string(l));
-    inv.entities.push_back({"jnt", l, v ? nc.text_attribute(*v, "type") : "", 0});
+    const std::string base = "elem.joint." + std::to_string(l);
+    const auto v = nc.var(base);
+    inv.entities.push_back({"jnt", l, !nc.var(base + ".f") ? "output off" : v ? nc.text_attribute(*v, "type") : "", 0});
   }
   return inv;
 }
