@@ -219,6 +219,31 @@ TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
   EXPECT_THROW(read_stability(r, o), OptionError);
 }
 
+TEST(Reading, ConvergenceOntoASteadyAmplitudeAndSlowGrowthInsideTheBandAreNeutral) {
+  // Results whose curve ends at a plateau (not the bounded-curve clause), the amplitude given:
+  // (1) lambda clearly below the band while the amplitude persists: the neighbours converge onto a
+  //     motion of steady amplitude (a run settling on its limit cycle), neutral, not stable;
+  // (2) lambda inside the band while the amplitude grows tenfold: slowly growing, neutral;
+  // (3) lambda inside the band with a steady amplitude: a limit cycle.
+  MlceResult r;
+  r.dt = 0.01;
+  r.mean_period.mean_frequency = 1.0;
+  r.fit.end = CurveEnd::saturation;
+  r.lambda = -0.1, r.ci95_low = -0.12, r.ci95_high = -0.08;
+  r.amplitude_ratio = 1.0, r.envelope_rate = 0.0;
+  const Reading settling = read_stability(r);
+  expect_reading(settling, Stability::neutral, "limit cycle", "converging onto a steady amplitude");
+  EXPECT_NE(settling.summary.find("converge onto a motion of steady amplitude"), std::string::npos) << settling.summary;
+  EXPECT_EQ(settling.amplitude, AmplitudeTrend::persists);
+  r.lambda = 0.002, r.ci95_low = -0.005, r.ci95_high = 0.009;
+  r.amplitude_ratio = 10.0, r.envelope_rate = 0.05 * r.dt;
+  const Reading growing = read_stability(r);
+  expect_reading(growing, Stability::neutral, "slowly growing", "inside the band, amplitude x 10");
+  EXPECT_EQ(growing.amplitude, AmplitudeTrend::grows);
+  r.amplitude_ratio = 1.0, r.envelope_rate = 0.0;
+  expect_reading(read_stability(r), Stability::neutral, "limit cycle", "inside the band, steady amplitude");
+}
+
 TEST(Reading, ALevelCurveHeldByNoiseReadsTheSignalsOwnDecay) {
   // A curve held level by measurement noise (noise_level set on a bounded curve) with lambda T
   // inside the band while the amplitude falls to a tenth at -0.05 per period: the decay is read

@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.hpp"
@@ -106,6 +110,54 @@ TEST_F(SpectrumCli, CountReportsTheLargestExponentsOnly) {
   EXPECT_NEAR(one["raw_exponents"][0].get<double>(), all["raw_exponents"][0].get<double>(), 1e-6);
   EXPECT_TRUE(one["mean_divergence"].is_null());
   EXPECT_TRUE(all["mean_divergence"].is_number());
+}
+
+namespace {
+/// The exponents of a command's text table (rows "i  lambda ..." after the column header).
+std::vector<double> table_exponents(const std::string& text) {
+  std::vector<double> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream row(line);
+    int i = 0;
+    double lambda = 0;
+    if (line.empty() || line[0] == '#' || !(row >> i >> lambda)) continue;
+    EXPECT_EQ(i, static_cast<int>(out.size()) + 1) << line;
+    out.push_back(lambda);
+  }
+  return out;
+}
+}  // namespace
+
+TEST_F(SpectrumCli, TextTablesCarryTheExponentsAndLiouvillesCheck) {
+  // The human summary an analyst reads: the isotropic rotor's eigenvalues, twice -c / (2 I_b) =
+  // -1.875 1/s among them, and each command's sum of exponents against the mean divergence.
+  const std::string scene = kScenes + "isotropic_200rpm.scene";
+  for (const std::string command : {"eigen ", "floquet ", "spectrum "}) {
+    const auto r = run(command + scene + " --quiet");
+    ASSERT_EQ(r.status, 0) << command << r.err;
+    const auto ex = table_exponents(r.out);
+    ASSERT_EQ(ex.size(), 12u) << command << r.out;
+    int pair = 0;
+    for (double e : ex) pair += std::abs(e + 1.875) < 2e-3;
+    EXPECT_EQ(pair, 4) << command << r.out;
+    const auto at = r.out.find("# sum of the exponents ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    double sum = 0, div = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + at, "# sum of the exponents %lf 1/s; mean divergence of the vector field (tr A) %lf",
+                          &sum, &div), 2) << r.out;
+    EXPECT_NEAR(sum, div, 1e-8 * std::abs(div)) << command;
+    double table_sum = 0;
+    for (double e : ex) table_sum += e;
+    EXPECT_NEAR(table_sum, sum, 1e-5 * std::abs(sum)) << command;  // the table's 7 digits
+  }
+  // --merge with a tolerance wider than the whole spectrum averages all twelve into one group:
+  // each is then the mean divergence / 12 (Liouville), whatever the run's own exponents.
+  const json merged = json_of("spectrum " + scene + " --t-end 20 --merge 100");
+  const double mean = merged["mean_divergence"].get<double>() / 12;
+  ASSERT_EQ(merged["exponents"].size(), 12u);
+  for (const auto& e : merged["exponents"]) EXPECT_NEAR(e.get<double>(), mean, 1e-8 * std::abs(mean));
+  expect_one_line_error(run("spectrum --merge -1"), "--merge '-1': expected auto, off or a positive tolerance", 2);
 }
 
 TEST_F(SpectrumCli, Errors) {
