@@ -12,6 +12,7 @@
 #include "mlce/models/scene.hpp"
 #include "mlce/spectrum/floquet.hpp"
 #include "mlce/spectrum/qr_spectrum.hpp"
+#include "mlce/spectrum/tangent.hpp"
 
 using namespace mlce;
 using Eigen::MatrixXd;
@@ -174,6 +175,41 @@ TEST(QrSpectrum, ThreeJacobianRoutesAgree) {
   EXPECT_LT((results[0] - results[2]).cwiseAbs().maxCoeff(), 1e-4);
   EXPECT_NEAR(divergence[1], divergence[0], 1e-9 * std::abs(divergence[0]));
   EXPECT_NEAR(divergence[2], divergence[0], 1e-7 * std::abs(divergence[0]));
+}
+
+TEST(Tangent, FullJacobianOfEachRouteIsTheAnalyticOneAndAMissingRouteIsRefused) {
+  // Hammond, blade 3 inoperative, at a state off the equilibrium (lag angles and rates set): the
+  // complex-step and central-difference Jacobians against the model's analytic one.
+  const auto sc = scene({"--c", "4067.5,4067.5,0,4067.5"});
+  const auto sys = models::dynamical_system(sc);
+  VectorXd x = VectorXd::LinSpaced(sys.dimension, -0.3, 0.5);
+  const MatrixXd exact = spectrum::jacobian(sys, spectrum::JacobianMethod::analytic, x, 0.37);
+  const double scale = exact.cwiseAbs().maxCoeff();
+  EXPECT_LT((spectrum::jacobian(sys, spectrum::JacobianMethod::complex_step, x, 0.37) - exact).cwiseAbs().maxCoeff(),
+            1e-12 * scale);
+  EXPECT_LT((spectrum::jacobian(sys, spectrum::JacobianMethod::jacobian_free, x, 0.37) - exact).cwiseAbs().maxCoeff(),
+            1e-7 * scale);
+  // A system that has only a right-hand side: the Jacobian-free route serves, the others are refused.
+  ode::DynamicalSystem bare;
+  bare.dimension = sys.dimension;
+  bare.rhs = sys.rhs;
+  EXPECT_NO_THROW(spectrum::require(bare, spectrum::JacobianMethod::jacobian_free));
+  try {
+    spectrum::require(bare, spectrum::JacobianMethod::analytic);
+    ADD_FAILURE() << "analytic accepted without a Jacobian";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no analytic Jacobian: use --jacobian complex-step or jacobian-free"),
+              std::string::npos) << e.what();
+  }
+  try {
+    spectrum::require(bare, spectrum::JacobianMethod::complex_step);
+    ADD_FAILURE() << "complex-step accepted without a complex right-hand side";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no complex right-hand side"), std::string::npos) << e.what();
+  }
+  for (auto m : {spectrum::JacobianMethod::analytic, spectrum::JacobianMethod::complex_step,
+                 spectrum::JacobianMethod::jacobian_free})
+    EXPECT_EQ(spectrum::jacobian_method_from_name(spectrum::jacobian_method_name(m)), m);
 }
 
 TEST(QrSpectrum, LeadingExponentsAloneAreTheFullSpectrumsWithTheirSensitivities) {
