@@ -646,6 +646,19 @@ SyntheticSet make_netcdf_set(Orientation o, int axis, const std::string& name) {
 
 }  // namespace
 
+// The library's single-sample form of rel:A:B:AXIS (public API, reader/orientation.hpp): a known
+// rotation zeta about each axis of B's frame, on top of an initial relative pose of a quarter turn
+// and B turning and tilted, reads zeta, wrapped to (-pi, pi].
+TEST(Orientation, RelativeTwistOfOneSampleIsTheKnownAngle) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (double zeta : {-3.0, -1.2, 0.0, 0.4, 2.9, 3.5}) {
+      const double t = 0.7, wrapped = std::remainder(zeta, 2.0 * std::numbers::pi);
+      EXPECT_NEAR(relative_twist(node2_pose(t, zeta, axis), node1_pose(t), node2_pose(0.0, 0.0, axis), node1_pose(0.0), axis),
+                  wrapped, 1e-12)
+          << "axis " << axis << ", zeta " << zeta;
+    }
+}
+
 class OrientationRoundTrip : public ::testing::TestWithParam<std::tuple<Orientation, int>> {};
 
 TEST_P(OrientationRoundTrip, KnownRelativeRotationReadsBackUnwrapped) {
