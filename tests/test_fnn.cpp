@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "mlce/fnn.hpp"
 #include "reference_systems.hpp"
@@ -26,6 +29,24 @@ TEST(Fnn, LorenzNeedsThreeDimensions) {
   o.theiler = 100;
   const auto r = estimate_dimension_fnn(make_series_with_step({reference::lorenz_x(20000)}, 0.01), 17, o);
   EXPECT_EQ(r.dim, 3u);
+}
+
+TEST(Fnn, ExactlyPeriodicSineIsTwoDimensional) {
+  // sin(2 pi i / 100): an ellipse in two delay coordinates, repeating every 100 samples to ~1e-13
+  // (the rounding of sin's argument). Kennel's ratio of two such roundings is noise: with exact
+  // zeros only as repeats it marked a quarter of the neighbours false at m = 2 (m = 4 chosen).
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2 * M_PI * static_cast<double>(i) / 100.0);
+  FnnOptions o;
+  o.theiler = 100, o.max_dim = 4;
+  const auto r = estimate_dimension_fnn(make_series_with_step({x}, 1.0), 19, o);
+  EXPECT_EQ(r.dim, 2u);
+  EXPECT_EQ(r.fraction[1], 0.0);
+  EXPECT_GT(r.zero_distance_pairs, 0u);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.back().find("repeating their point"), std::string::npos) << r.warnings.back();
+  o.repeat_resolution = 0.0;  // the mechanism: exact zeros only
+  EXPECT_GT(estimate_dimension_fnn(make_series_with_step({x}, 1.0), 19, o).fraction[1], 0.1);
 }
 
 TEST(Fnn, WhiteNoiseNeverReachesTheThresholdAndSaysSo) {

@@ -15,13 +15,15 @@ namespace {
 /// The kd-tree search, as one tree and split into two (NeighbourOptions::split_tree_points, which
 /// long series use), against the brute force: the same distance and, equal distances going to the
 /// earlier point, the same neighbour.
-void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler) {
+void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler,
+                                double repeat_resolution = 0.0) {
   const std::size_t M = DelayEmbedding::max_points(x.size(), dim, delay);
   const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
   std::vector<std::uint32_t> q;
   for (std::size_t i = 0; i < M; i += 7) q.push_back(static_cast<std::uint32_t>(i));
   NeighbourOptions o;
   o.theiler = theiler;
+  o.repeat_resolution = repeat_resolution;
   const auto slow = find_nearest_neighbours_brute_force(emb, q, o);
   for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
     o.split_tree_points = split;
@@ -96,6 +98,38 @@ TEST(Neighbours, RepeatedPointsAreSkippedNotReturnedAtZeroDistance) {
   EXPECT_EQ(far.zero_distance_candidates, 0u);
   for (std::size_t k = 0; k < q.size(); ++k) EXPECT_EQ(far.repeated[k] + far_slow.repeated[k], 0) << k;
   EXPECT_NE(far.neighbour.front(), NeighbourResult::none);  // neighbours found, none a repeat
+}
+
+TEST(Neighbours, PointsThatRepeatToRoundingAreRepeatsUnderARepeatResolution) {
+  // sin(2 pi i / 100) repeats every 100 samples, not to the bit: sin of a large argument rounds
+  // differently, so a point's repeats lie ~1e-13 away, every other candidate at least a sample of
+  // phase (~0.06) away. With exact zeros only the repeats are the neighbours; with a repeat
+  // resolution of 1e-10 they are passed over (counted, flagged) and the neighbours are a sample of
+  // phase off, the same in the kd-tree as in the brute force.
+  std::vector<double> x(3000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2 * M_PI * static_cast<double>(i) / 100.0);
+  const std::size_t M = DelayEmbedding::max_points(x.size(), 2, 19);
+  const DelayEmbedding emb({std::span<const double>(x)}, 2, 19, M);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < M; i += 5) q.push_back(static_cast<std::uint32_t>(i));
+  NeighbourOptions o;
+  o.theiler = 100;
+  const auto exact_zeros = find_nearest_neighbours(emb, q, o);
+  o.repeat_resolution = 1e-10;
+  const auto resolved = find_nearest_neighbours(emb, q, o);
+  std::size_t rounding_level = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    rounding_level += exact_zeros.distance[k] < 1e-10;
+    EXPECT_GT(resolved.distance[k], 0.04) << "query " << q[k];  // one sample of phase: 0.0628 x 0.79..1.21
+    EXPECT_LT(resolved.distance[k], 0.08) << "query " << q[k];
+    EXPECT_EQ(resolved.repeated[k], 1) << "query " << q[k];
+  }
+  EXPECT_GT(rounding_level, q.size() / 2);
+  EXPECT_GT(resolved.zero_distance_candidates, exact_zeros.zero_distance_candidates);
+  expect_same_as_brute_force(x, 2, 19, 100, 1e-10);
+  expect_same_as_brute_force(reference::lorenz_x(3000), 3, 17, 10, 1e-10);  // no repeats: the plain search
+  o.repeat_resolution = 1e-3;
+  EXPECT_THROW(o.validate(), OptionError);
 }
 
 TEST(Neighbours, WindowLargerThanSeriesLeavesNoNeighbour) {

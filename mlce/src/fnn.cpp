@@ -1,5 +1,7 @@
 #include "mlce/fnn.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +17,8 @@ void FnnOptions::validate() const {
   if (!(rtol > 0.0)) throw OptionError("fnn.rtol: expected > 0");
   if (!(atol > 0.0)) throw OptionError("fnn.atol: expected > 0");
   if (!(threshold > 0.0 && threshold < 1.0)) throw OptionError("fnn.threshold: expected 0 < value < 1");
+  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
+    throw OptionError("fnn.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
   if (max_points != 0 && max_points < 2) throw OptionError("fnn.max_points = " + std::to_string(max_points) + ": expected 0 (all) or >= 2");
 }
 
@@ -44,6 +48,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
   FnnResult r;
   NeighbourOptions nopt;
   nopt.theiler = options.theiler;
+  nopt.repeat_resolution = options.repeat_resolution;
   for (std::size_t m = 1; m <= options.max_dim; ++m) {
     const std::size_t span = m * delay;  // the (m+1)-th coordinate must exist
     if (n <= span || n - span < options.theiler + 2) {
@@ -96,8 +101,9 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
     r.warnings.push_back(os.str());
   }
   if (r.zero_distance_pairs > 0)
-    r.warnings.push_back("FNN: " + std::to_string(r.zero_distance_pairs) +
-                         " zero-distance candidates (repeated points) were passed over");
+    r.warnings.push_back(fmt::format("FNN: {} candidates repeating their point (at zero distance or within {:g} of "
+                                     "its size: a periodic or quantised signal) were passed over",
+                                     r.zero_distance_pairs, options.repeat_resolution));
   return r;
 }
 

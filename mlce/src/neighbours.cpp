@@ -45,8 +45,10 @@ class TheilerNearestResultSet {
 
   /// Candidates at `limit` and beyond are not points of the search (an index built for a shorter
   /// horizon than the one searched: NeighbourIndex::nearest).
-  TheilerNearestResultSet(std::size_t query, std::size_t theiler, std::size_t limit)
-      : query_(query), theiler_(theiler), limit_(limit) {}
+  /// Candidates at a squared distance of at most `repeat_squared` (0: exact zeros only) are
+  /// repeats of the query (NeighbourOptions::repeat_resolution).
+  TheilerNearestResultSet(std::size_t query, std::size_t theiler, std::size_t limit, double repeat_squared)
+      : query_(query), theiler_(theiler), limit_(limit), repeat_squared_(repeat_squared) {}
 
   /// The tree searched next holds the points from `first` on (its indices are local to it). The
   /// set carries its best distance from one tree's search to the next, which prunes it.
@@ -59,7 +61,7 @@ class TheilerNearestResultSet {
     const std::size_t index = offset_ + local_index;
     if (index >= limit_) return true;                        // beyond the points searched
     if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
-    if (squared_distance == 0.0) {  // repeated point: log(0) downstream, take the next one
+    if (squared_distance <= repeat_squared_) {  // repeated point: log(0) downstream, take the next one
       ++zero_hits_;
       return true;
     }
@@ -82,6 +84,7 @@ class TheilerNearestResultSet {
 
  private:
   std::size_t query_, theiler_, limit_, offset_ = 0;
+  double repeat_squared_;
   double best_ = std::numeric_limits<double>::infinity(), worst_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
   std::size_t zero_hits_ = 0;
@@ -99,11 +102,21 @@ void finish(NeighbourResult& r) {
   for (auto idx : r.neighbour) r.without_neighbour += idx == NeighbourResult::none;
 }
 
+/// Squared distance at or below which a candidate repeats the point `q` (NeighbourOptions::repeat_resolution).
+double repeat_squared(const double* q, std::size_t D, double resolution) {
+  if (resolution == 0.0) return 0.0;
+  double norm2 = 0.0;
+  for (std::size_t d = 0; d < D; ++d) norm2 += q[d] * q[d];
+  return resolution * resolution * norm2;
+}
+
 }  // namespace
 
 void NeighbourOptions::validate() const {
   if (leaf_size == 0) throw OptionError("neighbours.leaf_size: expected >= 1");
   if (!(eps >= 0.0)) throw OptionError("neighbours.eps: expected >= 0");
+  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
+    throw OptionError("neighbours.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
 }
 
 struct NeighbourIndex::Trees {
@@ -157,7 +170,7 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
     for (std::ptrdiff_t k = 0; k < nq; ++k) {
       const std::size_t i = queries[static_cast<std::size_t>(k)];
       embedding_->point(i, q.data());
-      TheilerNearestResultSet set(i, options_.theiler, limit);
+      TheilerNearestResultSet set(i, options_.theiler, limit, repeat_squared(q.data(), D, options_.repeat_resolution));
       for (std::size_t p = 0; p < trees.size(); ++p) {
         if (ranges[p].first() >= limit) break;
         set.set_offset(ranges[p].first());
@@ -226,13 +239,16 @@ NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedd
                                                     const std::vector<std::uint32_t>& queries,
                                                     const NeighbourOptions& options) {
   NeighbourResult r = make_result(queries.size());
+  std::vector<double> q(embedding.dimension());
   for (std::size_t k = 0; k < queries.size(); ++k) {
     const std::size_t i = queries[k];
+    embedding.point(i, q.data());
+    const double repeat = repeat_squared(q.data(), q.size(), options.repeat_resolution);
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < embedding.size(); ++j) {
       if (separation(i, j) <= options.theiler) continue;
       const double d2 = embedding.squared_distance(i, j);
-      if (d2 == 0.0) {
+      if (d2 <= repeat) {
         ++r.zero_distance_candidates;
         r.repeated[k] = 1;
         continue;

@@ -27,6 +27,13 @@ struct NeighbourOptions {
   /// distances go to the earlier point, so the result depends on neither the split nor the
   /// thread count.
   std::size_t split_tree_points = std::size_t{1} << 18;
+  /// Candidates within repeat_resolution x |x_i| of the query point x_i (|.| the Euclidean norm of
+  /// its delay vector) count as repeats of it, as exact zeros do: passed over and counted in
+  /// zero_distance_candidates. Two states that agree to that many digits of their own size differ
+  /// by the data's rounding, not by the motion: an exactly periodic signal written to 17 digits
+  /// repeats to ~1e-13, and a ratio of two roundings (FNN's Kennel test) is noise. 0 = exact
+  /// zeros only (the divergence curve's neighbours: a repeat at rounding level just reads neutral).
+  double repeat_resolution = 0.0;
   void validate() const;
 };
 
@@ -34,11 +41,12 @@ struct NeighbourResult {
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> neighbour;  ///< per query; `none` when every candidate was excluded
   std::vector<double> distance;          ///< Euclidean, not squared; +inf for `none`
-  /// Per query: 1 when a candidate at exactly zero distance was passed over (the point repeats
-  /// exactly outside the Theiler window: a periodic or quantised signal), else 0.
+  /// Per query: 1 when a candidate at zero distance (or within NeighbourOptions::repeat_resolution)
+  /// was passed over (the point repeats outside the Theiler window: a periodic or quantised
+  /// signal), else 0.
   std::vector<std::uint8_t> repeated;
-  /// Candidates at exactly zero distance (repeated points) that were passed over: they would
-  /// give log(0). The nearest neighbour at a positive distance is returned instead.
+  /// Candidates at zero distance (or within NeighbourOptions::repeat_resolution: repeated points)
+  /// that were passed over: they would give log(0). The nearest neighbour beyond is returned instead.
   std::size_t zero_distance_candidates = 0;
   std::size_t without_neighbour = 0;
 };
