@@ -312,6 +312,29 @@ TEST(EstimateSystems, VanDerPolLimitCycleIsZero) {
   }
 }
 
+TEST(EstimateSystems, SineWrittenToFullPrecisionIsNeutralNotItsRounding) {
+  // sin(2 pi i / 100), 5000 samples: lambda = 0. Its points repeat every period only to the
+  // rounding of sin's argument (~1e-13): those repeats are passed over (RosensteinOptions::
+  // repeat_resolution), the neighbours lie a sample of phase away and the curve is flat. Taken as
+  // neighbours, the repeats followed the rounding's drift from ln d ~ -31 (lambda x period = +0.047,
+  // beyond the neutral band) and FNN chose m = 4. Not a quantised series: no resolution warning.
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2 * M_PI * static_cast<double>(i) / 100.0);
+  const auto r = estimate_mlce(make_series_with_step({x}, 1.0), {});
+  EXPECT_EQ(r.dim, 2u);
+  EXPECT_LT(std::abs(r.lambda * 100.0), 1e-3) << r.lambda;
+  EXPECT_GT(r.curve.mean_log_distance.front(), -5.0);  // a sample of phase: ln 0.06
+  bool near_repeats_said = false;
+  for (const auto& w : r.warnings) {
+    EXPECT_EQ(w.find("lambda is unreliable"), std::string::npos) << w;
+    near_repeats_said |= w.find("repeats to the rounding") != std::string::npos;
+  }
+  EXPECT_TRUE(near_repeats_said);
+  RosensteinOptions o;
+  o.dim = 2, o.delay = 19, o.theiler = 100, o.horizon = 200, o.repeat_resolution = 0.0;  // the mechanism
+  EXPECT_LT(divergence_curve(make_series_with_step({x}, 1.0), o).mean_log_distance.front(), -25.0);
+}
+
 TEST(EstimateSystems, LimitCycleRunOfLessThanTwoCyclesIsRefused) {
   // van der Pol at dt = 0.001 over 10 time units: 1.5 of its 6.66-s cycles. No point has a
   // neighbour on another pass of the cycle; with the Theiler window cut to N/4 the estimate read

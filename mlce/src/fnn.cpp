@@ -75,7 +75,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
       const bool false_by_size = std::sqrt(rm * rm + extra2) > options.atol * ra;           // Kennel criterion 2
       false_count += (false_by_ratio || false_by_size);
     }
-    r.zero_distance_pairs += nn.zero_distance_candidates;
+    r.zero_distance_pairs += nn.zero_distance_candidates + nn.near_repeat_candidates;
     r.queries.push_back(tested);
     r.points.push_back(points);
     r.capped = r.capped || points < n - span;

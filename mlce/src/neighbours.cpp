@@ -62,7 +62,7 @@ class TheilerNearestResultSet {
     if (index >= limit_) return true;                        // beyond the points searched
     if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
     if (squared_distance <= repeat_squared_) {  // repeated point: log(0) downstream, take the next one
-      ++zero_hits_;
+      ++(squared_distance == 0.0 ? zero_hits_ : near_hits_);
       return true;
     }
     // Equal distances go to the earlier point, whatever order the trees visit them in.
@@ -81,13 +81,14 @@ class TheilerNearestResultSet {
   std::uint32_t index() const { return index_; }
   double squared_distance() const { return best_; }
   std::size_t zero_hits() const { return zero_hits_; }
+  std::size_t near_hits() const { return near_hits_; }
 
  private:
   std::size_t query_, theiler_, limit_, offset_ = 0;
   double repeat_squared_;
   double best_ = std::numeric_limits<double>::infinity(), worst_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
-  std::size_t zero_hits_ = 0;
+  std::size_t zero_hits_ = 0, near_hits_ = 0;
 };
 
 NeighbourResult make_result(std::size_t queries) {
@@ -161,9 +162,9 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
   const auto& trees = trees_->trees;
   const nanoflann::SearchParams params(32, static_cast<float>(options_.eps));
   const std::size_t D = embedding_->dimension();
-  std::size_t zeros = 0;
+  std::size_t zeros = 0, near = 0;
   const auto nq = static_cast<std::ptrdiff_t>(queries.size());
-#pragma omp parallel reduction(+ : zeros)
+#pragma omp parallel reduction(+ : zeros, near)
   {
     std::vector<double> q(D);
 #pragma omp for schedule(dynamic, 512)
@@ -177,7 +178,8 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
         trees[p]->findNeighbors(set, q.data(), params);
       }
       zeros += set.zero_hits();
-      r.repeated[static_cast<std::size_t>(k)] = set.zero_hits() > 0;
+      near += set.near_hits();
+      r.repeated[static_cast<std::size_t>(k)] = set.zero_hits() + set.near_hits() > 0;
       if (set.index() != NeighbourResult::none) {
         r.neighbour[static_cast<std::size_t>(k)] = set.index();
         r.distance[static_cast<std::size_t>(k)] = std::sqrt(set.squared_distance());
@@ -185,6 +187,7 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
     }
   }
   r.zero_distance_candidates = zeros;
+  r.near_repeat_candidates = near;
   finish(r);
   return r;
 }
@@ -249,7 +252,7 @@ NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedd
       if (separation(i, j) <= options.theiler) continue;
       const double d2 = embedding.squared_distance(i, j);
       if (d2 <= repeat) {
-        ++r.zero_distance_candidates;
+        ++(d2 == 0.0 ? r.zero_distance_candidates : r.near_repeat_candidates);
         r.repeated[k] = 1;
         continue;
       }

@@ -1,5 +1,7 @@
 #include "mlce/rosenstein.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,6 +25,8 @@ void RosensteinOptions::validate() const {
   if (horizon < 1) throw OptionError("rosenstein.horizon = 0: expected >= 1");
   if (batches < 2) throw OptionError("rosenstein.batches: expected >= 2");
   if (!(eps >= 0.0)) throw OptionError("rosenstein.eps: expected >= 0");
+  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
+    throw OptionError("rosenstein.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
   for (const double v : noise_deviation)
     if (!(v >= 0.0 && std::isfinite(v))) throw OptionError("rosenstein.noise_deviation: expected finite values >= 0");
 }
@@ -95,6 +99,7 @@ PairFinder::PairFinder(const Series& series, const RosensteinOptions& options)
   NeighbourOptions nopt;
   nopt.theiler = options.theiler;
   nopt.eps = options.eps;
+  nopt.repeat_resolution = options.repeat_resolution;
   state_->index = std::make_unique<NeighbourIndex>(*state_->embedding, nopt);
 }
 
@@ -403,6 +408,11 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
     curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
   }
   if (compensate) compensated_curve_from_sums(curve, batch_square, batch_noise, batch_pairs);
+  if (nn.near_repeat_candidates > 0)
+    curve.warnings.push_back(fmt::format(
+        "{} neighbour candidates within {:g} of their reference point's size (the point repeats to the rounding: a "
+        "signal periodic to the last digits) were passed over; the nearest neighbour beyond was used",
+        nn.near_repeat_candidates, options.repeat_resolution));
   if (nn.zero_distance_candidates > 0) {
     curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
                              " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "

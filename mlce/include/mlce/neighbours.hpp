@@ -45,9 +45,12 @@ struct NeighbourResult {
   /// was passed over (the point repeats outside the Theiler window: a periodic or quantised
   /// signal), else 0.
   std::vector<std::uint8_t> repeated;
-  /// Candidates at zero distance (or within NeighbourOptions::repeat_resolution: repeated points)
-  /// that were passed over: they would give log(0). The nearest neighbour beyond is returned instead.
+  /// Candidates at exactly zero distance (repeated points) that were passed over: they would give
+  /// log(0). The nearest neighbour at a positive distance is returned instead.
   std::size_t zero_distance_candidates = 0;
+  /// Candidates at a positive distance within NeighbourOptions::repeat_resolution of the point's
+  /// size, passed over as repeats too (a signal periodic to the rounding, not quantised).
+  std::size_t near_repeat_candidates = 0;
   std::size_t without_neighbour = 0;
 };
 

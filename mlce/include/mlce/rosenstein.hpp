@@ -22,6 +22,13 @@ struct RosensteinOptions {
   /// Contiguous batches of references for the batch-means confidence interval of the slope.
   std::size_t batches = 16;
   double eps = 0.0;  ///< approximate neighbour search (speed study only); 0 = exact
+  /// Neighbour candidates within this share of the reference point's own size repeat it and are
+  /// passed over like exact zeros (NeighbourOptions::repeat_resolution). An exactly periodic signal
+  /// written to full precision repeats only to the rounding of how it was computed (sin(2 pi i/100):
+  /// ~1e-13); its pairs at that level followed the rounding's own drift (a 5000-sample sine read
+  /// lambda x period = +0.047, beyond the neutral band) instead of the motion (now a sample of
+  /// phase apart: a flat curve, lambda x period ~ 1e-6). No motion puts neighbours that close.
+  double repeat_resolution = 1e-10;
   /// Sampled flows: move each neighbour along its own trajectory by the fraction of a sample
   /// (linear interpolation, within one sample either way) that brings it closest to the reference,
   /// and follow it from there. The part of the initial separation along the flow belongs to the
