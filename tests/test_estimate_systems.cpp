@@ -8,6 +8,7 @@
 #include <cmath>
 #include <tuple>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <random>
 #include <string>
@@ -333,6 +334,32 @@ TEST(EstimateSystems, SineWrittenToFullPrecisionIsNeutralNotItsRounding) {
   RosensteinOptions o;
   o.dim = 2, o.delay = 19, o.theiler = 100, o.horizon = 200, o.repeat_resolution = 0.0;  // the mechanism
   EXPECT_LT(divergence_curve(make_series_with_step({x}, 1.0), o).mean_log_distance.front(), -25.0);
+}
+
+TEST(EstimateSystems, PeriodicSeriesWrittenWithFewDigitsRepeatsStretchesNotAQuantum) {
+  // The same sine written with 6 significant digits (MBDyn's default precision): its points repeat
+  // exactly every period, as many times per reference as a quantised series' do, but whole
+  // stretches repeat with them. lambda = 0, and the warning says periodic, not "unreliable". Lorenz x
+  // rounded to integers repeats single points only: there the resolution warning stands.
+  std::vector<double> x(5000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", std::sin(2 * M_PI * static_cast<double>(i) / 100.0));
+    x[i] = std::strtod(text, nullptr);
+  }
+  const auto periodic = estimate_mlce(make_series_with_step({x}, 1.0), {});
+  EXPECT_LT(std::abs(periodic.lambda * 100.0), 1e-3) << periodic.lambda;
+  auto said = [](const MlceResult& r, const char* what) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [&](const std::string& w) { return w.find(what) != std::string::npos; });
+  };
+  EXPECT_TRUE(said(periodic, "repeats whole stretches (100 %")) << periodic.warnings.size();
+  EXPECT_FALSE(said(periodic, "lambda is unreliable"));
+  auto coarse = reference::lorenz_x(10000, 0.01);
+  for (double& v : coarse) v = std::round(v);
+  const auto quantised = estimate_mlce(make_series_with_step({coarse}, 0.01), {});
+  EXPECT_TRUE(said(quantised, "lambda is unreliable"));
+  EXPECT_FALSE(said(quantised, "repeats whole stretches"));
 }
 
 TEST(EstimateSystems, LimitCycleRunOfLessThanTwoCyclesIsRefused) {

@@ -33,6 +33,7 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
       EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k] << ", split " << split;  // exact search
       EXPECT_EQ(fast.neighbour[k], slow.neighbour[k]) << "query " << q[k] << ", split " << split;
       EXPECT_EQ(fast.repeated[k], slow.repeated[k]) << "query " << q[k] << ", split " << split;
+      EXPECT_EQ(fast.repeat_of[k], slow.repeat_of[k]) << "query " << q[k] << ", split " << split;
       const std::size_t j = fast.neighbour[k];
       EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
     }

@@ -63,6 +63,7 @@ class TheilerNearestResultSet {
     if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
     if (squared_distance <= repeat_squared_) {  // repeated point: log(0) downstream, take the next one
       ++(squared_distance == 0.0 ? zero_hits_ : near_hits_);
+      repeat_ = std::min(repeat_, static_cast<std::uint32_t>(index));
       return true;
     }
     // Equal distances go to the earlier point, whatever order the trees visit them in.
@@ -82,6 +83,7 @@ class TheilerNearestResultSet {
   double squared_distance() const { return best_; }
   std::size_t zero_hits() const { return zero_hits_; }
   std::size_t near_hits() const { return near_hits_; }
+  std::uint32_t repeat() const { return repeat_; }
 
  private:
   std::size_t query_, theiler_, limit_, offset_ = 0;
@@ -89,6 +91,7 @@ class TheilerNearestResultSet {
   double best_ = std::numeric_limits<double>::infinity(), worst_ = std::numeric_limits<double>::infinity();
   std::uint32_t index_ = NeighbourResult::none;
   std::size_t zero_hits_ = 0, near_hits_ = 0;
+  std::uint32_t repeat_ = NeighbourResult::none;
 };
 
 NeighbourResult make_result(std::size_t queries) {
@@ -96,6 +99,7 @@ NeighbourResult make_result(std::size_t queries) {
   r.neighbour.assign(queries, NeighbourResult::none);
   r.distance.assign(queries, std::numeric_limits<double>::infinity());
   r.repeated.assign(queries, 0);
+  r.repeat_of.assign(queries, NeighbourResult::none);
   return r;
 }
 
@@ -180,6 +184,7 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
       zeros += set.zero_hits();
       near += set.near_hits();
       r.repeated[static_cast<std::size_t>(k)] = set.zero_hits() + set.near_hits() > 0;
+      r.repeat_of[static_cast<std::size_t>(k)] = set.repeat();
       if (set.index() != NeighbourResult::none) {
         r.neighbour[static_cast<std::size_t>(k)] = set.index();
         r.distance[static_cast<std::size_t>(k)] = std::sqrt(set.squared_distance());
@@ -253,6 +258,7 @@ NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedd
       const double d2 = embedding.squared_distance(i, j);
       if (d2 <= repeat) {
         ++(d2 == 0.0 ? r.zero_distance_candidates : r.near_repeat_candidates);
+        r.repeat_of[k] = std::min(r.repeat_of[k], static_cast<std::uint32_t>(j));
         r.repeated[k] = 1;
         continue;
       }

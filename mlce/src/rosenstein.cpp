@@ -246,6 +246,38 @@ NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& 
   return neighbour_phases(DelayEmbedding(channels, options.dim, options.delay, M), options, pairs);
 }
 
+namespace {
+/// Share of the references whose repeat (NeighbourResult::repeat_of) stays a repeat for the next
+/// `steps` samples, every channel equal to `resolution` of its size or of its standard deviation (up to 200 references, evenly
+/// taken): ~1 for a periodic series, ~0 for a quantised aperiodic one whose equal points part at once.
+double share_repeating_stretches(const Series& s, const NeighbourResult& nn, const std::vector<std::uint32_t>& refs,
+                                 std::size_t steps, double resolution) {
+  std::vector<std::size_t> with_repeat;
+  for (std::size_t k = 0; k < refs.size(); ++k)
+    if (nn.repeat_of[k] != NeighbourResult::none) with_repeat.push_back(k);
+  if (with_repeat.empty()) return 0.0;
+  const std::size_t sample = std::min<std::size_t>(with_repeat.size(), 200), n = s.size();
+  std::size_t stay = 0;
+  for (std::size_t t = 0; t < sample; ++t) {
+    const std::size_t k = with_repeat[t * with_repeat.size() / sample];
+    const std::size_t i = refs[k], j = nn.repeat_of[k], last = std::min(steps, n - 1 - std::max(i, j));
+    bool same = true;
+    for (std::size_t step = 1; same && step <= last; ++step)
+      for (const auto& c : s.channels) {
+        const double a = c[i + step], b = c[j + step];
+        // Channels are in units of their standard deviation: the 1 is a floor for values that
+        // cross 0 (sin(pi) written as 1.2e-16 one period, -2.4e-16 the next).
+        if (std::abs(a - b) > resolution * (std::abs(a) + std::abs(b) + 1.0)) {
+          same = false;
+          break;
+        }
+      }
+    stay += same;
+  }
+  return static_cast<double>(stay) / static_cast<double>(sample);
+}
+}  // namespace
+
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
   options.validate();
   validate_series(series);
@@ -419,8 +451,18 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
                              "passed over; the nearest neighbour at a positive distance was used");
     // As many repeats as references: the series' resolution (its quantum, or the digits it was
     // printed with) is as coarse as the nearest-neighbour distances, which then jump in steps of it
-    // (Lorenz x rounded to 1 read 1.84 lambda_1; to 0.01, as unrounded).
-    if (nn.zero_distance_candidates >= refs.size())
+    // (Lorenz x rounded to 1 read 1.84 lambda_1; to 0.01, as unrounded) -- unless the repeats are
+    // of whole stretches: a periodic motion written with few digits (a limit cycle locked to an
+    // output step that divides its period) repeats every period, and its neighbours a sample of
+    // phase away read it as it is.
+    const double stretches = share_repeating_stretches(s, nn, refs, H, options.repeat_resolution);
+    if (nn.zero_distance_candidates >= refs.size() && stretches >= 0.9)
+      curve.warnings.push_back(fmt::format(
+          "the series repeats whole stretches ({:.0f} % of the repeated points' next {} samples repeat too): a motion "
+          "periodic at its written digits, not a coarse resolution; the neighbours are the nearest points of the "
+          "other phases",
+          100.0 * stretches, H));
+    else if (nn.zero_distance_candidates >= refs.size())
       curve.warnings.push_back("the series repeats its points " +
                                std::to_string(nn.zero_distance_candidates / std::max<std::size_t>(refs.size(), 1)) +
                                " times per reference point on average: its resolution (quantum or printed digits) is as "

@@ -45,6 +45,9 @@ struct NeighbourResult {
   /// was passed over (the point repeats outside the Theiler window: a periodic or quantised
   /// signal), else 0.
   std::vector<std::uint8_t> repeated;
+  /// Per query: the earliest candidate passed over as its repeat, `none` if there was none
+  /// (does the series repeat whole stretches, periodic, or only single points, quantised?).
+  std::vector<std::uint32_t> repeat_of;
   /// Candidates at exactly zero distance (repeated points) that were passed over: they would give
   /// log(0). The nearest neighbour at a positive distance is returned instead.
   std::size_t zero_distance_candidates = 0;
