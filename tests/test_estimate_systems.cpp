@@ -334,6 +334,8 @@ TEST(EstimateSystems, SineWrittenToFullPrecisionIsNeutralNotItsRounding) {
   RosensteinOptions o;
   o.dim = 2, o.delay = 19, o.theiler = 100, o.horizon = 200, o.repeat_resolution = 0.0;  // the mechanism
   EXPECT_LT(divergence_curve(make_series_with_step({x}, 1.0), o).mean_log_distance.front(), -25.0);
+  o.repeat_resolution = -1.0;
+  EXPECT_THROW(o.validate(), OptionError);
 }
 
 TEST(EstimateSystems, PeriodicSeriesWrittenWithFewDigitsRepeatsStretchesNotAQuantum) {

@@ -47,6 +47,8 @@ TEST(Fnn, ExactlyPeriodicSineIsTwoDimensional) {
   EXPECT_NE(r.warnings.back().find("repeating their point"), std::string::npos) << r.warnings.back();
   o.repeat_resolution = 0.0;  // the mechanism: exact zeros only
   EXPECT_GT(estimate_dimension_fnn(make_series_with_step({x}, 1.0), 19, o).fraction[1], 0.1);
+  o.repeat_resolution = 1e-3;  // not a rounding level
+  EXPECT_THROW(o.validate(), OptionError);
 }
 
 TEST(Fnn, WhiteNoiseNeverReachesTheThresholdAndSaysSo) {

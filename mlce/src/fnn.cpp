@@ -17,8 +17,7 @@ void FnnOptions::validate() const {
   if (!(rtol > 0.0)) throw OptionError("fnn.rtol: expected > 0");
   if (!(atol > 0.0)) throw OptionError("fnn.atol: expected > 0");
   if (!(threshold > 0.0 && threshold < 1.0)) throw OptionError("fnn.threshold: expected 0 < value < 1");
-  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
-    throw OptionError("fnn.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
+  validate_repeat_resolution(repeat_resolution, "fnn.repeat_resolution");
   if (max_points != 0 && max_points < 2) throw OptionError("fnn.max_points = " + std::to_string(max_points) + ": expected 0 (all) or >= 2");
 }
 

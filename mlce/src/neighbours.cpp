@@ -120,8 +120,12 @@ double repeat_squared(const double* q, std::size_t D, double resolution) {
 void NeighbourOptions::validate() const {
   if (leaf_size == 0) throw OptionError("neighbours.leaf_size: expected >= 1");
   if (!(eps >= 0.0)) throw OptionError("neighbours.eps: expected >= 0");
-  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
-    throw OptionError("neighbours.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
+  validate_repeat_resolution(repeat_resolution, "neighbours.repeat_resolution");
+}
+
+void validate_repeat_resolution(double value, const char* option) {
+  if (!(value >= 0.0 && value < 1e-3))
+    throw OptionError(std::string(option) + ": expected 0 <= value < 1e-3 (a relative rounding level)");
 }
 
 struct NeighbourIndex::Trees {

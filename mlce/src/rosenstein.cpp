@@ -25,8 +25,7 @@ void RosensteinOptions::validate() const {
   if (horizon < 1) throw OptionError("rosenstein.horizon = 0: expected >= 1");
   if (batches < 2) throw OptionError("rosenstein.batches: expected >= 2");
   if (!(eps >= 0.0)) throw OptionError("rosenstein.eps: expected >= 0");
-  if (!(repeat_resolution >= 0.0 && repeat_resolution < 1e-3))
-    throw OptionError("rosenstein.repeat_resolution: expected 0 <= value < 1e-3 (a relative rounding level)");
+  validate_repeat_resolution(repeat_resolution, "rosenstein.repeat_resolution");
   for (const double v : noise_deviation)
     if (!(v >= 0.0 && std::isfinite(v))) throw OptionError("rosenstein.noise_deviation: expected finite values >= 0");
 }
@@ -455,14 +454,16 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
     // of whole stretches: a periodic motion written with few digits (a limit cycle locked to an
     // output step that divides its period) repeats every period, and its neighbours a sample of
     // phase away read it as it is.
-    const double stretches = share_repeating_stretches(s, nn, refs, H, options.repeat_resolution);
-    if (nn.zero_distance_candidates >= refs.size() && stretches >= 0.9)
+    const bool as_many_as_references = nn.zero_distance_candidates >= refs.size();
+    const double stretches =
+        as_many_as_references ? share_repeating_stretches(s, nn, refs, H, options.repeat_resolution) : 0.0;
+    if (as_many_as_references && stretches >= 0.9)
       curve.warnings.push_back(fmt::format(
           "the series repeats whole stretches ({:.0f} % of the repeated points' next {} samples repeat too): a motion "
           "periodic at its written digits, not a coarse resolution; the neighbours are the nearest points of the "
           "other phases",
           100.0 * stretches, H));
-    else if (nn.zero_distance_candidates >= refs.size())
+    else if (as_many_as_references)
       curve.warnings.push_back("the series repeats its points " +
                                std::to_string(nn.zero_distance_candidates / std::max<std::size_t>(refs.size(), 1)) +
                                " times per reference point on average: its resolution (quantum or printed digits) is as "

@@ -37,6 +37,10 @@ struct NeighbourOptions {
   void validate() const;
 };
 
+/// The check of a repeat resolution (NeighbourOptions::repeat_resolution) wherever an estimator's
+/// options carry one: 0 <= value < 1e-3, else OptionError naming `option`.
+void validate_repeat_resolution(double value, const char* option);
+
 struct NeighbourResult {
   static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> neighbour;  ///< per query; `none` when every candidate was excluded
