@@ -1,6 +1,6 @@
 // Parse throughput of the readers: reads channels from an MBDyn text output set (PREFIX) or from
 // one file (a column file, a NetCDF file: the format the registry picks for it) and reports the
-// bytes scanned per second (one pass, fixed buffer).
+// bytes scanned per second (one pass, fixed buffer; for gzipped files, compressed bytes).
 //   read_channel PREFIX|FILE SPEC [SPEC...]
 #include <chrono>
 #include <cstdio>
@@ -26,10 +26,12 @@ int main(int argc, char** argv) {
     }
     const std::string path = argv[1];
     const bool one_file = std::filesystem::is_regular_file(path);
+    // Bytes as stored: a set gzipped file by file (PREFIX.ext.gz) counts its compressed bytes.
+    auto stored = [](const std::string& p) { return std::filesystem::exists(p) ? p : p + ".gz"; };
     double bytes = 0;
     if (one_file) bytes = static_cast<double>(std::filesystem::file_size(path));
     else
-      for (const auto& e : files) bytes += static_cast<double>(std::filesystem::file_size(path + e));
+      for (const auto& e : files) bytes += static_cast<double>(std::filesystem::file_size(stored(path + e)));
     const auto t0 = std::chrono::steady_clock::now();
     const ChannelSet cs = one_file ? default_registry().for_path(path).read(path, specs, {}) : read_mbdyn_text(path, specs);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

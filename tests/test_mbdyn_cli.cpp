@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -415,6 +416,32 @@ TEST_F(MbdynCli, TextFilesLeftEmptyByANetcdfOnlyRunPointToTheNc) {
   expect_one_line_error(run("extract " + prefix + " --channel node:2:x"), "run.mov: cannot open the file (missing or unreadable)" + nc);
   const CliRun r = run("extract " + prefix + ".nc --channel rel:13:4:z");  // as the message says
   EXPECT_EQ(r.status, 0) << r.err;
+}
+
+TEST_F(MbdynCli, SetCompressedByGzipReadsAsItsTextAndABrokenCopyIsOneError) {
+  // The set as an analyst archives it: every file through the gzip program, names PREFIX.ext.gz.
+  const std::string channels = " --channel rel:13:4:z --channel joint:33:14 --channel node:2:x --csv ";
+  const fs::path plain = dir / "plain.csv";
+  ASSERT_EQ(run("extract " + prefix + channels + plain.string()).status, 0);
+  ASSERT_GT(slurp(plain).size(), 201u * 40u);  // the 201 blocks' rows
+  ASSERT_EQ(std::system(("gzip -n -q " + prefix + ".log " + prefix + ".out " + prefix + ".mov " + prefix + ".jnt").c_str()), 0);
+  ASSERT_FALSE(fs::exists(prefix + ".mov"));
+  for (const std::string& name : {prefix, prefix + ".mov.gz"}) {
+    const fs::path gz = dir / "gz.csv";
+    const CliRun r = run("extract " + name + channels + gz.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(slurp(gz), slurp(plain)) << name;
+  }
+  const CliRun listed = run("channels " + prefix);
+  ASSERT_EQ(listed.status, 0) << listed.err;
+  EXPECT_NE(listed.out.find("201 output blocks"), std::string::npos) << listed.out;
+  // A copy cut short: one line naming the file, no partial CSV.
+  const std::string gz = slurp(prefix + ".jnt.gz");
+  std::ofstream(prefix + ".jnt.gz", std::ios::binary | std::ios::trunc) << gz.substr(0, gz.size() - 100);
+  const std::string csv = (dir / "lag.csv").string();
+  expect_one_line_error(run("extract " + prefix + " --channel joint:33:14 --csv " + csv),
+                        "run.jnt.gz: the gzip data end early (the file was cut short in copying?)");
+  EXPECT_FALSE(fs::exists(csv));
 }
 
 TEST_F(MbdynCli, UsageErrors) {

@@ -24,6 +24,7 @@
 
 #include "byte_codec.hpp"    // reader/src: the child's result as bytes
 #include "isolated_run.hpp"  // reader/src: the child-process guard of the netCDF-4 reads
+#include "mlce/reader/column_file.hpp"
 #include "mlce/reader/format.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
@@ -31,6 +32,7 @@
 #include "mlce/reader/table.hpp"
 
 #include <netcdf.h>
+#include <zlib.h>
 
 namespace fs = std::filesystem;
 using namespace mlce::reader;
@@ -954,6 +956,89 @@ TEST(MbdynText, FilesSavedWithAByteOrderMarkAndCrlfReadTheSame) {
   const auto b = read_mbdyn_text((dir / "run").string(), specs({"node:2:x", "rel:13:4:z"}));
   EXPECT_EQ(b.time, a.time);
   EXPECT_EQ(b.values, a.values);
+  fs::remove_all(dir);
+}
+
+namespace {
+
+/// `text` written as a gzip file by zlib's deflate (what `gzip` writes); `members` > 1 splits it
+/// into that many gzip members, as `cat a.gz b.gz > c.gz` joins them.
+void write_gzip(const fs::path& path, const std::string& text, int members = 1) {
+  std::ofstream(path, std::ios::binary).close();
+  const std::size_t part = text.size() / static_cast<std::size_t>(members) + 1;
+  for (int m = 0; m < members; ++m) {
+    gzFile gz = gzopen(path.c_str(), "ab");
+    ASSERT_NE(gz, nullptr);
+    const std::size_t first = std::min(text.size(), part * static_cast<std::size_t>(m));
+    const std::size_t n = std::min(part, text.size() - first);
+    ASSERT_EQ(gzwrite(gz, text.data() + first, static_cast<unsigned>(n)), static_cast<int>(n));
+    ASSERT_EQ(gzclose(gz), Z_OK);
+  }
+}
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+}  // namespace
+
+TEST(Compressed, GzippedSetsAndColumnFilesReadAsTheirText) {
+  // Analysts gzip long runs; each file of the set may be PREFIX.ext.gz. Truth: the plain set.
+  const fs::path dir = fs::temp_directory_path() / ("mlce_gz_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string prefix = (dir / "run").string();
+  write_gzip(prefix + ".mov.gz", file_text(kIso + ".mov"), 3);  // three members, as cat joins them
+  for (const char* ext : {".jnt", ".ine", ".out"}) write_gzip(prefix + ext + ".gz", file_text(kIso + ext));
+  fs::copy_file(kIso + ".log", prefix + ".log");  // a mixed set: the .log left plain
+  const auto spec = specs({"node:2:x", "rel:13:4:z", "joint:33:14", "ine:11:2"});
+  const auto plain = read_mbdyn_text(kIso, spec);
+  ASSERT_EQ(plain.time.size(), 201u);
+  for (const std::string& name : {prefix, prefix + ".mov.gz", prefix + ".out"}) {
+    const auto& reader = default_registry().for_path(name);
+    EXPECT_EQ(reader.name(), "mbdyn-text") << name;
+    const auto gz = reader.read(name, spec, {});
+    EXPECT_EQ(gz.time, plain.time) << name;
+    EXPECT_EQ(gz.values, plain.values) << name;
+  }
+  EXPECT_EQ(mbdyn_prefix(prefix + ".mov.gz"), prefix);
+  EXPECT_EQ(mbdyn_prefix(prefix + ".csv.gz"), prefix + ".csv.gz");
+  const auto inv = default_registry().for_path(prefix).describe(prefix);
+  EXPECT_EQ(inv.blocks, 201u);
+  EXPECT_EQ(inv.nodes.size(), 7u);
+  EXPECT_EQ(inv.entities.size(), 15u);  // 9 joints' and 6 dynamic nodes' momentum rows
+  EXPECT_EQ(inv.nodes[3].kind, "dynamic");  // known from the .ine.gz
+
+  // A column file, named .csv.gz or with no telling name at all: the magic bytes decide.
+  std::string csv = "time,x\n";
+  for (int i = 0; i < 5000; ++i) csv += std::to_string(0.01 * i) + "," + std::to_string(std::sin(0.37 * i)) + "\n";
+  std::ofstream(dir / "series.csv") << csv;
+  write_gzip(dir / "series.csv.gz", csv);
+  write_gzip(dir / "series", csv);
+  const Table t = read_column_file((dir / "series.csv").string());
+  for (const char* name : {"series.csv.gz", "series"}) {
+    const Table g = read_column_file((dir / name).string());
+    EXPECT_EQ(g.names, t.names) << name;
+    EXPECT_EQ(g.columns, t.columns) << name;
+  }
+
+  // A copy cut short and a flipped byte are one error naming the file, not a partial read.
+  const std::string csv_gz = file_text((dir / "series.csv.gz").string()), jnt_gz = file_text(prefix + ".jnt.gz");
+  std::ofstream(dir / "cut.csv.gz", std::ios::binary) << csv_gz.substr(0, csv_gz.size() / 2);
+  std::string flipped = csv_gz;
+  flipped[flipped.size() / 2] = static_cast<char>(flipped[flipped.size() / 2] ^ 0x55);
+  std::ofstream(dir / "flipped.csv.gz", std::ios::binary) << flipped;
+  const std::string cut = read_error_of([&] { read_column_file((dir / "cut.csv.gz").string()); });
+  EXPECT_EQ(cut.rfind((dir / "cut.csv.gz").string() + ": the gzip data end early", 0), 0u) << cut;
+  const std::string bad = read_error_of([&] { read_column_file((dir / "flipped.csv.gz").string()); });
+  EXPECT_EQ(bad.rfind((dir / "flipped.csv.gz").string() + ": corrupt gzip data (zlib: ", 0), 0u) << bad;
+  std::ofstream(prefix + ".jnt.gz", std::ios::binary) << jnt_gz.substr(0, jnt_gz.size() / 2);
+  const std::string in_set = read_error_of([&] { read_mbdyn_text(prefix, spec); });
+  EXPECT_EQ(in_set.rfind(prefix + ".jnt.gz: the gzip data end early", 0), 0u) << in_set;
+
+  // NetCDF is read by the netCDF library, from an uncompressed file only: said, not misread.
+  write_gzip(dir / "run.nc.gz", file_text(kIso + ".nc"));
+  const std::string nc = read_error_of([&] { default_registry().for_path((dir / "run.nc.gz").string()).describe((dir / "run.nc.gz").string()); });
+  EXPECT_NE(nc.find("a gzip-compressed NetCDF file cannot be read in place: 'gunzip -k"), std::string::npos) << nc;
   fs::remove_all(dir);
 }
 

@@ -12,6 +12,7 @@
 #include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
 #include "mlce/reader/table.hpp"
+#include "line_source.hpp"
 
 namespace mlce::reader {
 
@@ -38,7 +39,9 @@ bool is_file(const std::string& p) {
   return std::filesystem::is_regular_file(p, ec);
 }
 
-std::string extension_of(const std::string& path) {
+/// The extension of what the file holds: `run.mov.gz` is a .mov (read through zlib).
+std::string extension_of(const std::string& compressed_or_not) {
+  const std::string path = detail::without_gz(compressed_or_not);
   const auto dot = path.rfind('.');
   const auto slash = path.rfind('/');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
@@ -52,7 +55,7 @@ std::string missing_mbdyn_out_hint(const std::string& path) {
   static const char* const entity_files[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv", "log"};
   if (std::find(std::begin(entity_files), std::end(entity_files), ext) == std::end(entity_files)) return "";
   const std::string out = mbdyn_prefix(path) + ".out";
-  if (is_file(out)) return "";
+  if (is_file(detail::stored_file(out))) return "";
   return "; its name says MBDyn output, but " + out +
          " (whose Step lines give the time of every output block) is not beside it: copy it and the .log there "
          "to read node:, joint: and rel: channels, or read this file's columns as col:K with --dt";
@@ -105,7 +108,9 @@ class MbdynTextFormat final : public FormatReader {
  public:
   std::string name() const override { return "mbdyn-text"; }
   std::vector<std::string> extensions() const override { return {"out", "log", "mov", "jnt", "ine", "frc", ""}; }
-  bool recognizes(const std::string& path) const override { return is_file(mbdyn_prefix(path) + ".out"); }
+  bool recognizes(const std::string& path) const override {
+    return is_file(detail::stored_file(mbdyn_prefix(path) + ".out"));
+  }
   Inventory describe(const std::string& path) const override { return describe_mbdyn_text(path); }
   ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
                   const ReadOptions& options) const override {
@@ -130,7 +135,13 @@ class MbdynNetcdfFormat final : public FormatReader {
   }
 
  private:
-  static std::string nc_file(const std::string& path) { return extension_of(path) == "nc" ? path : path + ".nc"; }
+  static std::string nc_file(const std::string& path) {
+    // The netCDF library reads only an uncompressed file (netCDF-4 compresses inside, per variable).
+    if (detail::without_gz(path) != path)
+      throw ReadError(path + ": a gzip-compressed NetCDF file cannot be read in place: 'gunzip -k " + path +
+                      "' first (the text output set reads compressed)");
+    return extension_of(path) == "nc" ? path : path + ".nc";
+  }
 };
 
 }  // namespace

@@ -1,10 +1,19 @@
 #include "line_source.hpp"
 
+#include <zlib.h>
+
+#include <algorithm>
+#include <climits>
 #include <cstring>
+#include <filesystem>
 
 #include "mlce/reader/table.hpp"
 
 namespace mlce::reader::detail {
+
+void LineSource::GzCloser::operator()(void* gz) const {
+  if (gz) gzclose(static_cast<gzFile>(gz));
+}
 
 LineSource::LineSource(std::FILE* f, std::string name) : file_(f), name_(std::move(name)) {}
 
@@ -13,7 +22,48 @@ LineSource LineSource::open(const std::string& path) {
   if (!f) throw ReadError(path + ": cannot open the file (missing or unreadable)");
   LineSource s(f, path);
   s.buf_.resize(std::size_t{1} << 20);
+  // The first chunk decides: gzip's magic bytes (RFC 1952) switch to zlib, which reopens the file;
+  // otherwise the chunk is the text's start (no seek, so a pipe would read too).
+  s.end_ = s.read_more();
+  if (s.end_ >= 2 && static_cast<unsigned char>(s.buf_[0]) == 0x1f && static_cast<unsigned char>(s.buf_[1]) == 0x8b) {
+    s.file_.reset();
+    s.gz_.reset(gzopen(path.c_str(), "rb"));
+    if (!s.gz_) throw ReadError(path + ": cannot open the gzip-compressed file");
+    s.eof_ = false;
+    s.end_ = 0;
+    s.end_ = s.read_more();
+  }
   return s;
+}
+
+std::size_t LineSource::read_more() {
+  char* at = buf_.data() + end_;
+  const std::size_t room = buf_.size() - end_;
+  if (!gz_) {
+    const std::size_t got = std::fread(at, 1, room, file_.get());
+    if (got == 0) {
+      if (std::ferror(file_.get())) throw ReadError(name_ + ": read error");
+      eof_ = true;
+    }
+    return got;
+  }
+  const auto gz = static_cast<gzFile>(gz_.get());
+  const int got = gzread(gz, at, static_cast<unsigned>(std::min<std::size_t>(room, INT_MAX)));
+  int code = Z_OK;
+  const char* message = gzerror(gz, &code);
+  if (got < 0 || (code != Z_OK && code != Z_BUF_ERROR)) {
+    std::string why = message ? message : "unknown error";
+    if (why.starts_with(name_ + ": ")) why.erase(0, name_.size() + 2);  // zlib names the file too
+    throw ReadError(name_ + ": corrupt gzip data (zlib: " + why + "); 'gzip -t " + name_ + "' checks the file");
+  }
+  if (got == 0) {
+    // Z_BUF_ERROR at the end: the input stopped inside a gzip stream (zlib.h, gzread).
+    if (code == Z_BUF_ERROR)
+      throw ReadError(name_ + ": the gzip data end early (the file was cut short in copying?); 'gzip -t " + name_ +
+                      "' checks the file");
+    eof_ = true;
+  }
+  return static_cast<std::size_t>(got);
 }
 
 LineSource LineSource::from_memory(std::string_view text, std::string name) {
@@ -66,12 +116,7 @@ bool LineSource::next(std::string_view& line) {
       begin_ = 0;
       end_ = rest;
       if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);
-      const std::size_t got = std::fread(buf_.data() + end_, 1, buf_.size() - end_, file_.get());
-      if (got == 0) {
-        if (std::ferror(file_.get())) throw ReadError(name_ + ": read error");
-        eof_ = true;
-      }
-      end_ += got;
+      end_ += read_more();
     }
   }
   // A UTF-8 byte-order mark (files saved by Windows editors) is not part of the first line.
@@ -79,6 +124,17 @@ bool LineSource::next(std::string_view& line) {
   ++line_no_;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);  // CRLF from Windows builds
   return true;
+}
+
+std::string stored_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) return path;
+  const std::string gz = path + ".gz";
+  return std::filesystem::is_regular_file(gz, ec) ? gz : path;
+}
+
+std::string without_gz(const std::string& path) {
+  return path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0 ? path.substr(0, path.size() - 3) : path;
 }
 
 }  // namespace mlce::reader::detail

@@ -18,6 +18,7 @@
 #include "mlce/reader/table.hpp"
 #include "byte_codec.hpp"
 #include "isolated_run.hpp"
+#include "line_source.hpp"
 #include "node_fields.hpp"
 
 namespace mlce::reader {
@@ -536,8 +537,9 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
           log_tried = true;
           std::filesystem::path lp(path);
           lp.replace_extension(".log");
+          const std::string log_path = detail::stored_file(lp.string());  // the .log, or its .log.gz
           std::error_code ec;
-          if (std::filesystem::is_regular_file(lp, ec)) log = read_mbdyn_log(lp.string());
+          if (std::filesystem::is_regular_file(log_path, ec)) log = read_mbdyn_log(log_path);
         }
         Matrix3 RA0 = rotation_matrix(oa.kind, first(ca)), RB0 = rotation_matrix(ob.kind, first(cb));
         const auto* la = log ? log->node(s.label) : nullptr;

@@ -21,6 +21,9 @@ namespace {
 
 using detail::LineSource;
 
+/// File `ext` of the output set `prefix`: PREFIX.ext, or PREFIX.ext.gz when only that is there.
+std::string set_file(const std::string& prefix, const std::string& ext) { return detail::stored_file(prefix + "." + ext); }
+
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
 /// Next whitespace-separated token of `s` from `pos` (empty at the end).
@@ -407,7 +410,7 @@ namespace {
 /// The set's .log, which the reader cannot do without: a copy of the entity files and the .out
 /// alone is refused with what the .log holds, not just "cannot open".
 MbdynLog read_set_log(const std::string& prefix) {
-  const std::string path = prefix + ".log";
+  const std::string path = set_file(prefix, "log");
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw ReadError(path + ": missing; MBDyn writes it beside " + prefix +
@@ -436,13 +439,14 @@ BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequ
   return parse_blocks(src, req, options);
 }
 
-std::string mbdyn_prefix(const std::string& path) {
+std::string mbdyn_prefix(const std::string& compressed_or_not) {
   static const std::set<std::string> ext = {"out", "log", "mov", "jnt", "ine", "frc", "act", "aer", "prm",
                                             "drv", "abs", "ele", "prs", "hyd", "rot", "usr", "gen", "mod"};
+  const std::string path = detail::without_gz(compressed_or_not);  // run.mov.gz names the set run
   const auto dot = path.rfind('.');
   const auto slash = path.rfind('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return path;
-  return ext.count(path.substr(dot + 1)) ? path.substr(0, dot) : path;
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return compressed_or_not;
+  return ext.count(path.substr(dot + 1)) ? path.substr(0, dot) : compressed_or_not;
 }
 
 namespace {
@@ -452,7 +456,7 @@ constexpr const char* kEntityExtensions[] = {"mov", "jnt", "ine", "frc", "act", 
 bool mbdyn_text_has_entity_rows(const std::string& prefix) {
   for (const char* ext : kEntityExtensions) {
     std::error_code ec;
-    const auto size = std::filesystem::file_size(prefix + "." + ext, ec);
+    const auto size = std::filesystem::file_size(set_file(prefix, ext), ec);
     if (!ec && size > 0) return true;
   }
   return false;
@@ -518,7 +522,7 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   if (channels.empty()) throw ReadError(prefix + ": no channel requested (give --channel SPEC)");
   ChannelSet out;
   out.source = prefix;
-  const std::string log_path = prefix + ".log", out_path = prefix + ".out";
+  const std::string log_path = set_file(prefix, "log"), out_path = set_file(prefix, "out");
   const MbdynLog log = read_set_log(prefix);
   const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
   if (!times.rebuilt.empty()) out.warnings.push_back(times.rebuilt);
@@ -579,7 +583,7 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
   std::map<std::string, BlockRead> read;
   std::vector<const BlockRead*> all;
   for (const auto& [ext, req] : requests) {
-    const std::string path = prefix + "." + ext;
+    const std::string path = set_file(prefix, ext);
     require_entity_file(path, prefix);
     const BlockRead& b = read.emplace(ext, read_mbdyn_blocks(path, req, block_options)).first->second;
     out.warnings.insert(out.warnings.end(), b.warnings.begin(), b.warnings.end());
@@ -618,12 +622,13 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   inv.source = prefix;
   inv.format = "mbdyn-text";
   const MbdynLog log = read_set_log(prefix);
-  const MbdynTimes times = read_mbdyn_out(prefix + ".out", log.output_frequency);
+  const std::string out_path = set_file(prefix, "out");
+  const MbdynTimes times = read_mbdyn_out(out_path, log.output_frequency);
   if (!times.rebuilt.empty()) inv.warnings.push_back(times.rebuilt);
   std::vector<BlockRead> all;
   std::set<long> dynamic;
   for (const char* ext : kEntityExtensions) {
-    const std::string path = prefix + "." + ext;
+    const std::string path = set_file(prefix, ext);
     if (!file_exists(path)) continue;
     require_entity_file(path, prefix);
     BlockRead b = read_mbdyn_blocks(path, {});
@@ -648,11 +653,11 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
     inv.warnings.push_back(prefix + ": no entity rows (.mov, .jnt, .ine, ... are missing or empty)" +
                            (file_exists(prefix + ".nc") ? "; the run's channels are in its NetCDF output: read " + prefix + ".nc"
                                                         : ": the set holds only its step times"));
-  const bool have_ine = file_exists(prefix + ".ine");
+  const bool have_ine = file_exists(set_file(prefix, "ine"));
   for (auto& n : inv.nodes) n.kind = dynamic.count(n.label) ? "dynamic" : have_ine ? "static/dummy" : "unknown";
   std::vector<const BlockRead*> files;
   for (const auto& b : all) files.push_back(&b);
-  inv.blocks = common_blocks(times, times.time.size(), prefix + ".out", files, inv.warnings);
+  inv.blocks = common_blocks(times, times.time.size(), out_path, files, inv.warnings);
   inv.t_first = times.time.front();
   inv.t_last = times.time[inv.blocks - 1];
   return inv;

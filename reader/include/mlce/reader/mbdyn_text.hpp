@@ -71,7 +71,8 @@ BlockRead parse_mbdyn_blocks(std::string_view text, const std::string& source, c
 BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequest>& requests,
                             const BlockOptions& options = {});
 
-/// "run/hammond.mov" -> "run/hammond"; a path with no MBDyn extension is returned unchanged.
+/// "run/hammond.mov" (or "run/hammond.mov.gz") -> "run/hammond"; a path with no MBDyn extension is
+/// returned unchanged.
 std::string mbdyn_prefix(const std::string& path);
 
 /// Whether the text set at `prefix` holds entity rows: one of its .mov .jnt .ine .frc .act .aer
