@@ -1035,6 +1035,11 @@ TEST(Compressed, GzippedSetsAndColumnFilesReadAsTheirText) {
   const std::string in_set = read_error_of([&] { read_mbdyn_text(prefix, spec); });
   EXPECT_EQ(in_set.rfind(prefix + ".jnt.gz: the gzip data end early", 0), 0u) << in_set;
 
+  // A few kB of gzip that expand to one endless line: an error at the buffer's bound, not all memory.
+  write_gzip(dir / "one_line.gz", "1 2\n" + std::string(std::size_t{65} << 20, '7'));
+  EXPECT_EQ(read_error_of([&] { read_column_file((dir / "one_line.gz").string()); }),
+            (dir / "one_line.gz").string() + ":2: a line longer than 64 MiB: not a text file of rows of numbers");
+
   // NetCDF is read by the netCDF library, from an uncompressed file only: said, not misread.
   write_gzip(dir / "run.nc.gz", file_text(kIso + ".nc"));
   const std::string nc = read_error_of([&] { default_registry().for_path((dir / "run.nc.gz").string()).describe((dir / "run.nc.gz").string()); });

@@ -115,7 +115,14 @@ bool LineSource::next(std::string_view& line) {
       if (rest > 0 && begin_ > 0) std::memmove(buf_.data(), buf_.data() + begin_, rest);
       begin_ = 0;
       end_ = rest;
-      if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);
+      if (end_ == buf_.size()) {
+        // A line this long is no table of numbers (nor MBDyn output), and a few kB of gzip can
+        // expand to gigabytes of one line: refuse it rather than grow without bound.
+        if (buf_.size() >= kLongestLine)
+          throw ReadError(name_ + ":" + std::to_string(line_no_ + 1) + ": a line longer than " +
+                          std::to_string(kLongestLine >> 20) + " MiB: not a text file of rows of numbers");
+        buf_.resize(buf_.size() * 2);
+      }
       end_ += read_more();
     }
   }

@@ -22,6 +22,9 @@ class LineSource {
   /// Reads from memory (tests, fuzzers).
   static LineSource from_memory(std::string_view text, std::string name);
 
+  /// Longest line read from a file (the buffer's bound); a longer one is a ReadError.
+  static constexpr std::size_t kLongestLine = std::size_t{64} << 20;
+
   bool next(std::string_view& line);
   /// Return a final line that has no '\n' as a line (partial_tail() then stays false).
   void keep_unterminated_tail() { keep_tail_ = true; }
