@@ -470,6 +470,39 @@ TEST_F(MbdynCli, NoPartialCsvOnError) {
   EXPECT_FALSE(fs::exists(csv));
 }
 
+TEST_F(MbdynCli, OutputsToDevicesAndThroughLinksLeaveTheNamesAsTheyWere) {
+  // A rename of a finished temporary onto /dev/stdout or /dev/null made them regular files (the
+  // tests run as root); a link to a file was replaced by a file.
+  const auto kind = [](const char* p) { return fs::symlink_status(p).type(); };
+  const auto stdout_kind = kind("/dev/stdout"), null_kind = kind("/dev/null");
+  ASSERT_NE(stdout_kind, fs::file_type::regular);
+  ASSERT_EQ(null_kind, fs::file_type::character);
+  const std::string extract = "extract " + prefix + " --channel node:2:x";
+  const fs::path plain = dir / "plain.csv";
+  ASSERT_EQ(run(extract + " --csv " + plain.string()).status, 0);
+  const CliRun to_stdout = run(extract + " --csv /dev/stdout");
+  ASSERT_EQ(to_stdout.status, 0) << to_stdout.err;
+  EXPECT_EQ(to_stdout.out, slurp(plain));  // the CSV itself, on the captured stdout
+  EXPECT_EQ(kind("/dev/stdout"), stdout_kind);
+  for (const char* option : {" --csv /dev/null", " --plot /dev/null"}) {
+    const CliRun r = run(extract + option);
+    EXPECT_EQ(r.status, 0) << option << ": " << r.err;
+    EXPECT_EQ(kind("/dev/null"), fs::file_type::character) << option;
+  }
+  // A symbolic link keeps pointing where it did; the file it names gets the content.
+  fs::create_directories(dir / "store");
+  fs::create_symlink(dir / "store" / "lag.csv", dir / "lag.csv");
+  ASSERT_EQ(run(extract + " --csv " + (dir / "lag.csv").string()).status, 0);
+  EXPECT_TRUE(fs::is_symlink(dir / "lag.csv"));
+  EXPECT_EQ(slurp(dir / "store" / "lag.csv"), slurp(plain));
+  fs::create_symlink(dir / "store" / "lag.png", dir / "lag.png");
+  ASSERT_EQ(run(extract + " --plot " + (dir / "lag.png").string()).status, 0);
+  EXPECT_TRUE(fs::is_symlink(dir / "lag.png"));
+  EXPECT_EQ(slurp(dir / "store" / "lag.png").substr(1, 3), "PNG");
+  for (const auto& e : fs::directory_iterator(dir / "store"))  // no scratch file left beside them
+    EXPECT_TRUE(e.path().filename() == "lag.csv" || e.path().filename() == "lag.png") << e.path();
+}
+
 // ---- mlce simulate: ad-hoc runs written as an MBDyn text set, read back by the same reader -----
 
 TEST_F(MbdynCli, SimulateToMbdynThenEstimateTheLagOfBlade3) {

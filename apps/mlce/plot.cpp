@@ -50,8 +50,9 @@ std::string curve_linetypes() {
 void render_png(const std::string& png_path, const std::string& csv,
                 const std::function<std::string(const std::string&)>& script, int height) {
   namespace fs = std::filesystem;
-  const fs::path tmp_png = png_path + ".tmp-mlce.png";
-  const fs::path data = png_path + ".tmp-mlce.csv";
+  const OutputTarget target = output_target(png_path);
+  const fs::path tmp_png = target.scratch(".tmp-mlce.png");
+  const fs::path data = target.scratch(".tmp-mlce.csv");
   try {
     write_file_atomically(data.string(), csv);
   } catch (const std::runtime_error&) {  // name the file asked for, not the scratch file beside it
@@ -61,7 +62,7 @@ void render_png(const std::string& png_path, const std::string& csv,
   // stdout (which carries the result only: one JSON object with --json): a plot that is drawn
   // needs no word from gnuplot ("empty x range" for a one-row record), one that is not is one
   // error with gnuplot's first line.
-  const fs::path log = png_path + ".tmp-mlce.log";
+  const fs::path log = target.scratch(".tmp-mlce.log");
   std::string shell_log = "'";
   for (char c : log.string()) shell_log += c == '\'' ? std::string("'\\''") : std::string(1, c);
   shell_log += "'";
@@ -93,7 +94,17 @@ void render_png(const std::string& png_path, const std::string& csv,
     throw std::runtime_error(png_path + ": gnuplot failed to draw the plot (is gnuplot installed?)" +
                              (said.empty() ? std::string() : ": " + said));
   }
-  fs::rename(tmp_png, png_path, ec);
+  if (target.in_place) {  // a device or a pipe: the finished image's bytes, copied in
+    {
+      std::ifstream in(tmp_png, std::ios::binary);
+      std::ofstream out(target.path, std::ios::binary | std::ios::trunc);
+      out << in.rdbuf();
+      if (!out) ec = std::make_error_code(std::errc::io_error);
+    }
+    fs::remove(tmp_png);
+  } else {
+    fs::rename(tmp_png, target.path, ec);
+  }
   if (ec) throw std::runtime_error(png_path + ": cannot write the file");
 }
 

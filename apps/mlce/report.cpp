@@ -9,6 +9,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <unistd.h>
+
 namespace mlce::cli {
 namespace {
 
@@ -339,8 +341,32 @@ std::string convergence_csv(const ConvergenceResult& r) {
   return s;
 }
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), tmp_(path_ + ".tmp-mlce") {
-  out_.open(tmp_, std::ios::binary | std::ios::trunc);
+OutputTarget output_target(const std::string& path) {
+  namespace fs = std::filesystem;
+  // /dev/stdout, /dev/fd/N, /proc/self/fd/N name an open descriptor: redirected to a regular file
+  // they resolve to it, and a rename onto it would leave the shell writing to the unlinked one.
+  if (path.starts_with("/dev/") || path.starts_with("/proc/")) return {path, true};
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // through symbolic links
+  if (!ec && fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st)) return {path, true};
+  if (fs::is_symlink(fs::symlink_status(path, ec))) {
+    const fs::path target = fs::canonical(path, ec);
+    if (!ec) return {target.string(), false};
+    return {path, true};  // a dangling link: opening it creates its target
+  }
+  return {path, false};
+}
+
+std::string OutputTarget::scratch(const std::string& suffix) const {
+  if (!in_place) return path + suffix;
+  static int count = 0;
+  return (std::filesystem::temp_directory_path() /
+          ("mlce-" + std::to_string(::getpid()) + "-" + std::to_string(++count) + suffix)).string();
+}
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), target_(output_target(path_)) {
+  if (!target_.in_place) tmp_ = target_.scratch(".tmp-mlce");
+  out_.open(target_.in_place ? target_.path : tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) throw std::runtime_error(path_ + ": cannot write the file");
 }
 
@@ -348,19 +374,20 @@ AtomicFile::~AtomicFile() {
   if (committed_) return;
   out_.close();
   std::error_code ec;
-  std::filesystem::remove(tmp_, ec);
+  if (!tmp_.empty()) std::filesystem::remove(tmp_, ec);
 }
 
 void AtomicFile::commit() {
   out_.close();
   std::error_code ec;
   if (!out_) {
-    std::filesystem::remove(tmp_, ec);
+    if (!tmp_.empty()) std::filesystem::remove(tmp_, ec);
     committed_ = true;
     throw std::runtime_error(path_ + ": write failed");
   }
-  std::filesystem::rename(tmp_, path_, ec);
   committed_ = true;
+  if (tmp_.empty()) return;  // written in place
+  std::filesystem::rename(tmp_, target_.path, ec);
   if (ec) {
     std::filesystem::remove(tmp_, ec);
     throw std::runtime_error(path_ + ": cannot write the file");

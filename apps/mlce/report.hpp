@@ -66,6 +66,20 @@ std::string csv_field(const std::string& text);
 /// separation,time,contour_<fraction>...,pairs
 std::string space_time_csv(const SpaceTimeResult& r, double dt);
 
+/// Where an output is finally written. A regular file, or a name not taken yet, is replaced by
+/// renaming a finished temporary onto it. A symbolic link keeps pointing where it did: `path` is
+/// its target. A device or a pipe (/dev/stdout, /dev/null, a FIFO), and any name under /dev or
+/// /proc, is written `in_place`: renamed onto, its name would become a regular file (as root,
+/// /dev/stdout itself).
+struct OutputTarget {
+  std::string path;
+  bool in_place = false;
+  /// A scratch file for this output ending in `suffix`: beside the target (same file system, so
+  /// the rename is atomic), or in the temporary directory for a target written in place.
+  std::string scratch(const std::string& suffix) const;
+};
+OutputTarget output_target(const std::string& path);
+
 /// A file written through a temporary beside it and renamed into place by commit(): a failure
 /// (or an exception before commit) leaves no partial file behind, and the content is streamed, never
 /// held whole in memory. Errors throw std::runtime_error naming the path.
@@ -79,7 +93,9 @@ class AtomicFile {
   void commit();
 
  private:
-  std::string path_, tmp_;
+  std::string path_;
+  OutputTarget target_;
+  std::string tmp_;  // empty for a target written in place
   std::ofstream out_;
   bool committed_ = false;
 };
