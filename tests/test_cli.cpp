@@ -1,14 +1,19 @@
 // The command line as an analyst meets it: bad input gives one clear line and a non-zero exit.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 #include "cli_harness.hpp"
 #include "reference_systems.hpp"
@@ -742,6 +747,55 @@ TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());
   EXPECT_NE(r.status, 0);
   EXPECT_FALSE(fs::exists(csv));
+}
+
+TEST_F(Cli, SeriesFromStandardInputOrAPipe) {
+  // `cat series | mlce estimate -`, `<(command)`, a FIFO: read once, front to back, as the file.
+  const std::string file = std::string(MLCE_DATA_DIR) + "/lorenz_x.txt";
+  const std::string options = " --time-column 1 --column 2 --json --quiet";
+  const CliRun named = run("estimate " + file + options);
+  ASSERT_EQ(named.status, 0) << named.err;
+  const double lambda = nlohmann::json::parse(named.out)["lambda"].get<double>();
+  const CliRun piped = run("estimate -" + options, "", file);
+  ASSERT_EQ(piped.status, 0) << piped.err;
+  EXPECT_EQ(nlohmann::json::parse(piped.out)["lambda"].get<double>(), lambda);
+  const fs::path fifo = dir / "series.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // A writer that waits for mlce to open the FIFO (a non-blocking open fails until a reader has it
+  // open), for 60 s at most: a reader that never comes fails the test instead of hanging it.
+  std::signal(SIGPIPE, SIG_IGN);  // a reader that stops early fails the test, not kills it
+  std::thread writer([&] {
+    int fd = -1;
+    for (int k = 0; k < 6000 && fd < 0; ++k) {
+      fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+      if (fd < 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (fd < 0) return;
+    ::fcntl(fd, F_SETFL, 0);  // blocking writes from here on
+    const std::string text = slurp(file);
+    for (std::size_t at = 0; at < text.size();) {
+      const ssize_t n = ::write(fd, text.data() + at, text.size() - at);
+      if (n <= 0) break;
+      at += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+  });
+  const CliRun through_fifo = run("estimate " + fifo.string() + options);
+  writer.join();
+  ASSERT_EQ(through_fifo.status, 0) << through_fifo.err;
+  EXPECT_EQ(nlohmann::json::parse(through_fifo.out)["lambda"].get<double>(), lambda);
+  const CliRun listed = run("channels -", "", file);
+  ASSERT_EQ(listed.status, 0) << listed.err;
+  EXPECT_NE(listed.out.find("10000 rows, 2 columns"), std::string::npos) << listed.out;
+  // Errors name the standard input and its line; compressed data on a pipe is said, not misread.
+  expect_one_line_error(run("estimate -", "", write("bad.txt", "1\n2\nx\n").string()), "stdin:3: column 1: 'x' is not a number");
+  expect_one_line_error(run("estimate -", "", "/dev/null"), "stdin: no data");
+  const std::string gz = (dir / "series.gz").string();
+  ASSERT_EQ(std::system(("gzip -c -n " + file + " > " + gz).c_str()), 0);
+  expect_one_line_error(run("estimate -" + options, "", gz), "stdin: gzip-compressed data from a pipe: decompress it");
+  const CliRun named_gz = run("estimate " + gz + options);  // named, it reads
+  ASSERT_EQ(named_gz.status, 0) << named_gz.err;
+  EXPECT_EQ(nlohmann::json::parse(named_gz.out)["lambda"].get<double>(), lambda);
 }
 
 TEST_F(Cli, BundledDemoSeries) {

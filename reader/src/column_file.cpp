@@ -351,7 +351,7 @@ Table parse_column_text(std::string_view text, const std::string& source, const 
 
 Table read_column_file(const std::string& path, const ColumnFileOptions& options) {
   auto src = detail::LineSource::open(path);
-  return parse_lines(src, path, options);
+  return parse_lines(src, src.name(), options);  // "stdin" for "-"
 }
 
 }  // namespace mlce::reader

@@ -39,6 +39,15 @@ bool is_file(const std::string& p) {
   return std::filesystem::is_regular_file(p, ec);
 }
 
+/// "-" (the standard input), a pipe or a character device (/dev/stdin, `<(command)`): read once,
+/// front to back, as a column file.
+bool is_stream(const std::string& p) {
+  if (p == "-") return true;
+  std::error_code ec;
+  const auto st = std::filesystem::status(p, ec);
+  return !ec && (std::filesystem::is_fifo(st) || std::filesystem::is_character_file(st));
+}
+
 /// The extension of what the file holds: `run.mov.gz` is a .mov (read through zlib).
 std::string extension_of(const std::string& compressed_or_not) {
   const std::string path = detail::without_gz(compressed_or_not);
@@ -67,7 +76,7 @@ class ColumnFormat final : public FormatReader {
  public:
   std::string name() const override { return "column"; }
   std::vector<std::string> extensions() const override { return {"txt", "csv", "dat", "tsv"}; }
-  bool recognizes(const std::string& path) const override { return is_file(path); }
+  bool recognizes(const std::string& path) const override { return is_file(path) || is_stream(path); }
   Inventory describe(const std::string& path) const override {
     ColumnFileOptions o;
     o.text_columns = true;  // a column of dates or labels is listed, and said to be no channel
@@ -165,7 +174,7 @@ const FormatReader& FormatRegistry::for_path(const std::string& path) const {
   if (!is_file(path))
     for (const auto& r : readers_)
       if (r->recognizes(path)) return *r;
-  if (is_file(path))
+  if (is_file(path) || is_stream(path))
     for (const auto& r : readers_)
       if (r->name() == "column") return *r;
   throw ReadError(path + ": cannot open the file (missing or unreadable, and no MBDyn output set " + path + ".out)");

@@ -1,5 +1,6 @@
 #include "line_source.hpp"
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -18,14 +19,25 @@ void LineSource::GzCloser::operator()(void* gz) const {
 LineSource::LineSource(std::FILE* f, std::string name) : file_(f), name_(std::move(name)) {}
 
 LineSource LineSource::open(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw ReadError(path + ": cannot open the file (missing or unreadable)");
-  LineSource s(f, path);
+  // "-" is the standard input (a pipe: `cat series.txt | mlce estimate -`), read through a
+  // descriptor of its own so that closing it leaves stdin open.
+  const bool standard_input = path == "-";
+  const int fd = standard_input ? ::dup(STDIN_FILENO) : -1;
+  std::FILE* f = standard_input ? (fd >= 0 ? ::fdopen(fd, "rb") : nullptr) : std::fopen(path.c_str(), "rb");
+  if (!f) {
+    if (fd >= 0) ::close(fd);
+    throw ReadError(path + ": cannot open the file (missing or unreadable)");
+  }
+  LineSource s(f, standard_input ? "stdin" : path);
   s.buf_.resize(std::size_t{1} << 20);
   // The first chunk decides: gzip's magic bytes (RFC 1952) switch to zlib, which reopens the file;
-  // otherwise the chunk is the text's start (no seek, so a pipe would read too).
+  // otherwise the chunk is the text's start (no seek: a pipe reads as a file does).
   s.end_ = s.read_more();
   if (s.end_ >= 2 && static_cast<unsigned char>(s.buf_[0]) == 0x1f && static_cast<unsigned char>(s.buf_[1]) == 0x8b) {
+    std::error_code ec;
+    if (standard_input || !std::filesystem::is_regular_file(path, ec))
+      throw ReadError(s.name_ + ": gzip-compressed data from a pipe: decompress it into the pipe instead "
+                                "('zcat FILE.gz | mlce ...') or name the .gz file");
     s.file_.reset();
     s.gz_.reset(gzopen(path.c_str(), "rb"));
     if (!s.gz_) throw ReadError(path + ": cannot open the gzip-compressed file");

@@ -42,11 +42,12 @@ class CliFixture : public ::testing::Test {
     std::ofstream(p, std::ios::binary) << content;
     return p;
   }
-  /// `env`: variable assignments put before the command (e.g. "PATH=/nonexistent").
-  CliRun run(const std::string& args, const std::string& env = "") {
+  /// `env`: variable assignments put before the command (e.g. "PATH=/nonexistent"); `input`: the
+  /// file its standard input reads.
+  CliRun run(const std::string& args, const std::string& env = "", const std::string& input = "/dev/null") {
     const std::string cmd = (env.empty() ? "" : "env " + env + " ") + std::string(MLCE_CLI) + " " + args + " >" +
                             (dir / "out").string() + " 2>" +
-                            (dir / "err").string() + " </dev/null";
+                            (dir / "err").string() + " <" + input;
     const int rc = std::system(cmd.c_str());
     CliRun r;
     r.status = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
