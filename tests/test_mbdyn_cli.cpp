@@ -1,9 +1,16 @@
 // MBDyn output sets through the command line: the real samples work, and every malformed set
 // gives one line naming the file (and line) and a non-zero exit.
 #include <gtest/gtest.h>
+#include <unistd.h>
+#include <sys/wait.h>
+#include <signal.h>
+#include <fcntl.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <tuple>
+#include <thread>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -532,6 +539,38 @@ TEST_F(MbdynCli, EveryBundledSceneRuns) {
     const CliRun r = run("simulate " + entry.path().string() + " --t_end 2 --format columns --out " +
                          (dir / entry.path().stem()).string() + " --quiet");
     EXPECT_EQ(r.status, 0) << entry.path() << ": " << r.err;
+  }
+}
+
+TEST_F(MbdynCli, InterruptedSimulationLeavesNoScratchFiles) {
+  // Ctrl-C (SIGINT) or kill (SIGTERM) in the middle of a long run: the process ends by the signal,
+  // as the shell expects, and the temporaries it was writing are gone with it.
+  const std::string scene = std::string(MLCE_DATA_DIR) + "/../scenes/c3zero_242rpm.scene";
+  for (const auto& [format, sig, scratch] : {std::tuple{"mbdyn", SIGINT, "long.mov.tmp"},
+                                             std::tuple{"columns", SIGTERM, "long.txt.tmp-mlce"}}) {
+    const fs::path out = dir / format;
+    fs::create_directories(out);
+    const std::string long_run = (out / "long").string();
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      const int null = ::open("/dev/null", O_WRONLY);
+      ::dup2(null, STDOUT_FILENO), ::dup2(null, STDERR_FILENO);
+      ::execl(MLCE_CLI, MLCE_CLI, "simulate", scene.c_str(), "--t_end", "100000", "--out", long_run.c_str(), "--format",
+              format, "--quiet", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    bool writing = false;  // wait for the run to be writing its scratch file (30 s at most)
+    for (int k = 0; k < 3000 && !writing; ++k) {
+      writing = fs::exists(out / scratch);
+      if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ::kill(pid, sig);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(writing) << format;
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << format << ": status " << status;
+    EXPECT_TRUE(fs::is_empty(out)) << format << ": " << fs::directory_iterator(out)->path();
   }
 }
 

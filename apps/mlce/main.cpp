@@ -513,6 +513,7 @@ int cmd_simulate(const std::vector<std::string>& args) {
   };
   if (format == "mbdyn") {
     models::MbdynSetWriter writer(scene, out_prefix);
+    const cli::ScratchGuard scratch(writer.scratch_files());
     stats = models::simulate(scene, counted(writer), std::ref(progress));
     writer.commit();
   } else {
@@ -660,6 +661,7 @@ int main(int argc, char** argv) {
   }
   const std::string cmd = argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
+  cli::remove_scratch_files_on_interrupt();
   try {
     if (cmd == "estimate") return cmd_estimate(args);
     if (cmd == "ami") return cmd_ami(args);

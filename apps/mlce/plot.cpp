@@ -63,6 +63,7 @@ void render_png(const std::string& png_path, const std::string& csv,
   // needs no word from gnuplot ("empty x range" for a one-row record), one that is not is one
   // error with gnuplot's first line.
   const fs::path log = target.scratch(".tmp-mlce.log");
+  const ScratchGuard scratch({tmp_png.string(), data.string(), log.string()});
   std::string shell_log = "'";
   for (char c : log.string()) shell_log += c == '\'' ? std::string("'\\''") : std::string(1, c);
   shell_log += "'";

@@ -365,7 +365,10 @@ std::string OutputTarget::scratch(const std::string& suffix) const {
 }
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), target_(output_target(path_)) {
-  if (!target_.in_place) tmp_ = target_.scratch(".tmp-mlce");
+  if (!target_.in_place) {
+    tmp_ = target_.scratch(".tmp-mlce");
+    scratch_.add(tmp_);
+  }
   out_.open(target_.in_place ? target_.path : tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) throw std::runtime_error(path_ + ": cannot write the file");
 }

@@ -1,5 +1,6 @@
 #pragma once
 // Results as text for people, JSON for scripts, CSV for curves.
+#include "interrupt.hpp"
 #include <nlohmann/json.hpp>
 #include <fstream>
 #include <ostream>
@@ -96,6 +97,7 @@ class AtomicFile {
   std::string path_;
   OutputTarget target_;
   std::string tmp_;  // empty for a target written in place
+  ScratchGuard scratch_;  // removes tmp_ if the run is interrupted
   std::ofstream out_;
   bool committed_ = false;
 };

@@ -168,6 +168,12 @@ void MbdynSetWriter::flush() {
     if (!f.stream) throw std::runtime_error(f.name + ": write failed at t = " + fmt::format("{:g}", previous_t_));
 }
 
+std::vector<std::string> MbdynSetWriter::scratch_files() const {
+  std::vector<std::string> names;
+  for (const File& f : files_) names.push_back(f.tmp);
+  return names;
+}
+
 void MbdynSetWriter::commit() {
   flush();
   for (File& f : files_) {

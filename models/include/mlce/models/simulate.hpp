@@ -70,6 +70,8 @@ class MbdynSetWriter {
   MbdynSetWriter& operator=(const MbdynSetWriter&) = delete;
   void operator()(std::size_t k, double t, const Eigen::VectorXd& x);
   void commit();
+  /// The temporaries being written (for a caller that removes them if the process is interrupted).
+  std::vector<std::string> scratch_files() const;
 
  private:
   struct File;
