@@ -1047,6 +1047,62 @@ TEST(Compressed, GzippedSetsAndColumnFilesReadAsTheirText) {
   fs::remove_all(dir);
 }
 
+TEST(MbdynText, ModalJointsModesAndExternalElementsRowsAreAddressedAsTheFileWritesThem) {
+  // A flexible body's modal joint writes .mod rows "label.mode q qdot qddot" (format doc section
+  // 5); external elements' .frc rows start "elem@node" or "elem#node" (section 6). Truth: the
+  // values the test wrote.
+  const fs::path dir = fs::temp_directory_path() / ("mlce_mod_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string prefix = (dir / "flex").string();
+  std::ofstream log(prefix + ".log"), out(prefix + ".out"), mod(prefix + ".mod"), frc(prefix + ".frc");
+  log << "output frequency: 1\nstructural node: 1 0 0 0 euler123 0 0 0\n";
+  out << "# Step Time TStep NIter ResErr SolErr SolConv Out\n";
+  auto q = [](long joint, int mode, int k) { return 1000.0 * static_cast<double>(joint) + 10.0 * mode + 0.5 * k; };
+  for (int k = 0; k < 50; ++k) {
+    out << "Step " << k << " " << 0.01 * k << " 0.01 1 0 0 0 1\n";
+    for (long joint : {12L, 3L})
+      for (int mode = 1; mode <= 3; ++mode)
+        mod << "    " << joint << "." << mode << " " << q(joint, mode, k) << " " << -q(joint, mode, k) << " 0\n";
+    frc << "5@2 " << 2.0 * k << " 0 0\n5#7 " << 3.0 * k << " 0 0\n9 " << 4.0 * k << " 1 1 1\n";
+  }
+  log.close(), out.close(), mod.close(), frc.close();
+  const auto set = read_mbdyn_text(prefix, specs({"mod:12.3:2", "mod:3.1:3", "frc:5@2:2", "frc:5#7:2", "frc:9:2"}));
+  ASSERT_EQ(set.time.size(), 50u);
+  for (std::size_t k = 0; k < 50; ++k) {
+    const int i = static_cast<int>(k);
+    EXPECT_EQ(set.values[0][k], q(12, 3, i));
+    EXPECT_EQ(set.values[1][k], -q(3, 1, i));
+    EXPECT_EQ(set.values[2][k], 2.0 * i);
+    EXPECT_EQ(set.values[3][k], 3.0 * i);
+    EXPECT_EQ(set.values[4][k], 4.0 * i);
+  }
+  // Listed as the spec takes them, the .mod file's name leads to the set too.
+  const auto inv = default_registry().for_path(prefix + ".mod").describe(prefix + ".mod");
+  std::vector<std::string> listed;
+  for (const auto& e : inv.entities) listed.push_back(e.file + ":" + row_label_text(e.label));
+  EXPECT_EQ(listed, (std::vector<std::string>{"frc:5@2", "frc:5#7", "frc:9", "mod:12.1", "mod:12.2", "mod:12.3", "mod:3.1",
+                                              "mod:3.2", "mod:3.3"}));
+  EXPECT_EQ(read_error_of([&] { read_mbdyn_text(prefix, specs({"mod:12.4:2"})); }),
+            prefix + ".mod: no rows of label 12.4 (labels in a block: 12.1 12.2 12.3 3.1 3.2 3.3)");
+  fs::remove_all(dir);
+}
+
+TEST(ChannelSpec, RowLabelsWithASubIndexRoundTripAndMalformedOnesAreRefused) {
+  for (const char* text : {"0", "7", "12.3", "5@2", "5#2", "1099511627775.1048575", "2147483647@0"}) {
+    const auto key = parse_row_label(text);
+    ASSERT_TRUE(key) << text;
+    EXPECT_EQ(row_label_text(*key), text);
+  }
+  EXPECT_NE(*parse_row_label("12.3"), *parse_row_label("12@3"));
+  EXPECT_NE(*parse_row_label("12.3"), *parse_row_label("12.4"));
+  for (const char* text : {"", "-1", "12.", ".3", "12.3.4", "12.-3", "1@2#3", "12,3", "1099511627776.1", "1.1048576", "x.1"})
+    EXPECT_FALSE(parse_row_label(text)) << text;
+  EXPECT_EQ(parse_channel_spec("mod:12.3:2").label, *parse_row_label("12.3"));
+  EXPECT_THROW(parse_channel_spec("joint:-5:2"), ReadError);
+  EXPECT_THROW(parse_channel_spec("mod:12.:2"), ReadError);
+}
+
 TEST(ChannelSpec, ParsesEveryKindAndRejectsMalformedSpecs) {
   EXPECT_EQ(parse_channel_spec("node:12:wz").kind, ChannelSpec::Kind::node);
   const auto j = parse_channel_spec("joint:33:14");

@@ -551,7 +551,11 @@ int cmd_channels(const std::vector<std::string>& args) {
       j["nodes"].push_back({{"label", n.label}, {"kind", n.kind}, {"orientation", n.orientation}, {"columns", n.columns}});
     j["entities"] = nlohmann::json::array();
     for (const auto& e : inv.entities)
-      j["entities"].push_back({{"file", e.file}, {"label", e.label}, {"type", e.type}, {"columns", e.columns}});
+      // A label with a sub-index (.mod's "12.3") is the string the channel spec takes.
+      j["entities"].push_back({{"file", e.file},
+                               {"label", e.label >= 0 ? nlohmann::json(e.label) : nlohmann::json(reader::row_label_text(e.label))},
+                               {"type", e.type},
+                               {"columns", e.columns}});
     if (!inv.columns.empty()) j["columns"] = inv.columns;
     j["warnings"] = inv.warnings;
     std::cout << j.dump() << "\n";
@@ -573,7 +577,7 @@ int cmd_channels(const std::vector<std::string>& args) {
                                n.columns ? fmt::format(" {} columns", n.columns) : "");
     std::cout << "entities (EXT:L:K; joint:L:K for .jnt):\n";
     for (const auto& e : inv.entities)
-      std::cout << fmt::format("  {:<4}{:>7}  {:<30}{}\n", e.file, e.label, e.type,
+      std::cout << fmt::format("  {:<4}{:>7}  {:<30}{}\n", e.file, reader::row_label_text(e.label), e.type,
                                e.columns ? fmt::format(" {} columns", e.columns) : "");
   }
   print_warnings(inv.warnings);

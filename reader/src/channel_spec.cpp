@@ -50,7 +50,29 @@ bool to_number(std::string_view s, T& v) {
   return ec == std::errc() && p == s.data() + s.size();
 }
 
+constexpr char kSeparators[] = {'.', '@', '#'};
+constexpr long kSubBits = 20, kKindBits = 2;
+
 }  // namespace
+
+std::optional<long> parse_row_label(std::string_view text) {
+  long label = 0;
+  if (to_number(text, label)) return label >= 0 ? std::optional<long>(label) : std::nullopt;
+  const std::size_t at = text.find_first_of(".@#");
+  long sub = 0;
+  if (at == std::string_view::npos || !to_number(text.substr(0, at), label) || !to_number(text.substr(at + 1), sub) ||
+      label < 0 || label >= (1L << 40) || sub < 0 || sub >= (1L << kSubBits))
+    return std::nullopt;
+  const long kind = text[at] == '.' ? 0 : text[at] == '@' ? 1 : 2;
+  return -1 - ((label << (kSubBits + kKindBits)) | (kind << kSubBits) | sub);
+}
+
+std::string row_label_text(long key) {
+  if (key >= 0) return std::to_string(key);
+  const long code = -1 - key;
+  return std::to_string(code >> (kSubBits + kKindBits)) + kSeparators[(code >> kSubBits) & 3] +
+         std::to_string(code & ((1L << kSubBits) - 1));
+}
 
 ChannelSpec parse_channel_spec(std::string_view text) {
   ChannelSpec c;
@@ -81,8 +103,11 @@ ChannelSpec parse_channel_spec(std::string_view text) {
     // joint:L:K or any per-entity file EXT:L:K.
     for (char ch : kind)
       if (!(ch >= 'a' && ch <= 'z')) throw fail("node:, joint:, rel:, col: or EXT:LABEL:COLUMN");
-    if (!to_number(parts[1], c.label) || !to_number(parts[2], c.column) || c.column < 2)
-      throw fail(std::string(kind) + ":LABEL:COLUMN with COLUMN >= 2 (column 1 is the label)");
+    const auto label = parse_row_label(parts[1]);
+    if (!label || !to_number(parts[2], c.column) || c.column < 2)
+      throw fail(std::string(kind) + ":LABEL:COLUMN with COLUMN >= 2 (column 1 is the label: 7, or 12.3, 5@2, 5#2 as "
+                                     "the file writes it)");
+    c.label = *label;
     c.kind = ChannelSpec::Kind::entity;
     c.extension = kind == "joint" ? "jnt" : std::string(kind);
     if (c.extension == "mov") throw fail("node:LABEL:FIELD for .mov rows");

@@ -61,7 +61,8 @@ std::string extension_of(const std::string& compressed_or_not) {
 
 std::string missing_mbdyn_out_hint(const std::string& path) {
   const std::string ext = extension_of(path);
-  static const char* const entity_files[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv", "log"};
+  static const char* const entity_files[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv", "mod",
+                                             "abs", "ele", "prs", "hyd", "gen", "usr", "rot", "log"};
   if (std::find(std::begin(entity_files), std::end(entity_files), ext) == std::end(entity_files)) return "";
   const std::string out = mbdyn_prefix(path) + ".out";
   if (is_file(detail::stored_file(out))) return "";
@@ -116,7 +117,10 @@ class ColumnFormat final : public FormatReader {
 class MbdynTextFormat final : public FormatReader {
  public:
   std::string name() const override { return "mbdyn-text"; }
-  std::vector<std::string> extensions() const override { return {"out", "log", "mov", "jnt", "ine", "frc", ""}; }
+  std::vector<std::string> extensions() const override {
+    return {"out", "log", "mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv", "mod",
+            "abs", "ele", "prs", "hyd", "gen", "usr", "rot", ""};
+  }
   bool recognizes(const std::string& path) const override {
     return is_file(detail::stored_file(mbdyn_prefix(path) + ".out"));
   }

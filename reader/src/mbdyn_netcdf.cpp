@@ -509,6 +509,9 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
         break;
       }
       case ChannelSpec::Kind::entity: {
+        if (s.label < 0)
+          throw ReadError(path + ": channel '" + s.text + "': a label with a sub-index (" + row_label_text(s.label) +
+                          ") addresses rows of the text output (.mod, .frc); joints and nodes here have plain labels");
         if (s.extension == "jnt") {
           const auto [name, comp] = joint_column(nc, s.label, s.column);
           out.values.push_back(nc.column(*nc.var(name), comp, n, name));

@@ -290,17 +290,18 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
   auto label_of = [&](std::string_view l, std::size_t line_no) {
     std::size_t pos = 0;
     const std::string_view tok = next_token(l, pos);
-    long label = 0;
-    if (!parse_long(tok, label))
-      throw ReadError(where(line_no) + ": expected an integer label at the start of the row, found '" + shorten(tok) + "'");
-    return label;
+    const auto label = parse_row_label(tok);
+    if (!label)
+      throw ReadError(where(line_no) + ": expected an integer label at the start of the row (or LABEL.MODE, LABEL@NODE, "
+                      "LABEL#NODE), found '" + shorten(tok) + "'");
+    return *label;
   };
   auto take_row = [&](std::size_t p, std::string_view l, std::size_t line_no) {
     fields.clear();
     std::size_t pos = 0;
     for (auto t = next_token(l, pos); !t.empty(); t = next_token(l, pos)) fields.push_back(t);
     if (fields.size() != r.columns[p])
-      throw ReadError(where(line_no) + ": label " + std::to_string(r.labels[p]) + ": " + std::to_string(fields.size()) +
+      throw ReadError(where(line_no) + ": label " + row_label_text(r.labels[p]) + ": " + std::to_string(fields.size()) +
                       " columns, expected " + std::to_string(r.columns[p]) + " as in the first block");
     for (const auto& [q, col] : wants[p]) {
       double v = 0.0;
@@ -332,14 +333,14 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
         std::string have;
         for (std::size_t k = 0; k < r.labels.size() && k < 16; ++k) {
           if (k) have += ' ';
-          have += std::to_string(r.labels[k]);
+          have += row_label_text(r.labels[k]);
         }
-        throw ReadError(r.source + ": no rows of label " + std::to_string(requests[q].label) + " (labels in a block: " +
+        throw ReadError(r.source + ": no rows of label " + row_label_text(requests[q].label) + " (labels in a block: " +
                         have + (r.labels.size() > 16 ? " ..." : "") + ")");
       }
       const std::size_t p = static_cast<std::size_t>(it - r.labels.begin());
       if (requests[q].column < 2 || requests[q].column > r.columns[p])
-        throw ReadError(where(first_numbers[p]) + ": label " + std::to_string(requests[q].label) + " has " +
+        throw ReadError(where(first_numbers[p]) + ": label " + row_label_text(requests[q].label) + " has " +
                         std::to_string(r.columns[p]) + " columns, column " + std::to_string(requests[q].column) +
                         " requested");
       wants[p].emplace_back(q, requests[q].column);
@@ -367,9 +368,9 @@ BlockRead parse_blocks(LineSource& src, const std::vector<BlockRequest>& request
       if (r.blocks >= options.max_blocks) break;
     }
     if (label != r.labels[row]) {
-      throw ReadError(src.where() + ": expected the row of label " + std::to_string(r.labels[row]) + " (row " +
+      throw ReadError(src.where() + ": expected the row of label " + row_label_text(r.labels[row]) + " (row " +
                       std::to_string(row + 1) + " of " + std::to_string(r.labels.size()) + " in a block), found label " +
-                      std::to_string(label));
+                      row_label_text(label));
     }
     if (!wants[row].empty()) take_row(row, line, src.line_number());
     if (++row == r.labels.size()) {
@@ -450,7 +451,10 @@ std::string mbdyn_prefix(const std::string& compressed_or_not) {
 }
 
 namespace {
-constexpr const char* kEntityExtensions[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv"};
+// Every per-entity text file (format doc sections 1, 3-8): .mod holds modal joints' rows, one per
+// mode (label.mode), the scalar nodes' files one row per node.
+constexpr const char* kEntityExtensions[] = {"mov", "jnt", "ine", "frc", "act", "aer", "prm", "drv",
+                                             "mod", "abs", "ele", "prs", "hyd", "gen", "usr", "rot"};
 }  // namespace
 
 bool mbdyn_text_has_entity_rows(const std::string& prefix) {

@@ -75,8 +75,9 @@ BlockRead read_mbdyn_blocks(const std::string& path, const std::vector<BlockRequ
 /// returned unchanged.
 std::string mbdyn_prefix(const std::string& path);
 
-/// Whether the text set at `prefix` holds entity rows: one of its .mov .jnt .ine .frc .act .aer
-/// .prm .drv files exists and is not empty. A run with `output results: netcdf, no text` leaves
+/// Whether the text set at `prefix` holds entity rows: one of its per-entity files (.mov .jnt .ine
+/// .frc .act .aer .prm .drv .mod and the scalar nodes' .abs .ele .prs .hyd, .gen .usr .rot)
+/// exists and is not empty. A run with `output results: netcdf, no text` leaves
 /// only .out, .log and empty (or no) entity files; its channels are in PREFIX.nc.
 bool mbdyn_text_has_entity_rows(const std::string& prefix);
 
