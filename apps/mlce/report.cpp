@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -359,7 +360,7 @@ OutputTarget output_target(const std::string& path) {
 
 std::string OutputTarget::scratch(const std::string& suffix) const {
   if (!in_place) return path + suffix;
-  static int count = 0;
+  static std::atomic<int> count{0};  // outputs may be written from several threads (sweep jobs)
   return (std::filesystem::temp_directory_path() /
           ("mlce-" + std::to_string(::getpid()) + "-" + std::to_string(++count) + suffix)).string();
 }
