@@ -8,7 +8,7 @@ build="${2:-$here/build-fuzz}"
 CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMLCE_FUZZ=ON >/dev/null
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)"
 corpus="$build/corpus"
-rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf}
+rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf,gzip}
 iso="$here/data/mbdyn/iso_200rpm_1s/iso_200rpm"
 cp "$iso.log" "$corpus/mbdyn_log/"
 head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
@@ -22,9 +22,13 @@ printf '"","t","x # m"\n"1",0,0.5\n"2",0.01,"-0.25"\n' > "$corpus/column_file/qu
 printf 'when,t,x,note\n2026-11-27 01:00:00,0,0.5,ok\n2026-11-27 01:00:01,1,*****,\n' > "$corpus/column_file/labelled.csv"
 printf 'when\tt\tx\n27-Nov-2026 01:00:00\t0\t\t0.5\n"a b"\t 1 2\t3\n' > "$corpus/column_file/tab.tsv"
 for s in node:2:x joint:33:14 rel:13:4:z ine:11:3 col:2; do printf '%s' "$s" > "$corpus/channel_spec/$s"; done
+# gzip files as analysts archive runs: one member, two members (cat a.gz b.gz), a column file
+head -n 30 "$iso.mov" | gzip -c -n > "$corpus/gzip/seed.mov.gz"
+{ head -n 7 "$iso.mov" | gzip -c -n; sed -n 8,14p "$iso.mov" | gzip -c -n; } > "$corpus/gzip/members.mov.gz"
+head -n 50 "$here/data/lorenz_x.txt" | gzip -c -n > "$corpus/gzip/seed.txt.gz"
 # the NetCDF header and its first records (a file cut short: the reader's truncated-file path)
 head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"
-for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf; do
+for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf gzip; do
   echo "fuzz_$f: ${secs} s" >&2
   "$build/fuzz_$f" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 \
     "$corpus/$f" 2>"$build/fuzz_$f.log" || { tail -n 40 "$build/fuzz_$f.log" >&2; exit 1; }
