@@ -701,6 +701,68 @@ TEST_P(OrientationRoundTrip, NetcdfKnownRelativeRotationReadsBackUnwrapped) {
 
 // A record that the solver never wrote holds the NetCDF fill value (9.97e36, finite): an error
 // naming the variable and the record, never a number passed on to the estimator.
+TEST(MbdynNetcdf, AnyTimeHistoryIsAVarChannelAndTheInventoryListsThoseNoOtherChannelReaches) {
+  // Beams, forces and aerodynamic elements write only to NetCDF their richer data (format doc
+  // section 11): var:NAME:K reads component K of any record variable, a 3x3 matrix row by row
+  // (MBDyn stores it column-major). Truth: the values written. Classic and netCDF-4 files alike
+  // (the latter read in a child process, the inventory crossing a pipe).
+  for (const int format : {NC_CLOBBER, NC_CLOBBER | NC_NETCDF4}) {
+    const fs::path path = fs::temp_directory_path() / ("mlce_var_" + std::to_string(::getpid()) + ".nc");
+    auto ok = [](int status) { ASSERT_EQ(status, NC_NOERR) << nc_strerror(status); };
+    int id = 0, time_dim = 0, vec3 = 0, labels_dim = 0, time_var = 0, force = 0, rotation = 0, labels = 0;
+    ok(nc_create(path.c_str(), format, &id));
+    ok(nc_def_dim(id, "time", NC_UNLIMITED, &time_dim));
+    ok(nc_def_dim(id, "vec3", 3, &vec3));
+    ok(nc_def_dim(id, "beam_elem_labels_dim", 1, &labels_dim));
+    ok(nc_def_var(id, "time", NC_DOUBLE, 1, &time_dim, &time_var));
+    ok(nc_def_var(id, "elem.beam", NC_INT, 1, &labels_dim, &labels));
+    const int dims2[2] = {time_dim, vec3}, dims3[3] = {time_dim, vec3, vec3};
+    ok(nc_def_var(id, "elem.beam.100.F_I", NC_DOUBLE, 2, dims2, &force));
+    ok(nc_def_var(id, "elem.beam.100.R_I", NC_DOUBLE, 3, dims3, &rotation));
+    ok(nc_enddef(id));
+    const int label = 100;
+    ok(nc_put_var_int(id, labels, &label));
+    auto row_major = [](std::size_t k, std::size_t r) { return 100.0 * static_cast<double>(k) + static_cast<double>(r); };
+    for (std::size_t k = 0; k < 20; ++k) {
+      const double t = 0.1 * static_cast<double>(k), f[3] = {1.0 * k, 2.0 * k, 3.0 * k};
+      double stored[9];
+      for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j) stored[3 * j + i] = row_major(k, 3 * i + j);  // column-major, as MBDyn
+      const std::size_t start[3] = {k, 0, 0}, one[1] = {1}, row[2] = {1, 3}, block[3] = {1, 3, 3};
+      ok(nc_put_vara_double(id, time_var, start, one, &t));
+      ok(nc_put_vara_double(id, force, start, row, f));
+      ok(nc_put_vara_double(id, rotation, start, block, stored));
+    }
+    ok(nc_close(id));
+    const auto set = read_mbdyn_netcdf(path.string(), specs({"var:elem.beam.100.F_I:2", "var:elem.beam.100.R_I:2",
+                                                             "var:elem.beam.100.R_I:4", "var:elem.beam.100.F_I"}));
+    ASSERT_EQ(set.time.size(), 20u);
+    for (std::size_t k = 0; k < 20; ++k) {
+      EXPECT_EQ(set.values[0][k], 2.0 * static_cast<double>(k));
+      EXPECT_EQ(set.values[1][k], row_major(k, 1));  // R12
+      EXPECT_EQ(set.values[2][k], row_major(k, 3));  // R21
+      EXPECT_EQ(set.values[3][k], 1.0 * static_cast<double>(k));  // no K: the first component
+    }
+    const auto inv = describe_mbdyn_netcdf(path.string());
+    ASSERT_EQ(inv.variables.size(), 2u);
+    EXPECT_EQ(inv.variables[0].name, "elem.beam.100.F_I");
+    EXPECT_EQ(inv.variables[0].components, 3u);
+    EXPECT_EQ(inv.variables[1].name, "elem.beam.100.R_I");
+    EXPECT_EQ(inv.variables[1].components, 9u);
+    EXPECT_EQ(read_error_of([&] { read_mbdyn_netcdf(path.string(), specs({"var:elem.beam.100.F_I:4"})); }),
+              path.string() + ": channel 'var:elem.beam.100.F_I:4': 'elem.beam.100.F_I' has 3 component(s) per record, "
+                              "component 4 requested");
+    EXPECT_NE(read_error_of([&] { read_mbdyn_netcdf(path.string(), specs({"var:elem.beam:1"})); }).find("is no time history"),
+              std::string::npos);
+    fs::remove(path);
+  }
+  EXPECT_THROW(parse_channel_spec("var:"), ReadError);
+  EXPECT_THROW(parse_channel_spec("var:x:0"), ReadError);
+  EXPECT_THROW(parse_channel_spec("var:x:1:2"), ReadError);
+  EXPECT_NE(read_error_of([&] { read_mbdyn_text(kIso, specs({"var:run.step"})); }).find("addresses a NetCDF variable"),
+            std::string::npos);
+}
+
 TEST(MbdynNetcdf, TruncatedFileReadsItsCompleteRecordsWithAWarning) {
   // A copy cut short keeps the header's record count (201); the classic format reads the missing
   // records as zeros. The records before the cut must equal the whole file's, and the set ends

@@ -556,6 +556,10 @@ int cmd_channels(const std::vector<std::string>& args) {
                                {"label", e.label >= 0 ? nlohmann::json(e.label) : nlohmann::json(reader::row_label_text(e.label))},
                                {"type", e.type},
                                {"columns", e.columns}});
+    if (!inv.variables.empty()) {
+      j["variables"] = nlohmann::json::array();
+      for (const auto& v : inv.variables) j["variables"].push_back({{"name", v.name}, {"components", v.components}});
+    }
     if (!inv.columns.empty()) j["columns"] = inv.columns;
     j["warnings"] = inv.warnings;
     std::cout << j.dump() << "\n";
@@ -579,6 +583,10 @@ int cmd_channels(const std::vector<std::string>& args) {
     for (const auto& e : inv.entities)
       std::cout << fmt::format("  {:<4}{:>7}  {:<30}{}\n", e.file, reader::row_label_text(e.label), e.type,
                                e.columns ? fmt::format(" {} columns", e.columns) : "");
+    if (!inv.variables.empty()) {
+      std::cout << "other time histories (var:NAME:K, K = 1 .. components):\n";
+      for (const auto& v : inv.variables) std::cout << fmt::format("  {:<40} {} component(s)\n", v.name, v.components);
+    }
   }
   print_warnings(inv.warnings);
   return 0;

@@ -96,6 +96,14 @@ ChannelSpec parse_channel_spec(std::string_view text) {
       throw fail("rel:NODE_A:NODE_B:AXIS with AXIS one of x y z");
     c.kind = ChannelSpec::Kind::relative;
     c.axis = parts[3][0] - 'x';
+  } else if (kind == "var") {
+    // var:NAME or var:NAME:K; NAME may hold no ':' (MBDyn's never do).
+    if (parts.size() < 2 || parts.size() > 3 || parts[1].empty() ||
+        (parts.size() == 3 && (!to_number(parts[2], c.column) || c.column == 0)))
+      throw fail("var:NAME or var:NAME:K with K >= 1 (a NetCDF variable and its component)");
+    c.kind = ChannelSpec::Kind::variable;
+    c.field = std::string(parts[1]);
+    if (parts.size() == 2) c.column = 1;
   } else if (kind == "col") {
     if (parts.size() != 2 || !to_number(parts[1], c.column) || c.column == 0) throw fail("col:K with K >= 1");
     c.kind = ChannelSpec::Kind::column;
@@ -112,7 +120,7 @@ ChannelSpec parse_channel_spec(std::string_view text) {
     c.extension = kind == "joint" ? "jnt" : std::string(kind);
     if (c.extension == "mov") throw fail("node:LABEL:FIELD for .mov rows");
   } else {
-    throw fail("node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K or col:K");
+    throw fail("node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, var:NAME:K or col:K");
   }
   return c;
 }

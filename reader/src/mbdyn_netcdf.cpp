@@ -153,6 +153,13 @@ class NcFile {
     if (!v) throw ReadError(path_ + ": no variable '" + name + "' (" + why + ")");
     return *v;
   }
+  bool first_dimension_is_unlimited(int v) const {
+    int nd = 0, unlimited = -1;
+    if (nc_inq_varndims(id_, v, &nd) != NC_NOERR || nd < 1 || nc_inq_unlimdim(id_, &unlimited) != NC_NOERR) return false;
+    std::vector<int> dims(static_cast<std::size_t>(nd));
+    nc_inq_vardimid(id_, v, dims.data());
+    return unlimited >= 0 && dims[0] == unlimited;
+  }
   std::vector<std::size_t> shape(int v) const {
     int nd = 0;
     nc_inq_varndims(id_, v, &nd);
@@ -273,6 +280,19 @@ NodeOrientation node_orientation(const NcFile& nc, long label) {
 /// text number 3i+j, is stored at 3j+i.
 constexpr std::size_t matrix_storage_index(std::size_t r) { return 3 * (r % 3) + r / 3; }
 
+/// Values per record of a variable of shape `sh` (time first).
+std::size_t components(const std::vector<std::size_t>& sh) {
+  std::size_t width = 1;
+  for (std::size_t d = 1; d < sh.size(); ++d) width *= sh[d];
+  return width;
+}
+
+/// A variable along the record (unlimited) dimension, of at most two more: a time history.
+bool is_record_variable(const NcFile& nc, int v) {
+  const auto sh = nc.shape(v);
+  return !sh.empty() && sh.size() <= 3 && nc.first_dimension_is_unlimited(v);
+}
+
 /// Orientation number `r` (0-based) of every record as the text file would write it.
 std::vector<double> orientation_column(const NcFile& nc, const NodeOrientation& o, std::size_t r, std::size_t n) {
   const std::size_t comp = o.kind == Orientation::mat ? matrix_storage_index(r) : r;
@@ -389,6 +409,8 @@ std::string encode(const Inventory& inv) {
   w.u64(inv.blocks);
   w.f64(inv.t_first);
   w.f64(inv.t_last);
+  w.u64(inv.variables.size());
+  for (const auto& v : inv.variables) w.str(v.name), w.u64(v.components);
   w.strings(inv.columns);
   w.strings(inv.warnings);
   return w.take();
@@ -416,6 +438,11 @@ Inventory decode_inventory(std::string_view bytes) {
   inv.blocks = static_cast<std::size_t>(r.u64());
   inv.t_first = r.f64();
   inv.t_last = r.f64();
+  inv.variables.resize(r.count(2 * sizeof(std::uint64_t)));
+  for (auto& v : inv.variables) {
+    v.name = r.str();
+    v.components = static_cast<std::size_t>(r.u64());
+  }
   inv.columns = r.strings();
   inv.warnings = r.strings();
   r.expect_end();
@@ -559,7 +586,21 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
         break;
       }
       case ChannelSpec::Kind::column:
-        throw ReadError(path + ": channel '" + s.text + "' addresses a column file; NetCDF takes node:, joint:, ine: or rel:");
+        throw ReadError(path + ": channel '" + s.text + "' addresses a column file; NetCDF takes node:, joint:, ine:, rel: or var:");
+      case ChannelSpec::Kind::variable: {
+        const int v = nc.require(s.field, "channel '" + s.text + "'; mlce channels lists the file's time histories");
+        const auto sh = nc.shape(v);
+        if (!is_record_variable(nc, v))
+          throw ReadError(path + ": channel '" + s.text + "': '" + s.field + "' is no time history (its first dimension is "
+                          "not the record dimension 'time')");
+        const std::size_t width = components(sh);
+        if (s.column > width)
+          throw ReadError(path + ": channel '" + s.text + "': '" + s.field + "' has " + std::to_string(width) +
+                          " component(s) per record, component " + std::to_string(s.column) + " requested");
+        const bool matrix = sh.size() == 3 && sh[1] == 3 && sh[2] == 3;  // row by row, as the text files write it
+        out.values.push_back(nc.column(v, matrix ? matrix_storage_index(s.column - 1) : s.column - 1, n, s.field));
+        break;
+      }
     }
   }
   return out;
@@ -592,6 +633,17 @@ Inventory describe(const std::string& path) {
     const std::string base = "elem.joint." + std::to_string(l);
     const auto v = nc.var(base);
     inv.entities.push_back({"jnt", l, !nc.var(base + ".f") ? "output off" : v ? nc.text_attribute(*v, "type") : "", 0});
+  }
+  // The time histories no node:, joint: or ine: channel reaches: beams, forces, aerodynamic
+  // elements, the run's own (run.step, run.timestep), ...
+  const auto reached = [](const std::string& name) {
+    for (const char* group : {"node.struct.", "elem.joint."})
+      if (name.rfind(group, 0) == 0) return true;
+    return name == "time";
+  };
+  for (const auto& name : nc.variable_names()) {
+    const int v = *nc.var(name);
+    if (!reached(name) && is_record_variable(nc, v)) inv.variables.push_back({name, components(nc.shape(v))});
   }
   return inv;
 }

@@ -582,6 +582,9 @@ ChannelSet read_mbdyn_text(const std::string& prefix_in, const std::vector<Chann
         break;
       case ChannelSpec::Kind::column:
         throw ReadError(prefix + ": channel '" + s.text + "' addresses a column file; MBDyn output takes node:, joint:, rel: or EXT: channels");
+      case ChannelSpec::Kind::variable:
+        throw ReadError(prefix + ": channel '" + s.text + "' addresses a NetCDF variable; a text output set takes node:, "
+                        "joint:, rel: or EXT: channels" + (file_exists(prefix + ".nc") ? " (or read " + prefix + ".nc)" : ""));
     }
   }
   std::map<std::string, BlockRead> read;

@@ -44,8 +44,14 @@ struct Inventory {
     std::string type;  ///< element type when the set says it, else ""
     std::size_t columns;
   };
+  /// NetCDF: the other time histories (beams, forces, aerodynamic elements, run.*), var:NAME:K.
+  struct Variable {
+    std::string name;
+    std::size_t components;  ///< per record (3 for a vector, 9 for a matrix)
+  };
   std::vector<Node> nodes;
   std::vector<Entity> entities;
+  std::vector<Variable> variables;
   std::size_t blocks = 0;
   double t_first = 0.0, t_last = 0.0;
   std::vector<std::string> columns;  ///< column files: the column names

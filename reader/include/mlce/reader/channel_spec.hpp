@@ -9,6 +9,8 @@
 //   rel:A:B:AXIS   rotation of node A relative to node B about AXIS (x|y|z of B's frame), rad,
 //                  from the initial configuration, unwrapped in time
 //   col:K          K-th column of a plain column file
+//   var:NAME[:K]   component K (default 1) of the NetCDF time history NAME, e.g.
+//                  var:elem.beam.100.F_I:2; a 3x3 matrix's K counts row by row, as text files do
 #include <optional>
 #include <string>
 #include <string_view>
@@ -16,15 +18,15 @@
 namespace mlce::reader {
 
 struct ChannelSpec {
-  enum class Kind { node, entity, relative, column };
+  enum class Kind { node, entity, relative, column, variable };
   Kind kind = Kind::column;
   std::string text;       ///< the spec as the user wrote it (used as the channel name)
   std::string extension;  ///< entity: "jnt", "ine", "frc", ...
   long label = 0;         ///< node / entity label (a row label, see parse_row_label); rel: node A
   long reference = 0;     ///< rel: node B
-  std::string field;      ///< node: x, r1, vx, ...
+  std::string field;      ///< node: x, r1, vx, ...; variable: the NetCDF variable's name
   int axis = 2;           ///< rel: 0 x, 1 y, 2 z
-  std::size_t column = 0; ///< entity / column: 1-based
+  std::size_t column = 0; ///< entity / column / variable component: 1-based
 };
 
 /// Throws ReadError("channel 'SPEC': expected ...") for a malformed spec.
