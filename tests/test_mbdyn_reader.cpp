@@ -1147,6 +1147,13 @@ TEST(MbdynText, ModalJointsModesAndExternalElementsRowsAreAddressedAsTheFileWrit
                                               "mod:3.2", "mod:3.3"}));
   EXPECT_EQ(read_error_of([&] { read_mbdyn_text(prefix, specs({"mod:12.4:2"})); }),
             prefix + ".mod: no rows of label 12.4 (labels in a block: 12.1 12.2 12.3 3.1 3.2 3.3)");
+  // Structural nodes keep integer labels: a .mov written so is malformed, and said to be.
+  {
+    std::ofstream mov(prefix + ".mov");
+    for (int k = 0; k < 50; ++k) mov << "1.5 0 0 0 0 0 0 0 0 0 0 0 0\n";
+  }
+  EXPECT_EQ(read_error_of([&] { default_registry().for_path(prefix).describe(prefix); }),
+            prefix + ".mov: row label 1.5: structural nodes have integer labels");
   fs::remove_all(dir);
 }
 

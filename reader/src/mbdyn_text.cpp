@@ -642,6 +642,8 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
     inv.warnings.insert(inv.warnings.end(), b.warnings.begin(), b.warnings.end());
     if (std::string(ext) == "mov") {
       for (std::size_t k = 0; k < b.labels.size(); ++k) {
+        if (b.labels[k] < 0)  // LABEL.MODE and the like belong to .mod and .frc rows
+          throw ReadError(path + ": row label " + row_label_text(b.labels[k]) + ": structural nodes have integer labels");
         const auto* n = log.node(b.labels[k]);
         inv.nodes.push_back({b.labels[k], "", n ? orientation_name(n->orientation) : "unknown", b.columns[k]});
       }
