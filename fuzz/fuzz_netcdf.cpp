@@ -4,28 +4,18 @@
 // netCDF-4 seed (fuzz/run.sh), the child process that reads such a file and the pipe its result
 // comes back through: whatever libhdf5 does there (crash, endless loop), this process must get
 // the channels or one ReadError.
-#include <unistd.h>
-
 #include <cstdint>
-#include <cstdio>
 #include <string>
 
 #include "mlce/reader/channel_spec.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/table.hpp"
+#include "scratch_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const struct Scratch {
-    std::string path = "/tmp/mlce_fuzz_" + std::to_string(::getpid()) + ".nc";
-    ~Scratch() { std::remove(path.c_str()); }
-  } scratch;
-  const std::string& path = scratch.path;
-  if (FILE* f = std::fopen(path.c_str(), "wb")) {
-    std::fwrite(data, 1, size, f);
-    std::fclose(f);
-  } else {
-    return 0;
-  }
+  const std::string* file = fuzz_input_as_file(data, size, ".nc");
+  if (!file) return 0;
+  const std::string& path = *file;
   try {
     (void)mlce::reader::describe_mbdyn_netcdf(path);
   } catch (const mlce::reader::ReadError&) {
