@@ -21,6 +21,7 @@ head -n 50 "$here/data/lorenz_x.txt" > "$corpus/column_file/seed.txt"
 printf '"","t","x # m"\n"1",0,0.5\n"2",0.01,"-0.25"\n' > "$corpus/column_file/quoted.csv"  # R's write.csv
 printf 'when,t,x,note\n2026-11-27 01:00:00,0,0.5,ok\n2026-11-27 01:00:01,1,*****,\n' > "$corpus/column_file/labelled.csv"
 printf 'when\tt\tx\n27-Nov-2026 01:00:00\t0\t\t0.5\n"a b"\t 1 2\t3\n' > "$corpus/column_file/tab.tsv"
+printf '\xef\xbb\xbf"t";x\r\n0,01;-2,5E-03;\r\n0,02; 1,0D+01;\r\n' > "$corpus/column_file/european.csv"  # a comma locale's spreadsheet
 for s in node:2:x joint:33:14 rel:13:4:z ine:11:3 col:2 mod:12.3:2 frc:5@2:3 var:elem.beam.100.F_I:2; do printf '%s' "$s" > "$corpus/channel_spec/$s"; done
 # gzip files as analysts archive runs: one member, two members (cat a.gz b.gz), a column file
 head -n 30 "$iso.mov" | gzip -c -n > "$corpus/gzip/seed.mov.gz"

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -747,6 +748,25 @@ TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());
   EXPECT_NE(r.status, 0);
   EXPECT_FALSE(fs::exists(csv));
+}
+
+TEST_F(Cli, ASpreadsheetsSemicolonCsvWithDecimalCommasReadsAsItsNumbers) {
+  // The bundled series as Excel saves it in a locale whose decimal mark is a comma: the same estimate.
+  const std::string file = std::string(MLCE_DATA_DIR) + "/lorenz_x.txt";
+  const CliRun named = run("estimate " + file + " --time-column 1 --column 2 --json --quiet");
+  ASSERT_EQ(named.status, 0) << named.err;
+  std::istringstream in(slurp(file));
+  std::string csv = "time;x\r\n", line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::replace(line.begin(), line.end(), '.', ',');
+    std::replace(line.begin(), line.end(), ' ', ';');
+    csv += line + "\r\n";
+  }
+  const CliRun european = run("estimate " + write("series.csv", csv).string() + " --time-column time --column x --json --quiet");
+  ASSERT_EQ(european.status, 0) << european.err;
+  EXPECT_EQ(nlohmann::json::parse(european.out)["lambda"].get<double>(),
+            nlohmann::json::parse(named.out)["lambda"].get<double>());
 }
 
 TEST_F(Cli, SeriesFromStandardInputOrAPipe) {

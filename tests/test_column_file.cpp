@@ -56,7 +56,8 @@ TEST(ColumnFile, FortranDoublePrecisionExponentsAreNumbers) {
   EXPECT_EQ(t.columns[1], (std::vector<double>{1.0, -0.25, 300.0, 4.0}));
   EXPECT_EQ(error_of("1 1.0Dx\n"), "f.txt:1: column 2: '1.0Dx' is not a number");
   EXPECT_EQ(error_of("1 1D+999\n"), "f.txt:1: column 2: '1D+999' is out of the range of a double");
-  EXPECT_EQ(error_of("0;1\n"), "f.txt:1: column 1: '0;1' is not a number (fields are separated by spaces, tabs or commas)");
+  EXPECT_EQ(error_of("0 1\n0;1 2\n"), "f.txt:2: column 1: '0;1' is not a number (fields are separated by spaces, tabs or "
+                                       "commas; by semicolons when the file's first line is)");
 }
 
 TEST(ColumnFile, MissingFileIsAnError) {
@@ -168,21 +169,51 @@ TEST(ColumnFile, TextWithBlanksIsOneFieldOfACommaSeparatedLine) {
   EXPECT_EQ(aligned.columns[1], (std::vector<double>{1.5, 2.5}));
   // A header whose names hold blanks names as many columns as it has commas.
   EXPECT_EQ(parse_column_text("time s, x m\n0,1\n", "mem").names, (std::vector<std::string>{"time s", "x m"}));
-  // A European CSV, numbers between semicolons and decimal commas: refused however the columns are
-  // read (its first column would read as the integer parts); a note with a semicolon is text.
+  // Numbers between semicolons and decimal commas in a comma-separated file (its first line says so):
+  // refused however the columns are read (its first column would read as the integer parts); a note
+  // with a semicolon is text.
   ColumnFileOptions text;
   text.text_columns = true;
   for (const auto& options : {ColumnFileOptions{}, text})
     try {
-      parse_column_text("0,01;2,5\n0,02;2,6\n", "f.txt", options);
+      parse_column_text("t,x\n0,01;2,5\n0,02;2,6\n", "f.txt", options);
       ADD_FAILURE() << "read";
     } catch (const ReadError& e) {
-      EXPECT_STREQ(e.what(), "f.txt:1: column 2: '01;2' is not a number (fields are separated by spaces, tabs or commas)");
+      EXPECT_STREQ(e.what(), "f.txt:2: column 2: '01;2' is not a number (fields are separated by spaces, tabs or commas; "
+                             "by semicolons when the file's first line is)");
     }
   EXPECT_EQ(parse_column_text("t,x,note\n0,1,a;b\n", "mem", text).text[2].message,
-            "mem:2: column 3: 'a;b' is not a number (fields are separated by spaces, tabs or commas)");
+            "mem:2: column 3: 'a;b' is not a number (fields are separated by spaces, tabs or commas; by semicolons "
+            "when the file's first line is)");
   // Without asking for the columns it reads, the text stops the read where it stands.
   EXPECT_EQ(error_of("t,x\n2026-11-27 01:00:00,0.5\n"), "f.txt:2: column 1: '2026-11-27 01:00:00' is not a number");
+}
+
+TEST(ColumnFile, SemicolonSeparatedFilesWithDecimalCommasReadAsSpreadsheetsWriteThem) {
+  // Excel and LibreOffice in a locale whose decimal mark is a comma (it, de, fr, ...) save CSV so.
+  const Table t = parse_column_text("\xEF\xBB\xBFtime;x\r\n0,01;-2,5\r\n0,02;1,25E-03\r\n0,03; 3 \r\n", "mem");
+  EXPECT_EQ(t.names, (std::vector<std::string>{"time", "x"}));
+  EXPECT_EQ(t.columns[0], (std::vector<double>{0.01, 0.02, 0.03}));
+  EXPECT_EQ(t.columns[1], (std::vector<double>{-2.5, 1.25e-3, 3.0}));
+  // Without a header, with decimal points, quoted names, a comment naming the columns, a semicolon
+  // ending every line, a Fortran exponent: the same rules as for commas.
+  EXPECT_EQ(parse_column_text("0.5;1\n1.5;2\n", "mem").columns[0], (std::vector<double>{0.5, 1.5}));
+  EXPECT_EQ(parse_column_text("\"t s\";\"x;1\"\n0;1\n", "mem").names, (std::vector<std::string>{"t s", "x;1"}));
+  EXPECT_EQ(parse_column_text("# t;x\n0;1,5\n", "mem").names, (std::vector<std::string>{"t", "x"}));
+  EXPECT_EQ(parse_column_text("0;1,5;\n1;2,5;\n", "mem").columns.size(), 2u);
+  EXPECT_EQ(parse_column_text("0;1,0D+01\n", "mem").columns[1], (std::vector<double>{10.0}));
+  // A thousands separator, two commas, an empty field, a row of another separator: one error each,
+  // never a number read another way.
+  EXPECT_EQ(error_of("t;x\n0;1.234,5\n"), "f.txt:2: column 2: '1.234,5' is not a number (a semicolon-separated file's "
+                                          "numbers have one decimal comma or point, no thousands separators)");
+  EXPECT_EQ(error_of("t;x\n0;1,2,3\n"), "f.txt:2: column 2: '1,2,3' is not a number (a semicolon-separated file's "
+                                        "numbers have one decimal comma or point, no thousands separators)");
+  EXPECT_EQ(error_of("t;x\n0;;\n"), "f.txt:2: column 2: empty field: expected a number");
+  EXPECT_EQ(error_of("t;x\n0,1;2\n0,2 3\n"), "f.txt:3: column 1: '0,2 3' is not a number");
+  EXPECT_EQ(error_of("t;x\n0;1,5e999\n"), "f.txt:2: column 2: '1,5e999' is out of the range of a double");
+  // A first line that splits at its semicolons into neither names nor numbers leaves the file as it was.
+  EXPECT_EQ(error_of("0,1,a;b\n"), "f.txt:1: column 3: 'a;b' is not a number (fields are separated by spaces, tabs or "
+                                   "commas; by semicolons when the file's first line is)");
 }
 
 TEST(ColumnFile, TextColumnsAreMarkedAndRefusedOnlyWhereAsked) {

@@ -1,6 +1,7 @@
 #include "mlce/reader/column_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -83,8 +84,25 @@ std::string quoted(std::string_view tok) {
 
 /// The number a field holds into v; "" when it is one, else what is wrong with it (the message
 /// after "file:line: column K: ").
-std::string read_number(std::string_view tok, const ColumnFileOptions& options, double& v) {
+std::string read_number(std::string_view tok, const ColumnFileOptions& options, double& v, bool decimal_comma = false) {
   if (tok.empty()) return "empty field: expected a number";
+  if (decimal_comma && tok.find(',') != std::string_view::npos) {
+    // A semicolon-separated file's decimal comma (a spreadsheet in a European locale: "-2,5E-03").
+    // One comma and no point: a point beside it would be a thousands separator, which a number
+    // written for reading back never holds, and guessing which is which could misread by 1000.
+    if (tok.find('.') != std::string_view::npos || tok.find(',') != tok.rfind(','))
+      return quoted(tok) + " is not a number (a semicolon-separated file's numbers have one decimal comma or point, "
+                           "no thousands separators)";
+    std::array<char, 64> buffer{};  // every field of a large file passes here: no allocation
+    std::string long_field;
+    char* copy = buffer.data();
+    if (tok.size() > buffer.size()) long_field.assign(tok), copy = long_field.data();
+    else std::copy(tok.begin(), tok.end(), copy);
+    copy[tok.find(',')] = '.';
+    const std::string_view point(copy, tok.size());
+    std::string error = read_number(point, options, v);
+    return error.empty() ? error : quoted(tok) + error.substr(quoted(point).size());
+  }
   const char* first = tok.data();
   if (tok.front() == '+') ++first;  // from_chars rejects a leading '+'
   auto [ptr, ec] = std::from_chars(first, tok.data() + tok.size(), v);
@@ -99,7 +117,9 @@ std::string read_number(std::string_view tok, const ColumnFileOptions& options, 
   if (ec == std::errc::result_out_of_range) return quoted(tok) + " is out of the range of a double";
   if (ec != std::errc() || ptr != tok.data() + tok.size())
     return quoted(tok) + " is not a number" +
-           (tok.find(';') != std::string_view::npos ? " (fields are separated by spaces, tabs or commas)" : "");
+           (tok.find(';') != std::string_view::npos
+                ? " (fields are separated by spaces, tabs or commas; by semicolons when the file's first line is)"
+                : "");
   if (!std::isfinite(v) && !options.keep_nonfinite) return quoted(tok) + ": expected a finite number";
   return "";
 }
@@ -107,10 +127,10 @@ std::string read_number(std::string_view tok, const ColumnFileOptions& options, 
 /// How a line splits: `ambiguous` when a comma-separated field holds numbers separated by blanks
 /// ("0,01<TAB>2,5", a spreadsheet's decimal commas, would otherwise read as three or four numbers);
 /// `semicolon_field` (1-based, 0 = none) the first field of numbers separated by semicolons (a
-/// European CSV, "0,01;2,5": its first column would read as the integer parts); `trailing_comma`
-/// when a comma ends the line.
+/// European CSV, "0,01;2,5", in a file not read as semicolon-separated: its first column would read
+/// as the integer parts); `trailing_separator` when the separator (a comma, a semicolon) ends the line.
 struct Split {
-  bool ambiguous = false, trailing_comma = false;
+  bool ambiguous = false, trailing_separator = false;
   std::size_t semicolon_field = 0;
 };
 
@@ -138,9 +158,10 @@ bool only_numbers(std::string_view field, bool semicolons = false) {
 /// Whether the line has a comma outside quoted fields: then it is comma-separated.
 bool has_comma(std::string_view line) { return find_unquoted(line, ',') != std::string_view::npos; }
 
-/// How a line's fields are separated: by commas, by tabs (blanks inside a field are its text), or by
-/// blanks (spaces and tabs alike).
-enum class Separator { comma, tab, blank };
+/// How a line's fields are separated: by commas, by semicolons (a European CSV, whose numbers may
+/// carry decimal commas), by tabs (blanks inside a field are its text), or by blanks (spaces and tabs
+/// alike).
+enum class Separator { comma, semicolon, tab, blank };
 
 /// The fields of a line into `out`, separated as `by` says; with Separator::tab, `tab_fallback` is
 /// set (and the fields are not complete) when a field holds numbers between spaces: the line then
@@ -151,7 +172,8 @@ Split split_fields_by(std::string_view line, std::vector<std::string_view>& out,
   std::size_t i = 0;
   while (i < line.size() && is_blank(line[i])) ++i;
   if (i >= line.size()) return split;
-  const char sep = by == Separator::comma ? ',' : '\t';
+  const char sep = by == Separator::comma ? ',' : by == Separator::semicolon ? ';' : '\t';
+  const bool delimited = by == Separator::comma || by == Separator::semicolon;  // empty fields count
   auto ends_field = [&](char c) { return by == Separator::blank ? is_blank(c) : c == sep; };
   while (true) {
     std::size_t j = i;
@@ -178,14 +200,15 @@ Split split_fields_by(std::string_view line, std::vector<std::string_view>& out,
         }
         split.ambiguous = true;
       }
-      if (semicolon && split.semicolon_field == 0 && only_numbers(field, true)) split.semicolon_field = out.size() + 1;
+      if (semicolon && by != Separator::semicolon && split.semicolon_field == 0 && only_numbers(field, true))
+        split.semicolon_field = out.size() + 1;
       out.push_back(field);
     }
     while (j < line.size() && is_blank(line[j])) ++j;  // a run of tabs is one separator, as a run of blanks
-    if (by == Separator::comma && j < line.size() && line[j] == ',') {
+    if (delimited && j < line.size() && line[j] == sep) {
       ++j;
       while (j < line.size() && is_blank(line[j])) ++j;
-      if (j >= line.size()) split.trailing_comma = true;
+      if (j >= line.size()) split.trailing_separator = true;
     }
     if (j >= line.size()) return split;
     i = j;
@@ -205,8 +228,9 @@ Split split_fields_by(std::string_view line, std::vector<std::string_view>& out,
 /// write.csv quotes its header and row names, other exporters every text) is the text between them,
 /// separators included (a doubled quote inside stays doubled); a quote that does not close before a
 /// separator or the line's end leaves the field as it stands, quotes and all, to be refused as text.
-Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
+Split split_fields(std::string_view line, std::vector<std::string_view>& out, bool semicolons = false) {
   bool tab_fallback = false;
+  if (semicolons) return split_fields_by(line, out, Separator::semicolon, tab_fallback);
   if (has_comma(line)) return split_fields_by(line, out, Separator::comma, tab_fallback);
   if (find_unquoted(line, '\t') != std::string_view::npos) {
     const Split split = split_fields_by(line, out, Separator::tab, tab_fallback);
@@ -215,17 +239,17 @@ Split split_fields(std::string_view line, std::vector<std::string_view>& out) {
   return split_fields_by(line, out, Separator::blank, tab_fallback);
 }
 
-std::vector<std::string> split_fields(std::string_view line) {
+std::vector<std::string> split_fields(std::string_view line, bool semicolons = false) {
   std::vector<std::string_view> views;
-  split_fields(line, views);
+  split_fields(line, views, semicolons);
   return {views.begin(), views.end()};
 }
 
 /// Every field of the line is a word that cannot be read as a number (so "1 abc" is a bad data row,
 /// not a header, and "nan"/"inf" are values, refused later as non-finite).
-bool is_header(std::string_view line) {
+bool is_header(std::string_view line, bool semicolons = false) {
   bool named = false;
-  for (const auto& f : split_fields(line)) {
+  for (const auto& f : split_fields(line, semicolons)) {
     if (f.empty()) continue;  // an unnamed column (",,") keeps its place; a line of commas only is no header
     named = true;
     double v = 0.0;
@@ -234,6 +258,24 @@ bool is_header(std::string_view line) {
     if (ptr != first || ec == std::errc::result_out_of_range) return false;  // starts like a number
   }
   return named;
+}
+
+/// Whether a file whose first line that is not blank or a comment is `line` separates its fields by
+/// semicolons, as spreadsheets write CSV in locales whose decimal mark is a comma ("time;x",
+/// "0,01;-2,5"): the line has a semicolon outside quotes, and split at its semicolons it is a header
+/// (every field a name) or a row of numbers (each with a decimal comma or point). Decided once per
+/// file, so a note with a semicolon in a comma-separated file ("0,1,a;b") stays one text field, and
+/// a row written otherwise later in the file is an error, not numbers read another way.
+bool separates_by_semicolons(std::string_view line) {
+  if (find_unquoted(line, ';') == std::string_view::npos) return false;
+  if (is_header(line, true)) return true;
+  std::vector<std::string_view> fields;
+  split_fields(line, fields, true);
+  ColumnFileOptions any;
+  any.keep_nonfinite = true;
+  double v = 0.0;
+  return std::all_of(fields.begin(), fields.end(),
+                     [&](std::string_view f) { return read_number(f, any, v, true).empty(); });
 }
 
 /// One pass over the lines: memory is the table, never a copy of the file's text.
@@ -247,6 +289,7 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
   std::vector<double> row;
   std::vector<std::string_view> fields;
   std::vector<Table::TextField> field_text;  // text_columns: each file column's first field that is no number
+  bool dialect_known = false, semicolons = false;  // separates_by_semicolons of the first line with content
   // The source drops a UTF-8 byte-order mark (spreadsheets' "CSV UTF-8") and a CR before the
   // newline, and returns a last line that has no newline: such a file is complete.
   src.keep_unterminated_tail();
@@ -259,14 +302,18 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
       line = line.substr(0, hash);
     }
     row.clear();
+    if (!dialect_known && line.find_first_not_of(" \t\r") != std::string_view::npos) {
+      semicolons = separates_by_semicolons(line);
+      dialect_known = true;
+    }
     // A header (the first line that is not blank or a comment, every field non-numeric, as
     // `mlce extract` and spreadsheets write it) names the columns; text anywhere else is an error.
-    if (ncols == 0 && header.empty() && is_header(line)) {
-      header = split_fields(line);
+    if (ncols == 0 && header.empty() && is_header(line, semicolons)) {
+      header = split_fields(line, semicolons);
       header_line = line_no;
       continue;
     }
-    const Split split = split_fields(line, fields);
+    const Split split = split_fields(line, fields, semicolons);
     if (split.ambiguous) {
       std::string shown;
       for (char ch : shorten(line)) shown += ch == '\t' ? std::string("\\t") : std::string(1, ch);
@@ -277,15 +324,16 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
     if (split.semicolon_field != 0)  // never read on past it: the columns before it would be wrong numbers
       throw ReadError(source + ":" + std::to_string(line_no) + ": column " + std::to_string(split.semicolon_field) + ": " +
                       quoted(fields[split.semicolon_field - 1]) +
-                      " is not a number (fields are separated by spaces, tabs or commas)");
+                      " is not a number (fields are separated by spaces, tabs or commas; by semicolons when the "
+                      "file's first line is)");
     // A comma ending a row one field short of the columns is its last value, missing (pandas writes
     // "1,2," for a row whose last column is empty); on every row of a file it opens no column.
     const std::size_t expected = ncols != 0 ? ncols : header.size();
-    if (split.trailing_comma && fields.size() + 1 == expected) fields.push_back(line.substr(line.size()));  // empty
+    if (split.trailing_separator && fields.size() + 1 == expected) fields.push_back(line.substr(line.size()));  // empty
     for (std::size_t field = 1; field <= fields.size(); ++field) {
       double v = std::numeric_limits<double>::quiet_NaN();
       if (options.keep.empty() || std::find(options.keep.begin(), options.keep.end(), field) != options.keep.end()) {
-        if (std::string error = read_number(fields[field - 1], options, v); !error.empty()) {
+        if (std::string error = read_number(fields[field - 1], options, v, semicolons); !error.empty()) {
           error = source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": " + error;
           if (!options.text_columns) throw ReadError(error);
           if (field_text.size() < field) field_text.resize(field);
@@ -304,8 +352,8 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
       // columns the data has, every field a word (`# time x y`, as `mlce simulate --format columns`,
       // make_series and numpy.savetxt(header=...) write it; numpy's genfromtxt(names=True) reads it
       // so). A comment of other text, or of another count, stays a comment.
-      if (header.empty() && is_header(last_comment) && split_fields(last_comment).size() == ncols) {
-        header = split_fields(last_comment);
+      if (header.empty() && is_header(last_comment, semicolons) && split_fields(last_comment, semicolons).size() == ncols) {
+        header = split_fields(last_comment, semicolons);
         header_line = comment_line;
       }
       if (!header.empty() && header.size() != ncols)

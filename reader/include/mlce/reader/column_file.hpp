@@ -8,6 +8,11 @@
 // blanks is an error (decimal commas: "0,01<TAB>2,5" would read as three numbers). A line with a
 // tab and no comma is tab-separated unless a field between its tabs holds numbers between spaces
 // (then blanks and tabs alike separate). A field in double quotes is the text between them (RFC 4180).
+// A file whose first line with content splits at its semicolons into names or numbers is
+// semicolon-separated throughout, as spreadsheets write CSV where the decimal mark is a comma
+// ("time;x" / "0,01;-2,5E-03"): each field holds one decimal comma or point (a field with both, or
+// with two commas, is an error: thousands separators are not guessed at), and the comma rules above
+// (empty fields, a separator ending the line, blanks) hold for its semicolons.
 // An optional header line (the first line that is not blank or a comment, with no field that
 // reads as a number; an empty cell is an unnamed column) names the columns. Without one, the last
 // comment line before the data names them when it holds exactly one such word per column
