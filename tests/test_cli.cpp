@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -345,6 +346,26 @@ TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
     EXPECT_NEAR(std::stod(line.substr(line.find(',') + 1)), fraction[m - 1].get<double>(), 1e-9);
   }
   EXPECT_EQ(slurp(fnn_png).substr(1, 3), "PNG");
+  // Without --json: the curve as commented columns a plotting tool reads, then the choice (Henon is
+  // a map: delay 1, whatever the AMI's noise floor does; its attractor unfolds in m = 2).
+  r = run("ami " + f + " --column 2 --time-column 1 --max-delay 20");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream ami_text(r.out);
+  std::size_t ami_rows = 0;
+  while (std::getline(ami_text, line)) {
+    if (!line.empty() && line[0] != '#') {
+      EXPECT_EQ(std::stoul(line), ami_rows) << line;
+      ++ami_rows;
+    }
+  }
+  EXPECT_EQ(ami_rows, 21u);
+  EXPECT_NE(r.out.find("\n# delay = 1 ("), std::string::npos) << r.out;
+  r = run("fnn " + f + " --column 2 --time-column 1 --max-dim 4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  char first[64];
+  std::snprintf(first, sizeof first, "\n1 %.6f ", fraction[0].get<double>());
+  EXPECT_NE(r.out.find(first), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\n# dim = 2\n"), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {
@@ -748,6 +769,22 @@ TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());
   EXPECT_NE(r.status, 0);
   EXPECT_FALSE(fs::exists(csv));
+}
+
+TEST_F(Cli, ResultsThatCannotReachStandardOutputAreAnErrorNotASuccess) {
+  // `mlce ... > out.csv` on a full disk: the buffered writes fail only when flushed at exit, and the
+  // command ended with status 0 and a cut file. /dev/full refuses every byte as a full disk does;
+  // a closed stdout (>&-) is the other way to lose the results.
+  const std::string file = std::string(MLCE_DATA_DIR) + "/lorenz_x.txt";
+  for (const std::string& redirect : {std::string(" >/dev/full"), std::string(" >&-")}) {
+    if (redirect == " >/dev/full" && !fs::is_character_file("/dev/full")) continue;
+    const fs::path err = dir / "stdout_err";
+    const int rc = std::system((std::string(MLCE_CLI) + " estimate " + file + " --time-column 1 --column 2 --json --quiet" +
+                                redirect + " 2>" + err.string() + " </dev/null").c_str());
+    ASSERT_TRUE(WIFEXITED(rc)) << redirect;
+    EXPECT_EQ(WEXITSTATUS(rc), 1) << redirect;
+    EXPECT_EQ(slurp(err), "mlce estimate: error: standard output: write failed\n") << redirect;
+  }
 }
 
 TEST_F(Cli, ASpreadsheetsSemicolonCsvWithDecimalCommasReadsAsItsNumbers) {

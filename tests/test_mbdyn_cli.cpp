@@ -147,6 +147,17 @@ TEST_F(MbdynCli, ARunThatCannotBeEstimatedKeepsItsRowAndIsADataError) {
   EXPECT_EQ(j["runs"][0]["reading"]["stability"], "unstable");
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("error: 1 of 3 runs could not be estimated (" + missing + ")"), std::string::npos) << r.err;
+  // The table as CSV: a name or a message with a comma or a quote is one quoted field (RFC 4180), so
+  // the reader of column files (a separate parser) finds every row as wide as the header.
+  const std::string odd = (dir / "miss,ing \"run\"").string();
+  const fs::path csv = dir / "runs.csv";
+  EXPECT_EQ(run("estimate " + kC3 + " '" + odd + "' --channel rel:13:4:z --quiet --csv " + csv.string()).status, 1);
+  const auto rows = lines_of(csv);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[2].rfind("2,\"" + (dir / "miss,ing \"\"run\"\"").string() + "\",,", 0), 0u) << rows[2];
+  const CliRun listed = run("channels " + csv.string());
+  ASSERT_EQ(listed.status, 0) << listed.err;
+  EXPECT_NE(listed.out.find("2 rows, 17 columns"), std::string::npos) << listed.out;
   // None estimated: every row says why, no plot is drawn (there is nothing to draw), one error line.
   const CliRun none = run("estimate " + missing + " " + missing + "2 --channel rel:13:4:z --quiet --plot " + (dir / "n.png").string());
   EXPECT_EQ(none.status, 1);
@@ -508,6 +519,8 @@ TEST_F(MbdynCli, OutputsToDevicesAndThroughLinksLeaveTheNamesAsTheyWere) {
   EXPECT_EQ(slurp(dir / "store" / "lag.png").substr(1, 3), "PNG");
   for (const auto& e : fs::directory_iterator(dir / "store"))  // no scratch file left beside them
     EXPECT_TRUE(e.path().filename() == "lag.csv" || e.path().filename() == "lag.png") << e.path();
+  // A device that refuses the bytes (a full disk: /dev/full) is one error, not a silent success.
+  if (fs::is_character_file("/dev/full")) expect_one_line_error(run(extract + " --csv /dev/full"), "/dev/full: write failed");
 }
 
 // ---- mlce simulate: ad-hoc runs written as an MBDyn text set, read back by the same reader -----

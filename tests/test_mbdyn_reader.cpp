@@ -763,6 +763,24 @@ TEST(MbdynNetcdf, AnyTimeHistoryIsAVarChannelAndTheInventoryListsThoseNoOtherCha
             std::string::npos);
 }
 
+TEST(MbdynNetcdf, ChannelsTheFileDoesNotHoldAreOneErrorEachSayingWhatItHolds) {
+  // The run's .nc holds 15 columns per deformable axial joint (label + 14), Euler angles (3 numbers)
+  // per node, plain labels, no .frc rows and no columns: each request beyond that is one error.
+  const std::string nc = kIso + ".nc";
+  auto error = [&](const char* spec) { return read_error_of([&] { read_mbdyn_netcdf(nc, specs({spec})); }); };
+  EXPECT_EQ(error("joint:33:16"), nc + ": joint 33 has 15 columns, column 16 requested");
+  EXPECT_EQ(error("node:2:r9"), nc + ": channel 'node:2:r9': node 2 has 3 orientation numbers");
+  EXPECT_EQ(error("joint:33.2:2"), nc + ": channel 'joint:33.2:2': a label with a sub-index (33.2) addresses rows of the "
+                                        "text output (.mod, .frc); joints and nodes here have plain labels");
+  EXPECT_EQ(error("frc:5:2"), nc + ": channel 'frc:5:2': the NetCDF file has no .frc rows; its other time histories are "
+                                   "var:NAME[:K] channels (`mlce channels " + nc + "` lists them)");
+  EXPECT_EQ(error("col:2"), nc + ": channel 'col:2' addresses a column file; NetCDF takes node:, joint:, ine:, rel: or var:");
+  EXPECT_EQ(error("var:time:2"), nc + ": channel 'var:time:2': 'time' has 1 component(s) per record, component 2 requested");
+  EXPECT_EQ(error("node:99:x"), nc + ": no structural node 99; with output: 2 3 4 11 12 13 14");
+  // The last column of each group reads (the bounds are the groups' own, not one off).
+  EXPECT_EQ(read_mbdyn_netcdf(nc, specs({"joint:33:15", "node:2:r3"})).values.size(), 2u);
+}
+
 TEST(MbdynNetcdf, TruncatedFileReadsItsCompleteRecordsWithAWarning) {
   // A copy cut short keeps the header's record count (201); the classic format reads the missing
   // records as zeros. The records before the cut must equal the whole file's, and the set ends

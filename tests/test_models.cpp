@@ -468,6 +468,11 @@ TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
             path + ": t_end / dt_out = 3e+13 output samples: expected at most 5e7 (raise dt_out)");
   EXPECT_THROW(models::load_scene(path, {"--colour", "red"}), std::invalid_argument);
   EXPECT_THROW(models::load_scene("/nonexistent.scene", {}), std::invalid_argument);
+  // Each word-valued key names the value it refuses and the words it takes.
+  EXPECT_EQ(message({"--damper", "linear,viscous"}), path + ": damper = linear,viscous: expected one value or 4 comma-separated values");
+  EXPECT_EQ(message({"--damper", "viscous"}), path + ": damper = viscous: expected linear or nonlinear");
+  EXPECT_EQ(message({"--placement", "hub"}), path + ": placement = hub: expected mbdyn or paper");
+  EXPECT_EQ(message({"--model", "lorenz"}), path + ": model = lorenz: expected hammond or flapping");
 }
 
 TEST(Scene, DescribedSceneReadsAsTypedAndReloadsBitForBit) {

@@ -7,8 +7,10 @@
 #include <charconv>
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <iterator>
 #include <optional>
@@ -664,16 +666,7 @@ int cmd_extract(const std::vector<std::string>& args) {
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  if (argc < 2) {
-    std::fputs(kUsage, stderr);
-    return kExitUsage;
-  }
-  const std::string cmd = argv[1];
-  const std::vector<std::string> args(argv + 2, argv + argc);
-  cli::remove_scratch_files_on_interrupt();
+int run_command(const std::string& cmd, const std::vector<std::string>& args) {
   try {
     if (cmd == "estimate") return cmd_estimate(args);
     if (cmd == "ami") return cmd_ami(args);
@@ -708,4 +701,30 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "mlce %s: error: %s\n", cmd.c_str(), e.what());
     return kExitData;
   }
+}
+
+/// The results printed on stdout reached it, or the command fails: `mlce extract ... > out.csv` on a
+/// full disk (or a closed stdout) would otherwise end with status 0 and a truncated file, since
+/// buffered writes fail only when flushed at exit, unseen (what coreutils' close_stdout guards).
+int finish_standard_output(const std::string& cmd, int status) {
+  std::cout.flush();
+  errno = 0;
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+  const int error = errno;
+  std::fprintf(stderr, "mlce %s: error: standard output: write failed%s%s%s\n", cmd.c_str(), error ? " (" : "",
+               error ? std::strerror(error) : "", error ? ")" : "");
+  return status == 0 ? kExitData : status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fputs(kUsage, stderr);
+    return kExitUsage;
+  }
+  const std::string cmd = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  cli::remove_scratch_files_on_interrupt();
+  return finish_standard_output(cmd, run_command(cmd, args));
 }

@@ -548,7 +548,9 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
           const std::string name = "node.struct." + std::to_string(s.label) + groups[(s.column - 2) / 3];
           out.values.push_back(nc.column(nc.require(name, "channel '" + s.text + "'"), (s.column - 2) % 3, n, name));
         } else {
-          throw ReadError(path + ": channel '" + s.text + "': the NetCDF reader knows node:, joint:, ine: and rel: channels");
+          throw ReadError(path + ": channel '" + s.text + "': the NetCDF file has no ." + s.extension +
+                          " rows; its other time histories are var:NAME[:K] channels (`mlce channels " + path +
+                          "` lists them)");
         }
         break;
       }
