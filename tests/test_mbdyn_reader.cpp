@@ -475,6 +475,51 @@ TEST(FormatRegistry, PicksTheReaderByExtensionOrPrefix) {
   EXPECT_EQ(inv.nodes[2].kind, "static/dummy");  // the massless hub has no .ine rows
 }
 
+TEST(FormatRegistry, AnotherSolversFormatIsOneReaderAndOneAdd) {
+  // The extension point the readers are built on: a format of a solver the project does not know
+  // (here: "t x" pairs of a .toy file, for the test), registered beside the built-in ones, is found
+  // by name and by its extension, and reads through the same interface; the built-ins are unchanged.
+  struct ToyFormat final : FormatReader {
+    std::string name() const override { return "toy"; }
+    std::vector<std::string> extensions() const override { return {"toy"}; }
+    bool recognizes(const std::string& path) const override { return fs::is_regular_file(path); }
+    Inventory describe(const std::string& path) const override {
+      Inventory inv;
+      inv.source = path, inv.format = name(), inv.columns = {"x"};
+      return inv;
+    }
+    ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels, const ReadOptions&) const override {
+      ChannelSet set;
+      set.source = path;
+      std::ifstream in(path);
+      set.values.resize(channels.size());
+      for (double t = 0.0, x = 0.0; in >> t >> x;) {
+        set.time.push_back(t);
+        for (auto& v : set.values) v.push_back(x);
+      }
+      for (const auto& c : channels) set.names.push_back(c.text);
+      return set;
+    }
+  };
+  FormatRegistry registry;
+  registry.add(std::make_unique<ToyFormat>());
+  registry.add(make_column_format());
+  EXPECT_EQ(registry.names(), (std::vector<std::string>{"toy", "column"}));
+  ASSERT_NE(registry.by_name("toy"), nullptr);
+  EXPECT_EQ(registry.by_name("toy")->name(), "toy");
+  EXPECT_EQ(registry.by_name("mbdyn-text"), nullptr);  // not in this registry
+  const fs::path toy = fs::temp_directory_path() / ("mlce_" + std::to_string(::getpid()) + ".toy");
+  std::ofstream(toy) << "0 1.5\n0.1 2.5\n";
+  const FormatReader& reader = registry.for_path(toy.string());
+  EXPECT_EQ(reader.name(), "toy");
+  const ChannelSet set = reader.read(toy.string(), specs({"col:1"}));
+  EXPECT_EQ(set.time, (std::vector<double>{0.0, 0.1}));
+  EXPECT_EQ(set.values.at(0), (std::vector<double>{1.5, 2.5}));
+  EXPECT_EQ(registry.for_path(std::string(MLCE_DATA_DIR) + "/lorenz_x.txt").name(), "column");
+  fs::remove(toy);
+  EXPECT_EQ(default_registry().names(), (std::vector<std::string>{"mbdyn-netcdf", "mbdyn-text", "column"}));
+}
+
 TEST(FormatRegistry, PrefixOfARunWithNetcdfOutputOnlyReadsItsNcFile) {
   // `output results: netcdf, no text`: MBDyn writes .out, .log and .nc, and no (or empty) entity
   // files. By prefix such a run was read as a text set with no channel at all.
