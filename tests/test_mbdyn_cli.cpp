@@ -392,6 +392,7 @@ TEST_F(MbdynCli, EntityFileCutShortSaysWhatEveryFileHoldsAndThatPartIsRead) {
                                  "every file holds the first 100, to t = ");
   const double t_said = std::stod(refused.err.substr(refused.err.rfind("t = ") + 4));
   EXPECT_NEAR(t_said, std::stod(t99), 1e-9);
+  EXPECT_NEAR(std::stod(refused.err.substr(refused.err.rfind("(--to ") + 6)), t_said, 0.0);  // the remedy, as typed
   const CliRun part = run("extract " + prefix + " --channel node:2:x --channel joint:33:14 --to " + t99);
   ASSERT_EQ(part.status, 0) << part.err;
   EXPECT_EQ(part.out, intact.out.substr(0, part.out.size()));

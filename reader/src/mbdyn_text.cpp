@@ -487,7 +487,8 @@ std::size_t common_blocks(const MbdynTimes& times, std::size_t steps, const std:
     // read, up to a time (ReadOptions::until).
     char hint[160] = "";
     if (lo > 0 && lo - 1 < times.time.size())
-      std::snprintf(hint, sizeof hint, "; every file holds the first %zu, to t = %.10g", lo, times.time[lo - 1]);
+      std::snprintf(hint, sizeof hint, "; every file holds the first %zu, to t = %.10g: read up to it (--to %.10g)", lo,
+                    times.time[lo - 1], times.time[lo - 1]);
     throw ReadError("inconsistent output set: " + counts + " (expected equal counts, or one fewer for an interrupted run)" +
                     hint);
   }
