@@ -160,6 +160,59 @@ TEST_F(SpectrumCli, TextTablesCarryTheExponentsAndLiouvillesCheck) {
   expect_one_line_error(run("spectrum --merge -1"), "--merge '-1': expected auto, off or a positive tolerance", 2);
 }
 
+TEST_F(SpectrumCli, ExponentsAsCsvForScriptsAndInTheComplexPlaneForPeople) {
+  // The 242.4 rpm rotor with blade 3's damper inoperative: one growing pair (+0.2985 1/s,
+  // data/mbdyn/README.md). The CSV holds what the JSON holds, to every digit; a Floquet multiplier's
+  // modulus is exp(lambda T) (the definition of the exponent, checked on the CSV's own columns), and
+  // the eigenvalues of the isotropic rotor sum to tr A (Liouville) in the CSV as in the JSON.
+  const std::string c3 = kScenes + "c3zero_242rpm.scene", iso = kScenes + "isotropic_200rpm.scene";
+  const auto csv = dir / "f.csv", png = dir / "f.png";
+  const auto r = run("floquet " + c3 + " --quiet --csv " + csv.string() + " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json f = json_of("floquet " + c3);
+  const double period = f["period"].get<double>();
+  std::istringstream rows(mlce::testing::slurp(csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "i,lambda,frequency,multiplier_abs");
+  std::size_t i = 0, growing = 0;
+  for (; std::getline(rows, line); ++i) {
+    int index = 0;
+    double lambda = 0, frequency = 0, modulus = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%d,%lf,%lf,%lf", &index, &lambda, &frequency, &modulus), 4) << line;
+    EXPECT_EQ(index, static_cast<int>(i + 1));
+    EXPECT_EQ(lambda, f["exponents"][i].get<double>());
+    EXPECT_EQ(frequency, f["frequencies"][i].get<double>());
+    EXPECT_NEAR(modulus, std::exp(lambda * period), 1e-12 * modulus) << line;
+    if (lambda > 0) {
+      EXPECT_NEAR(lambda, 0.2985, 1e-3) << line;
+      ++growing;
+    }
+  }
+  EXPECT_EQ(i, 12u);
+  EXPECT_EQ(growing, 2u);
+  EXPECT_EQ(mlce::testing::slurp(png).substr(1, 3), "PNG");
+  const auto eigen_csv = dir / "e.csv";
+  ASSERT_EQ(run("eigen " + iso + " --sensitivity rpm --csv " + eigen_csv.string() + " --plot " + (dir / "e.png").string()).status, 0);
+  const json e = json_of("eigen " + iso);
+  std::istringstream eigen_rows(mlce::testing::slurp(eigen_csv));
+  std::getline(eigen_rows, line);
+  EXPECT_EQ(line, "i,lambda,frequency,dlambda/drpm");
+  double sum = 0;
+  for (i = 0; std::getline(eigen_rows, line); ++i) sum += std::stod(line.substr(line.find(',') + 1));
+  EXPECT_EQ(i, 12u);
+  EXPECT_NEAR(sum, e["mean_divergence"].get<double>(), 1e-10 * std::abs(sum));
+  EXPECT_EQ(mlce::testing::slurp(dir / "e.png").substr(1, 3), "PNG");
+  // The QR spectrum's final exponents with their sensitivities, one row each (flapping: -1/2 twice).
+  const auto qr_csv = dir / "q.csv";
+  ASSERT_EQ(run("spectrum " + kScenes + "flapping_mu015.scene --quiet --csv " + qr_csv.string()).status, 0);
+  std::istringstream qr_rows(mlce::testing::slurp(qr_csv));
+  std::getline(qr_rows, line);
+  EXPECT_EQ(line, "i,lambda");
+  for (i = 0; std::getline(qr_rows, line); ++i) EXPECT_NEAR(std::stod(line.substr(line.find(',') + 1)), -0.5, 1e-6) << line;
+  EXPECT_EQ(i, 2u);
+}
+
 TEST_F(SpectrumCli, Errors) {
   expect_one_line_error(run("eigen --c 4067.5,4067.5,0,4067.5"), "not isotropic", 1);
   expect_one_line_error(run("floquet --sensitivity stiffness"), "parameter 'stiffness' is not a hammond parameter", 2);

@@ -205,6 +205,22 @@ void plot_estimates_png(const std::string& csv, const std::string& title, const 
   });
 }
 
+void plot_exponents_png(const std::string& csv, const std::string& title, const std::string& unit,
+                        const std::string& png_path) {
+  render_png(png_path, csv, [&](const std::string& data) {
+    return fmt::format(
+        "set key below\nset grid\nset xlabel 'lambda, growth rate (1/{0})'\nset ylabel 'frequency (rad/{0})'\n"
+        "set title '{1}'\nset offsets graph 0.1, graph 0.1, graph 0.1, graph 0.1\n"
+        "set yzeroaxis lt -1 lw 2 lc 'gray40'\nset xzeroaxis lt 0 lc 'gray60'\n"
+        "stats '{2}' every ::1 using 2 nooutput\n"
+        "if (STATS_max < 0) set xrange [:-0.05 * STATS_min]\n"  // keep the boundary in sight
+        "if (STATS_min > 0) set xrange [-0.05 * STATS_max:]\n"
+        "plot '{2}' every ::1 using 2:($2 < 0 ? $3 : 1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'decaying (lambda < 0)', "
+        "'' every ::1 using 2:($2 >= 0 ? $3 : 1/0) with points pt 7 ps 1.6 lc rgb '#d62728' title 'growing or neutral (lambda >= 0)'\n",
+        quoted(unit), quoted(title), data);
+  });
+}
+
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path) {
   render_png(png_path, csv, [&](const std::string& data) {

@@ -28,6 +28,12 @@ void plot_map_png(const std::string& csv, const std::string& title, const std::s
 void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
                         const std::string& ylabel, const std::string& png_path);
 
+/// PNG of exponents as points of the complex plane: csv "i,lambda,frequency,..." with a header line
+/// (the first three columns are read), the growth rate across, the frequency up, and the
+/// stability boundary (lambda = 0) drawn: a point right of it is a growing mode.
+void plot_exponents_png(const std::string& csv, const std::string& title, const std::string& unit,
+                        const std::string& png_path);
+
 /// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each;
 /// `marks`: dashed vertical lines at x, each labelled.
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,

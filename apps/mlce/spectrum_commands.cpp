@@ -33,7 +33,7 @@ std::string liouville_line(double sum, double mean_divergence, const std::string
 
 /// Options every Jacobian-based command shares.
 struct Common {
-  std::string sensitivity, jacobian = "analytic";
+  std::string sensitivity, jacobian = "analytic", csv_path;
   bool json = false, quiet = false;
 };
 
@@ -42,7 +42,27 @@ void add_common(po::options_description& d, Common& c) {
       ("sensitivity", po::value(&c.sensitivity), "comma-separated parameters to differentiate by (e.g. CL,rpm; c3; mu)")
       ("jacobian", po::value(&c.jacobian), "analytic | complex-step | jacobian-free")
       ("json", po::bool_switch(&c.json), "print one JSON object")
+      ("csv", po::value(&c.csv_path), "write the exponents (and sensitivities) as CSV, one row each")
       ("quiet", po::bool_switch(&c.quiet), "no progress messages");
+}
+
+/// The exponents as CSV for scripts: i, lambda, [frequency, multiplier_abs], then d lambda / d p per
+/// parameter; units as in the text table (1/time unit, rad/time unit).
+std::string exponents_csv(const Eigen::VectorXd& ex, const Eigen::VectorXd* freq, const Eigen::VectorXcd* multipliers,
+                          const std::vector<std::string>& names, const Eigen::MatrixXd& sens) {
+  std::string out = "i,lambda";
+  if (freq) out += ",frequency";
+  if (multipliers) out += ",multiplier_abs";
+  for (const auto& n : names) out += ",dlambda/d" + n;
+  out += "\n";
+  for (Eigen::Index i = 0; i < ex.size(); ++i) {
+    out += fmt::format("{},{:.17g}", i + 1, ex(i));
+    if (freq) out += fmt::format(",{:.17g}", (*freq)(i));
+    if (multipliers) out += fmt::format(",{:.17g}", std::abs((*multipliers)(i)));
+    for (std::size_t k = 0; k < names.size(); ++k) out += fmt::format(",{:.17g}", sens(static_cast<Eigen::Index>(k), i));
+    out += "\n";
+  }
+  return out;
 }
 
 std::string time_unit(const models::Scene& s) { return s.model == "flapping" ? "rad of azimuth" : "s"; }
@@ -178,6 +198,8 @@ int cmd_spectrum(const std::vector<std::string>& args) {
       plot_columns_png(plot_csv, "discrete QR: running estimates of the Lyapunov exponents", "time (" + unit + ")",
                        "lambda (1/" + unit + ")", plot_path);
   }
+  if (!c.csv_path.empty())
+    write_file_atomically(c.csv_path, exponents_csv(r.exponents, nullptr, nullptr, r.parameters, r.sensitivities));
   if (c.json) {
     nlohmann::json j;
     j["method"] = "qr";
@@ -228,8 +250,17 @@ int cmd_spectrum(const std::vector<std::string>& args) {
 namespace {
 
 int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, const char* method, const Common& c,
-                 const std::vector<std::string>& coordinates) {
+                 const std::vector<std::string>& coordinates, const std::string& plot_path) {
   const std::string unit = time_unit(scene);
+  const std::string csv =
+      exponents_csv(s.exponents, &s.frequencies, s.period > 0 ? &s.values : nullptr, s.parameters, s.sensitivities);
+  if (!c.csv_path.empty()) write_file_atomically(c.csv_path, csv);
+  if (!plot_path.empty())
+    plot_exponents_png(csv,
+                       fmt::format("{} of {}{}", s.period > 0 ? "Floquet exponents" : "eigenvalues", scene.source,
+                                   s.period > 0 ? fmt::format(" (frequencies modulo {:.6g} rad/{})", 2 * M_PI / s.period, unit)
+                                                : std::string()),
+                       unit, plot_path);
   if (c.json) {
     nlohmann::json j;
     j["method"] = method;
@@ -267,10 +298,11 @@ int print_linear(const spectrum::LinearSpectrum& s, const models::Scene& scene, 
 
 int cmd_floquet(const std::vector<std::string>& args) {
   Common c;
-  std::string orbit;
+  std::string orbit, plot_path;
   po::options_description d("mlce floquet SCENE [--key value ...] [options]");
   add_common(d, c);
   d.add_options()
+      ("plot", po::value(&plot_path), "PNG of the exponents in the complex plane (growth rate, frequency)")
       ("period", po::value<double>(), "period T (default: the model's, 2 pi / Omega for Hammond)")
       ("orbit", po::value(&orbit), "comma-separated state on a periodic orbit at t = 0 (default: x = 0)");
   const auto parsed = parse_scene_command(args, d);
@@ -292,13 +324,15 @@ int cmd_floquet(const std::vector<std::string>& args) {
   }
   const auto params = families(scene, c.sensitivity);
   const spectrum::LinearSpectrum s = spectrum::floquet(models::dynamical_system(scene), o, params);
-  return print_linear(s, scene, "floquet", c, {});
+  return print_linear(s, scene, "floquet", c, {}, plot_path);
 }
 
 int cmd_eigen(const std::vector<std::string>& args) {
   Common c;
+  std::string plot_path;
   po::options_description d("mlce eigen SCENE [--key value ...] [options]");
   add_common(d, c);
+  d.add_options()("plot", po::value(&plot_path), "PNG of the eigenvalues in the complex plane (growth rate, frequency)");
   const auto parsed = parse_scene_command(args, d);
   if (!parsed) return 0;
   const models::Scene& scene = parsed->scene;
@@ -321,7 +355,7 @@ int cmd_eigen(const std::vector<std::string>& args) {
     names.push_back(f.name);
   }
   const spectrum::LinearSpectrum s = spectrum::linear_eigen(form.A, dA, names);
-  return print_linear(s, scene, "eigen", c, form.coordinates);
+  return print_linear(s, scene, "eigen", c, form.coordinates, plot_path);
 }
 
 }  // namespace mlce::cli
