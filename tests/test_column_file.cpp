@@ -318,3 +318,33 @@ TEST(ColumnFile, EveryRowKnowsItsLineAcrossCommentsAndBlankLines) {
   EXPECT_EQ(t.where(1999), "mem:" + std::to_string(expected.back()));
   EXPECT_EQ(t.where(2000), "mem");
 }
+
+TEST(ColumnFile, FilesThatAreNotTextAreSaidForWhatTheyAre) {
+  // A binary file read as rows of numbers failed on some line with a column count that meant
+  // nothing; the first bytes say what it is (and gzip is looked through first).
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("mlce_binary_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto error_reading = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    try {
+      read_column_file((dir / name).string());
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const std::string u16 = (dir / "series.txt").string();
+  EXPECT_EQ(error_reading("series.txt", std::string("\xFF\xFE" "0\0 \0" "1\0\n\0", 10)),
+            u16 + ": UTF-16 text (a spreadsheet's \"Unicode text\"): save it as \"CSV UTF-8\", or convert it: iconv -f "
+                  "UTF-16 -t UTF-8 " + u16 + " > series-utf8.txt");
+  EXPECT_EQ(error_reading("run.dat", std::string("CDF\x01\0\0\0\x05", 8)),
+            (dir / "run.dat").string() + ": NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc");
+  EXPECT_EQ(error_reading("run.h5", "\x89HDF\r\n\x1A\n"),
+            (dir / "run.h5").string() + ": NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc");
+  EXPECT_EQ(error_reading("x.mat", std::string("MATLAB 5.0 MAT-file, Platform: GLNXA64\0\0", 40)),
+            (dir / "x.mat").string() + ": a MATLAB MAT-file (binary): write the series as text, e.g. writematrix([t x], 'series.csv')");
+  EXPECT_EQ(error_reading("a.out", std::string("1 2\n\x7F" "ELF\0\x01", 10)),
+            (dir / "a.out").string() + ": binary data, not text (a zero byte at offset 8; UTF-16 text without a byte-order mark looks so too)");
+  fs::remove_all(dir);
+}

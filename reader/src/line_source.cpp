@@ -18,6 +18,28 @@ void LineSource::GzCloser::operator()(void* gz) const {
 
 LineSource::LineSource(std::FILE* f, std::string name) : file_(f), name_(std::move(name)) {}
 
+namespace {
+
+/// What a file is when its first bytes say it is not text, as the clause after "NAME: " (empty for
+/// text). A binary file read as rows of numbers failed on some line with a column count that meant
+/// nothing ("bin.dat:2: 7 column(s), but the header on line 1 names 1").
+std::string not_text(std::string_view head, const std::string& name) {
+  if (head.starts_with("\xFF\xFE") || head.starts_with("\xFE\xFF"))
+    return "UTF-16 text (a spreadsheet's \"Unicode text\"): save it as \"CSV UTF-8\", or convert it: iconv -f UTF-16 -t UTF-8 " +
+           name + " > " + std::filesystem::path(name).stem().string() + "-utf8.txt";
+  if (head.starts_with("CDF\x01") || head.starts_with("CDF\x02") || head.starts_with("CDF\x05") ||
+      head.starts_with("\x89HDF\r\n\x1A\n"))
+    return "NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc";
+  if (head.starts_with("MATLAB 5.0 MAT-file") || head.starts_with("MATLAB 7.3 MAT-file"))
+    return "a MATLAB MAT-file (binary): write the series as text, e.g. writematrix([t x], 'series.csv')";
+  if (const auto nul = head.find('\0'); nul != std::string_view::npos)
+    return "binary data, not text (a zero byte at offset " + std::to_string(nul) +
+           "; UTF-16 text without a byte-order mark looks so too)";
+  return "";
+}
+
+}  // namespace
+
 LineSource LineSource::open(const std::string& path) {
   // "-" is the standard input (a pipe: `cat series.txt | mlce estimate -`), read through a
   // descriptor of its own so that closing it leaves stdin open.
@@ -45,6 +67,8 @@ LineSource LineSource::open(const std::string& path) {
     s.end_ = 0;
     s.end_ = s.read_more();
   }
+  if (const std::string what = not_text(std::string_view(s.buf_.data(), s.end_), s.name_); !what.empty())
+    throw ReadError(s.name_ + ": " + what);
   return s;
 }
 
