@@ -787,6 +787,34 @@ TEST_F(Cli, ResultsThatCannotReachStandardOutputAreAnErrorNotASuccess) {
   }
 }
 
+TEST_F(Cli, ATimeColumnLeftOutIsSaidSinceTheFiguresAreThenPerSample) {
+  // `--column x` alone on a file with a time column: the result is per sample, 100 times the
+  // per-second figure at dt = 0.01 s read as such. The header says which column is the time.
+  std::string text = "Time [s],temperature,x\n", untimed = "temperature,x\n";
+  const auto x = mlce::reference::lorenz_x(3000, 0.01);
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    text += std::to_string(0.01 * static_cast<double>(k)) + ",1," + std::to_string(x[k]) + "\n";
+    untimed += "1," + std::to_string(x[k]) + "\n";
+  }
+  const std::string file = write("lorenz.csv", text).string();
+  const CliRun per_sample = run("estimate " + file + " --column x --json --quiet");
+  ASSERT_EQ(per_sample.status, 0) << per_sample.err;
+  const auto j = nlohmann::json::parse(per_sample.out);
+  EXPECT_EQ(j["lambda"], j["lambda_per_sample"]);
+  ASSERT_NE(j["warnings"].dump().find("the results are per sample: column 1 ('Time [s]') looks like the time; "
+                                      "--time-column 1 (or --dt DT) gives them per time unit"),
+            std::string::npos) << j["warnings"].dump();
+  for (const char* given : {" --time-column 1", " --dt 0.01"}) {
+    const CliRun timed = run("estimate " + file + " --column x --json --quiet" + given);
+    ASSERT_EQ(timed.status, 0) << timed.err;
+    EXPECT_EQ(timed.out.find("looks like the time"), std::string::npos) << given;
+  }
+  // "temperature" is no time: a file without one says nothing.
+  const CliRun plain = run("estimate " + write("no_time.csv", untimed).string() + " --column x --json --quiet");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_EQ(plain.out.find("looks like the time"), std::string::npos) << plain.out;
+}
+
 TEST_F(Cli, ASpreadsheetsSemicolonCsvWithDecimalCommasReadsAsItsNumbers) {
   // The bundled series as Excel saves it in a locale whose decimal mark is a comma: the same estimate.
   const std::string file = std::string(MLCE_DATA_DIR) + "/lorenz_x.txt";

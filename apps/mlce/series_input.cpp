@@ -1,5 +1,7 @@
 #include "series_input.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 
@@ -164,6 +166,17 @@ void refuse_nonfinite(const reader::Table& table, const std::vector<std::size_t>
     }
 }
 
+/// A header name that says "time": t, time, or either followed by a unit or an index ("time [s]",
+/// "Time_s", "t (s)"); case aside. Not "temperature", "tip", "theta".
+bool looks_like_time(const std::string& name) {
+  std::string n;
+  for (char c : name) n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const auto word_ends = [&](std::size_t at) {
+    return at >= n.size() || !std::isalnum(static_cast<unsigned char>(n[at]));
+  };
+  return (n.starts_with("time") && word_ends(4)) || (n.starts_with("t") && word_ends(1));
+}
+
 }  // namespace
 
 LoadedSeries load_column_series(const SeriesInput& in) {
@@ -217,6 +230,16 @@ LoadedSeries load_column_series(const SeriesInput& in) {
       out.series = make_series_with_step(std::move(channels), *in.dt, in.time_unit);
     } else {
       out.series = make_series_with_step(std::move(channels), 1.0, "");  // per sample
+      // A column the header names as time, left out: the analyst most likely forgot --time-column,
+      // and per-sample figures read as per-second ones are off by the sampling rate.
+      for (std::size_t k = 1; k <= ncols; ++k)
+        if (table.has_header && looks_like_time(table.names[k - 1]) &&
+            std::find(cols.begin(), cols.end(), k) == cols.end()) {
+          out.warnings.push_back(fmt::format("the results are per sample: column {} ('{}') looks like the time; "
+                                             "--time-column {} (or --dt DT) gives them per time unit",
+                                             k, table.names[k - 1], k));
+          break;
+        }
     }
     for (std::size_t k : cols) out.series.names.push_back(table.names[k - 1]);
     validate_series(out.series);
