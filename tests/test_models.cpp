@@ -473,6 +473,13 @@ TEST(Scene, FileKeysCommandLineOverridesAndErrors) {
   EXPECT_EQ(message({"--damper", "viscous"}), path + ": damper = viscous: expected linear or nonlinear");
   EXPECT_EQ(message({"--placement", "hub"}), path + ": placement = hub: expected mbdyn or paper");
   EXPECT_EQ(message({"--model", "lorenz"}), path + ": model = lorenz: expected hammond or flapping");
+  // A scene saved by a Windows editor: a byte-order mark and CRLF line ends read as the plain file.
+  const std::string windows = ::testing::TempDir() + "/w.scene";
+  std::ofstream(windows, std::ios::binary) << "\xEF\xBB\xBFmodel = hammond\r\nrpm = 124.2\r\nc = 4067.5,4067.5,0,4067.5\r\n";
+  const auto w = models::load_scene(windows, {});
+  EXPECT_EQ(w.model, "hammond");
+  EXPECT_DOUBLE_EQ(w.hammond.rpm, 124.2);
+  EXPECT_DOUBLE_EQ(w.hammond.c[3], 4067.5);
 }
 
 TEST(Scene, DescribedSceneReadsAsTypedAndReloadsBitForBit) {

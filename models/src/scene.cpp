@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 namespace po = boost::program_options;
 
@@ -138,6 +139,13 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     if (!path.empty()) {
       std::ifstream in(path);
       if (!in) throw std::invalid_argument(path + ": cannot open the scene file");
+      // A UTF-8 byte-order mark (Windows editors save one) is not part of the first key: it made
+      // "model = hammond" an unknown option whose name printed as "model".
+      char bom[3] = {};
+      if (!in.read(bom, 3) || std::string_view(bom, 3) != "\xEF\xBB\xBF") {
+        in.clear();
+        in.seekg(0);
+      }
       po::store(po::parse_config_file(in, d, false), vm);
     }
   } catch (const po::error& e) {
