@@ -339,9 +339,11 @@ TEST(ColumnFile, FilesThatAreNotTextAreSaidForWhatTheyAre) {
             u16 + ": UTF-16 text (a spreadsheet's \"Unicode text\"): save it as \"CSV UTF-8\", or convert it: iconv -f "
                   "UTF-16 -t UTF-8 " + u16 + " > series-utf8.txt");
   EXPECT_EQ(error_reading("run.dat", std::string("CDF\x01\0\0\0\x05", 8)),
-            (dir / "run.dat").string() + ": NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc");
+            (dir / "run.dat").string() + ": NetCDF (or HDF5) data where text was expected: the NetCDF reader takes it as a "
+                                         "file of its own (name the file, not a pipe or a member of a text output set)");
   EXPECT_EQ(error_reading("run.h5", "\x89HDF\r\n\x1A\n"),
-            (dir / "run.h5").string() + ": NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc");
+            (dir / "run.h5").string() + ": NetCDF (or HDF5) data where text was expected: the NetCDF reader takes it as a "
+                                        "file of its own (name the file, not a pipe or a member of a text output set)");
   EXPECT_EQ(error_reading("x.mat", std::string("MATLAB 5.0 MAT-file, Platform: GLNXA64\0\0", 40)),
             (dir / "x.mat").string() + ": a MATLAB MAT-file (binary): write the series as text, e.g. writematrix([t x], 'series.csv')");
   EXPECT_EQ(error_reading("a.out", std::string("1 2\n\x7F" "ELF\0\x01", 10)),

@@ -520,6 +520,26 @@ TEST(FormatRegistry, AnotherSolversFormatIsOneReaderAndOneAdd) {
   EXPECT_EQ(default_registry().names(), (std::vector<std::string>{"mbdyn-netcdf", "mbdyn-text", "column"}));
 }
 
+TEST(FormatRegistry, ANetcdfFileIsKnownByItsBytesWhateverItsName) {
+  // run.cdf, run.nc4, run.dat (which the column reader owns by extension): the magic number decides,
+  // and the channels are those of the same file named .nc.
+  const std::string nc = kIso + ".nc";
+  const auto want = read_mbdyn_netcdf(nc, specs({"joint:33:14", "rel:13:4:z"}));
+  for (const char* name : {"run.cdf", "run.nc4", "run.dat"}) {
+    const fs::path copy = fs::temp_directory_path() / (std::to_string(::getpid()) + name);
+    fs::copy_file(nc, copy, fs::copy_options::overwrite_existing);
+    const FormatReader& reader = default_registry().for_path(copy.string());
+    EXPECT_EQ(reader.name(), "mbdyn-netcdf") << name;
+    const auto got = reader.read(copy.string(), specs({"joint:33:14", "rel:13:4:z"}));
+    EXPECT_EQ(got.time, want.time) << name;
+    EXPECT_EQ(got.values, want.values) << name;
+    EXPECT_EQ(reader.describe(copy.string()).blocks, 201u) << name;
+    fs::remove(copy);
+  }
+  // A text file is still read by its name.
+  EXPECT_EQ(default_registry().for_path(std::string(MLCE_DATA_DIR) + "/lorenz_x.txt").name(), "column");
+}
+
 TEST(FormatRegistry, PrefixOfARunWithNetcdfOutputOnlyReadsItsNcFile) {
   // `output results: netcdf, no text`: MBDyn writes .out, .log and .nc, and no (or empty) entity
   // files. By prefix such a run was read as a text set with no channel at all.

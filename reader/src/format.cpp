@@ -2,11 +2,14 @@
 #include "mlce/reader/format.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <limits>
+#include <string_view>
 
 #include "mlce/reader/column_file.hpp"
 #include "mlce/reader/mbdyn_netcdf.hpp"
@@ -141,6 +144,16 @@ class MbdynNetcdfFormat final : public FormatReader {
     if (extension_of(path) == "nc") return is_file(path);
     return !is_file(path) && is_file(path + ".nc") && !mbdyn_text_has_entity_rows(path);
   }
+  /// NetCDF classic (CDF 1, 2, 5) or netCDF-4 (an HDF5 file) by its magic number.
+  bool recognizes_content(const std::string& path) const override {
+    if (!is_file(path)) return false;
+    std::ifstream in(path, std::ios::binary);
+    std::array<char, 8> head{};
+    in.read(head.data(), head.size());
+    const std::string_view got(head.data(), static_cast<std::size_t>(in.gcount()));
+    return got.starts_with("CDF\x01") || got.starts_with("CDF\x02") || got.starts_with("CDF\x05") ||
+           got == std::string_view("\x89HDF\r\n\x1A\n", 8);
+  }
   Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(nc_file(path)); }
   ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,
                   const ReadOptions& options) const override {
@@ -153,7 +166,7 @@ class MbdynNetcdfFormat final : public FormatReader {
     if (detail::without_gz(path) != path)
       throw ReadError(path + ": a gzip-compressed NetCDF file cannot be read in place: 'gunzip -k " + path +
                       "' first (the text output set reads compressed)");
-    return extension_of(path) == "nc" ? path : path + ".nc";
+    return extension_of(path) == "nc" || is_file(path) ? path : path + ".nc";  // a file: claimed by its content
   }
 };
 
@@ -169,6 +182,9 @@ const FormatReader* FormatRegistry::by_name(const std::string& n) const {
 
 const FormatReader& FormatRegistry::for_path(const std::string& path) const {
   const std::string ext = extension_of(path);
+  // A file whose bytes say what it is, whatever it is called.
+  for (const auto& r : readers_)
+    if (r->recognizes_content(path)) return *r;
   // An extension a format owns decides, when that format also recognizes the path.
   if (!ext.empty())
     for (const auto& r : readers_)

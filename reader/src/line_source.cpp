@@ -29,7 +29,8 @@ std::string not_text(std::string_view head, const std::string& name) {
            name + " > " + std::filesystem::path(name).stem().string() + "-utf8.txt";
   if (head.starts_with("CDF\x01") || head.starts_with("CDF\x02") || head.starts_with("CDF\x05") ||
       head.starts_with("\x89HDF\r\n\x1A\n"))
-    return "NetCDF (or HDF5) data, read as text because of its name: name it with the extension .nc";
+    return "NetCDF (or HDF5) data where text was expected: the NetCDF reader takes it as a file of its own "
+           "(name the file, not a pipe or a member of a text output set)";
   if (head.starts_with("MATLAB 5.0 MAT-file") || head.starts_with("MATLAB 7.3 MAT-file"))
     return "a MATLAB MAT-file (binary): write the series as text, e.g. writematrix([t x], 'series.csv')";
   if (const auto nul = head.find('\0'); nul != std::string_view::npos)

@@ -18,6 +18,10 @@ class FormatReader {
   virtual std::vector<std::string> extensions() const = 0;
   /// True when `path` (a file or an output prefix) looks like this format.
   virtual bool recognizes(const std::string& path) const = 0;
+  /// True when the file's own first bytes say it is this format, whatever its name (a binary format
+  /// with a magic number: a NetCDF file named run.dat or run.cdf). Asked before any extension
+  /// decides; text formats have no such mark and keep the default.
+  virtual bool recognizes_content(const std::string& /*path*/) const { return false; }
   virtual Inventory describe(const std::string& path) const = 0;
   /// The channels; `options.until` limits a set with a time axis (solver output) to its earlier
   /// steps. A column file has no time axis of its own (which column is time is the caller's
