@@ -13,6 +13,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
+#include <random>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -769,6 +771,63 @@ TEST_F(Cli, FailedRunLeavesNoOutputFile) {
   const CliRun r = run("estimate " + write("c.txt", "1\n1\n1\n1\n").string() + " --curve " + csv.string());
   EXPECT_NE(r.status, 0);
   EXPECT_FALSE(fs::exists(csv));
+}
+
+TEST_F(Cli, AnyCombinationOfEstimatorOptionsEndsInAResultOrOneClearError) {
+  // The contract of every run, over option values an analyst may type, extreme ones included
+  // (delay 400, horizon 2, Theiler window 3000, dither 1e9, a window past the run's end): status 0
+  // with finite figures, or status 1 (data) / 2 (usage) with exactly one error line; never a crash,
+  // a hang, a NaN or an infinity printed. 120 combinations drawn with a fixed seed.
+  const std::string data = MLCE_DATA_DIR;
+  const std::vector<std::string> inputs = {
+      data + "/lorenz_x.txt --time-column 1 --column 2",
+      data + "/mbdyn/iso_200rpm_1s/iso_200rpm --channel rel:13:4:z",
+      data + "/mbdyn/iso_200rpm_1s/iso_200rpm.nc --channel joint:33:14",
+      data + "/mbdyn/c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf --channel node:2:x --channel rel:13:4:z"};
+  const std::vector<std::pair<std::string, std::vector<std::string>>> options = {
+      {"--delay", {"1", "2", "50", "auto", "400"}},        {"--dim", {"1", "2", "5", "12", "auto"}},
+      {"--theiler", {"0", "1", "100", "auto", "3000"}},     {"--horizon", {"2", "3", "10", "auto", "800"}},
+      {"--fit", {"auto", "0:1", "2:9", "1:2"}},             {"--from", {"auto", "0", "0.3", "5", "20"}},
+      {"--to", {"0.5", "1", "9", "50"}},                    {"--refs", {"1", "10", "all", "500"}},
+      {"--align-phase", {"on", "off", "auto"}},             {"--phase-interpolation", {"linear", "cubic"}},
+      {"--dither", {"0", "1e-9", "0.5", "1e9"}},            {"--noise-compensation", {"auto", "off"}}};
+  const std::vector<std::string> switches = {"--resample", "--keep-start", "--each"};
+  std::mt19937 pick(20261127);
+  const std::regex non_finite(R"(\b-?(nan|inf)\b)", std::regex::icase);
+  int statuses[3] = {0, 0, 0};
+  for (int k = 0; k < 120; ++k) {
+    std::string args = "estimate " + inputs[pick() % inputs.size()];
+    std::vector<std::size_t> order(options.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), pick);
+    for (std::size_t i = 0, n = 1 + pick() % 5; i < n; ++i) {
+      const auto& [name, values] = options[order[i]];
+      args += " " + name + " " + values[pick() % values.size()];
+    }
+    for (const auto& s : switches)
+      if (pick() % 5 == 0) args += " " + s;
+    const bool json = pick() % 2 == 0;
+    if (json) args += " --json";
+    const CliRun r = run(args + " --quiet");
+    ASSERT_GE(r.status, 0) << args;
+    ASSERT_LE(r.status, 2) << args << "\n" << r.err;
+    ++statuses[r.status];
+    if (r.status != 0) {
+      std::size_t error_lines = 0;
+      std::istringstream lines(r.err);
+      for (std::string line; std::getline(lines, line);) error_lines += line.find(": error: ") != std::string::npos;
+      EXPECT_EQ(error_lines, 1u) << args << "\n" << r.err;
+      continue;
+    }
+    EXPECT_FALSE(std::regex_search(r.out, non_finite)) << args << "\n" << r.out;
+    if (json && args.find("--each") == std::string::npos) {
+      const auto j = nlohmann::json::parse(r.out);
+      EXPECT_TRUE(j["lambda"].is_number()) << args << "\n" << r.out;
+    }
+  }
+  // Both outcomes were drawn (a set of only refusals would test little).
+  EXPECT_GT(statuses[0], 20);
+  EXPECT_GT(statuses[1] + statuses[2], 20);
 }
 
 TEST_F(Cli, ResultsThatCannotReachStandardOutputAreAnErrorNotASuccess) {
