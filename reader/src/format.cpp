@@ -151,8 +151,7 @@ class MbdynNetcdfFormat final : public FormatReader {
     std::array<char, 8> head{};
     in.read(head.data(), head.size());
     const std::string_view got(head.data(), static_cast<std::size_t>(in.gcount()));
-    return got.starts_with("CDF\x01") || got.starts_with("CDF\x02") || got.starts_with("CDF\x05") ||
-           got == std::string_view("\x89HDF\r\n\x1A\n", 8);
+    return detail::starts_like_netcdf(got);
   }
   Inventory describe(const std::string& path) const override { return describe_mbdyn_netcdf(nc_file(path)); }
   ChannelSet read(const std::string& path, const std::vector<ChannelSpec>& channels,

@@ -27,8 +27,7 @@ std::string not_text(std::string_view head, const std::string& name) {
   if (head.starts_with("\xFF\xFE") || head.starts_with("\xFE\xFF"))
     return "UTF-16 text (a spreadsheet's \"Unicode text\"): save it as \"CSV UTF-8\", or convert it: iconv -f UTF-16 -t UTF-8 " +
            name + " > " + std::filesystem::path(name).stem().string() + "-utf8.txt";
-  if (head.starts_with("CDF\x01") || head.starts_with("CDF\x02") || head.starts_with("CDF\x05") ||
-      head.starts_with("\x89HDF\r\n\x1A\n"))
+  if (starts_like_netcdf(head))
     return "NetCDF (or HDF5) data where text was expected: the NetCDF reader takes it as a file of its own "
            "(name the file, not a pipe or a member of a text output set)";
   if (head.starts_with("MATLAB 5.0 MAT-file") || head.starts_with("MATLAB 7.3 MAT-file"))
@@ -168,6 +167,11 @@ bool LineSource::next(std::string_view& line) {
   ++line_no_;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);  // CRLF from Windows builds
   return true;
+}
+
+bool starts_like_netcdf(std::string_view head) {
+  return head.starts_with("CDF\x01") || head.starts_with("CDF\x02") || head.starts_with("CDF\x05") ||
+         head.starts_with(std::string_view("\x89HDF\r\n\x1A\n", 8));
 }
 
 std::string stored_file(const std::string& path) {

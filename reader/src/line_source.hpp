@@ -56,6 +56,9 @@ class LineSource {
   std::size_t line_no_ = 0;
 };
 
+/// Whether a file's first bytes are NetCDF's magic number: classic (CDF 1, 2, 5) or netCDF-4 (HDF5).
+bool starts_like_netcdf(std::string_view head);
+
 /// The file a set names as `path`: `path` itself, else `path.gz` when only that is there (a set
 /// whose files were gzipped one by one), else `path` (for the caller's "cannot open" message).
 std::string stored_file(const std::string& path);
