@@ -42,6 +42,38 @@ TEST(Extremes, AmplitudesAtTheEndsOfTheDoubleRange) {
   }
 }
 
+// A signal riding far from zero (a node's absolute position, a coordinate of a large frame): the
+// exponent is that of the motion, whatever level it rides on, short of the digits the level
+// leaves it (at 1e11 deviations, 17 digits keep ~6 of the motion). A rounding-level repeat used
+// to be judged against the point's size, level included: at 1e9 deviations every Lorenz neighbour
+// counted as a repeat of its reference (lambda 0.39 for 0.95), at 1e10 every point was searched.
+TEST(Extremes, ASignalRidingFarFromZeroKeepsTheExponentOfItsMotion) {
+  struct Case {
+    const char* name;
+    std::vector<double> x;
+    double dt;
+  };
+  const std::vector<Case> cases = {{"Lorenz x", reference::lorenz_x(5000, 0.01), 0.01},
+                                   {"Henon x", reference::henon_x(5000), 1.0},
+                                   {"damped oscillator", reference::damped_oscillator(2000, 0.01, 0.05, 2 * std::numbers::pi), 0.01}};
+  for (const auto& c : cases) {
+    const auto ref = estimate(c.x, c.dt);
+    double mean = 0.0, var = 0.0;
+    for (double v : c.x) mean += v / static_cast<double>(c.x.size());
+    for (double v : c.x) var += (v - mean) * (v - mean) / static_cast<double>(c.x.size());
+    for (double level : {1e3, 1e6, 1e9, 1e11}) {
+      auto y = c.x;
+      for (double& v : y) v += level * std::sqrt(var);
+      const auto r = estimate(y, c.dt);
+      // The level's rounding perturbs the motion by ~1e-16 x level deviations (1e-5 at 1e11).
+      const double tolerance = level <= 1e6 ? 1e-6 : 1e-3;
+      EXPECT_NEAR(r.lambda, ref.lambda, tolerance * std::abs(ref.lambda)) << c.name << " + " << level << " deviations";
+      EXPECT_EQ(r.dim, ref.dim) << c.name << " + " << level << " deviations";
+      EXPECT_EQ(r.delay, ref.delay) << c.name << " + " << level << " deviations";
+    }
+  }
+}
+
 // The noise-compensated curve (a slow decay under 1 % white noise) is measured and compensated in
 // units of the channel's own deviation: the same lambda and noise level at 1e-300 and 1e300.
 TEST(Extremes, NoiseCompensationAtTheEndsOfTheDoubleRange) {

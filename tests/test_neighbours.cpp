@@ -16,7 +16,8 @@ namespace {
 /// long series use), against the brute force: the same distance and, equal distances going to the
 /// earlier point, the same neighbour.
 void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler,
-                                double repeat_resolution = 0.0) {
+                                double repeat_resolution = 0.0,
+                                double repeat_ceiling = std::numeric_limits<double>::infinity()) {
   const std::size_t M = DelayEmbedding::max_points(x.size(), dim, delay);
   const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
   std::vector<std::uint32_t> q;
@@ -24,6 +25,7 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
   NeighbourOptions o;
   o.theiler = theiler;
   o.repeat_resolution = repeat_resolution;
+  o.repeat_ceiling = repeat_ceiling;
   const auto slow = find_nearest_neighbours_brute_force(emb, q, o);
   for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
     o.split_tree_points = split;
@@ -133,6 +135,38 @@ TEST(Neighbours, PointsThatRepeatToRoundingAreRepeatsUnderARepeatResolution) {
   expect_same_as_brute_force(reference::lorenz_x(3000), 3, 17, 10, 1e-10);  // no repeats: the plain search
   o.repeat_resolution = 1e-3;
   EXPECT_THROW(o.validate(), OptionError);
+  o.repeat_resolution = 1e-10, o.repeat_ceiling = -1.0;
+  EXPECT_THROW(o.validate(), OptionError);
+}
+
+TEST(Neighbours, RepeatsOfASignalRidingFarFromZeroAreJudgedAtTheCeilingNotAtItsLevel) {
+  // Lorenz x on a level of 1e10: a point's size is ~1.7e10, and 1e-10 of it (1.7) is more than the
+  // motion's own neighbour distances (~0.05 at N = 3000). Under a ceiling of 1e-3 the search finds
+  // the neighbours it finds without the level (distances to the level's rounding, 1.9e-6), and the
+  // kd-tree still agrees with the brute force.
+  const auto x = reference::lorenz_x(3000);
+  auto raised = x;
+  for (double& v : raised) v += 1e10;
+  const std::size_t M = DelayEmbedding::max_points(x.size(), 3, 17);
+  const DelayEmbedding plain({std::span<const double>(x)}, 3, 17, M), high({std::span<const double>(raised)}, 3, 17, M);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < M; i += 7) q.push_back(static_cast<std::uint32_t>(i));
+  NeighbourOptions o;
+  o.theiler = 10, o.repeat_resolution = 1e-10;
+  const auto reference = find_nearest_neighbours(plain, q, o);
+  EXPECT_EQ(reference.near_repeat_candidates, 0u);
+  const auto uncapped = find_nearest_neighbours(high, q, o);
+  EXPECT_GT(uncapped.near_repeat_candidates, q.size());  // more candidates lost to the level than references
+  o.repeat_ceiling = 1e-3;
+  const auto capped = find_nearest_neighbours(high, q, o);
+  EXPECT_EQ(capped.near_repeat_candidates, 0u);
+  std::size_t same = 0;
+  for (std::size_t k = 0; k < q.size(); ++k) {
+    EXPECT_NEAR(capped.distance[k], reference.distance[k], 1e-5) << "query " << q[k];
+    same += capped.neighbour[k] == reference.neighbour[k];
+  }
+  EXPECT_GE(same, q.size() - q.size() / 100);  // ties within the rounding may swap a few
+  expect_same_as_brute_force(raised, 3, 17, 10, 1e-10, 1e-3);
 }
 
 TEST(Neighbours, WindowLargerThanSeriesLeavesNoNeighbour) {

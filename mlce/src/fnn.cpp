@@ -48,6 +48,7 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
   NeighbourOptions nopt;
   nopt.theiler = options.theiler;
   nopt.repeat_resolution = options.repeat_resolution;
+  nopt.repeat_ceiling = kRepeatCeilingInDeviations;  // the channels are in standard deviations
   for (std::size_t m = 1; m <= options.max_dim; ++m) {
     const std::size_t span = m * delay;  // the (m+1)-th coordinate must exist
     if (n <= span || n - span < options.theiler + 2) {
@@ -101,8 +102,9 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
   }
   if (r.zero_distance_pairs > 0)
     r.warnings.push_back(fmt::format("FNN: {} candidates repeating their point (at zero distance or within {:g} of "
-                                     "its size: a periodic or quantised signal) were passed over",
-                                     r.zero_distance_pairs, options.repeat_resolution));
+                                     "its size and {:g} standard deviations: a periodic or quantised signal) were "
+                                     "passed over",
+                                     r.zero_distance_pairs, options.repeat_resolution, kRepeatCeilingInDeviations));
   return r;
 }
 

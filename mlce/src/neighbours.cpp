@@ -107,12 +107,14 @@ void finish(NeighbourResult& r) {
   for (auto idx : r.neighbour) r.without_neighbour += idx == NeighbourResult::none;
 }
 
-/// Squared distance at or below which a candidate repeats the point `q` (NeighbourOptions::repeat_resolution).
-double repeat_squared(const double* q, std::size_t D, double resolution) {
-  if (resolution == 0.0) return 0.0;
+/// Squared distance at or below which a candidate repeats the point `q`
+/// (NeighbourOptions::repeat_resolution, capped by repeat_ceiling).
+double repeat_squared(const double* q, std::size_t D, const NeighbourOptions& options) {
+  if (options.repeat_resolution == 0.0) return 0.0;
   double norm2 = 0.0;
   for (std::size_t d = 0; d < D; ++d) norm2 += q[d] * q[d];
-  return resolution * resolution * norm2;
+  const double ceiling2 = options.repeat_ceiling * options.repeat_ceiling * static_cast<double>(D);
+  return std::min(options.repeat_resolution * options.repeat_resolution * norm2, ceiling2);
 }
 
 }  // namespace
@@ -121,6 +123,7 @@ void NeighbourOptions::validate() const {
   if (leaf_size == 0) throw OptionError("neighbours.leaf_size: expected >= 1");
   if (!(eps >= 0.0)) throw OptionError("neighbours.eps: expected >= 0");
   validate_repeat_resolution(repeat_resolution, "neighbours.repeat_resolution");
+  if (!(repeat_ceiling >= 0.0)) throw OptionError("neighbours.repeat_ceiling: expected >= 0 (infinity: no ceiling)");
 }
 
 void validate_repeat_resolution(double value, const char* option) {
@@ -179,7 +182,7 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
     for (std::ptrdiff_t k = 0; k < nq; ++k) {
       const std::size_t i = queries[static_cast<std::size_t>(k)];
       embedding_->point(i, q.data());
-      TheilerNearestResultSet set(i, options_.theiler, limit, repeat_squared(q.data(), D, options_.repeat_resolution));
+      TheilerNearestResultSet set(i, options_.theiler, limit, repeat_squared(q.data(), D, options_));
       for (std::size_t p = 0; p < trees.size(); ++p) {
         if (ranges[p].first() >= limit) break;
         set.set_offset(ranges[p].first());
@@ -255,7 +258,7 @@ NeighbourResult find_nearest_neighbours_brute_force(const DelayEmbedding& embedd
   for (std::size_t k = 0; k < queries.size(); ++k) {
     const std::size_t i = queries[k];
     embedding.point(i, q.data());
-    const double repeat = repeat_squared(q.data(), q.size(), options.repeat_resolution);
+    const double repeat = repeat_squared(q.data(), q.size(), options);
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t j = 0; j < embedding.size(); ++j) {
       if (separation(i, j) <= options.theiler) continue;

@@ -99,6 +99,7 @@ PairFinder::PairFinder(const Series& series, const RosensteinOptions& options)
   nopt.theiler = options.theiler;
   nopt.eps = options.eps;
   nopt.repeat_resolution = options.repeat_resolution;
+  nopt.repeat_ceiling = kRepeatCeilingInDeviations;  // the channels are in standard deviations
   state_->index = std::make_unique<NeighbourIndex>(*state_->embedding, nopt);
 }
 
@@ -266,7 +267,8 @@ double share_repeating_stretches(const Series& s, const NeighbourResult& nn, con
         const double a = c[i + step], b = c[j + step];
         // Channels are in units of their standard deviation: the 1 is a floor for values that
         // cross 0 (sin(pi) written as 1.2e-16 one period, -2.4e-16 the next).
-        if (std::abs(a - b) > resolution * (std::abs(a) + std::abs(b) + 1.0)) {
+        // The same ceiling as the neighbour search's (a signal riding far from zero).
+        if (std::abs(a - b) > std::min(resolution * (std::abs(a) + std::abs(b) + 1.0), kRepeatCeilingInDeviations)) {
           same = false;
           break;
         }
@@ -441,9 +443,10 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
   if (compensate) compensated_curve_from_sums(curve, batch_square, batch_noise, batch_pairs);
   if (nn.near_repeat_candidates > 0)
     curve.warnings.push_back(fmt::format(
-        "{} neighbour candidates within {:g} of their reference point's size (the point repeats to the rounding: a "
-        "signal periodic to the last digits) were passed over; the nearest neighbour beyond was used",
-        nn.near_repeat_candidates, options.repeat_resolution));
+        "{} neighbour candidates within {:g} of their reference point's size and {:g} standard deviations (the point "
+        "repeats to the rounding: a signal periodic to the last digits) were passed over; the nearest neighbour beyond "
+        "was used",
+        nn.near_repeat_candidates, options.repeat_resolution, kRepeatCeilingInDeviations));
   if (nn.zero_distance_candidates > 0) {
     curve.warnings.push_back(std::to_string(nn.zero_distance_candidates) +
                              " zero-distance neighbour candidates (repeated points: periodic or quantised signal) were "

@@ -34,8 +34,20 @@ struct NeighbourOptions {
   /// repeats to ~1e-13, and a ratio of two roundings (FNN's Kennel test) is noise. 0 = exact
   /// zeros only (the divergence curve's neighbours: a repeat at rounding level just reads neutral).
   double repeat_resolution = 0.0;
+  /// ...but never a candidate farther than repeat_ceiling x sqrt(D) (D coordinates, in the
+  /// embedding's units). A point's size counts the level the signal rides on: on 1e10 + Lorenz x
+  /// 1e-10 of it is ~1 in the signal's units, more than the motion's own neighbour distances, and
+  /// every neighbour was passed over as a "repeat" (lambda 0.39 for 0.95; at 1e11 a search over
+  /// every point). Infinity: no ceiling.
+  double repeat_ceiling = std::numeric_limits<double>::infinity();
   void validate() const;
 };
+
+/// The repeat ceiling (NeighbourOptions::repeat_ceiling) of the estimators, whose embeddings are
+/// in units of each channel's standard deviation: 1e-8 of it. Far below the motion's neighbour
+/// distances at any length a series has (Henon's attractor, dimension 1.26, ~3e-6 at N = 10^7),
+/// and above the rounding of a signal riding on up to ~1e8 of its deviations (17 digits).
+inline constexpr double kRepeatCeilingInDeviations = 1e-8;
 
 /// The check of a repeat resolution (NeighbourOptions::repeat_resolution) wherever an estimator's
 /// options carry one: 0 <= value < 1e-3, else OptionError naming `option`.
