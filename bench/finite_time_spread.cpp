@@ -30,7 +30,8 @@
 // listed with their own exponents:
 //   build/finite_time_spread maps
 // and the verdict of `mlce estimate --each` on channels of one trajectory (Lorenz x, y, z; Roessler
-// x, y; 32 series each, the starts of the observables), with the median over the channels:
+// x, y; 32 series each, the starts of the observables), with the median over the channels, and the
+// same channels embedded jointly as one state (several --channel without --each):
 //   build/finite_time_spread channels
 // and 100 consecutive stretches of 10^4 samples of one Lorenz x run, with the fit rule's 1.5-period
 // minimum, without it, and at 1.2 and 1.6 periods:
@@ -322,7 +323,7 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
   std::mt19937 gen(1);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
-  Tally median, first;
+  Tally median, first, joint;
   int agree = 0, not_judged = 0;
   std::string disagreements;
   for (int k = 0; k < 32; ++k) {
@@ -332,12 +333,15 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
       channels.push_back(mlce::reference::sample_flow<3>(sys.flow, x0, sys.dt, n, sys.transient, substeps, c));
     mlce::Series series = mlce::make_series_with_step(std::move(channels), sys.dt);
     for (const std::size_t c : components) series.names.push_back(std::string(1, "xyz"[c]));
+    const double own = own_exponent(sys, x0, n, substeps) / sys.lambda;
+    // The channels as one state (several --channel without --each): embedded jointly.
+    const auto together = mlce::estimate_mlce(series, {});
+    joint.add(together.lambda / sys.lambda, own, together.ci95_low / sys.lambda, together.ci95_high / sys.lambda);
     const auto r = mlce::estimate_each_channel(series, {});
     if (r.estimated < 2) {
       ++not_judged;
       continue;
     }
-    const double own = own_exponent(sys, x0, n, substeps) / sys.lambda;
     median.add(r.verdict.median_lambda / sys.lambda, own);
     if (r.channels[0].result) first.add(r.channels[0].result->lambda / sys.lambda, own);
     if (r.verdict.agree) {
@@ -360,6 +364,7 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
               disagreements.empty() ? " none" : disagreements.c_str());
   median.print("median of the channels");
   first.print((std::string(1, "xyz"[components[0]]) + " alone").c_str());
+  joint.print("embedded jointly");
 }
 
 /// Consecutive stretches of one long run: Lorenz x from (1, 1, 1) after 50
