@@ -752,6 +752,37 @@ TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
   EXPECT_FALSE(has_warning(l, "drifts"));
 }
 
+TEST(EstimateSystems, ADecayThatSettlesIsNoDrift) {
+  // A slow overdamped mode under a faster oscillating one, e^{-0.1 t} + 0.3 e^{-0.3 t} sin 2 pi t over
+  // 40 s (lambda_1 = -0.1 exactly): a line explains 78 % of it, and it was called a drift ("a quantity
+  // that keeps growing") in its refusal and in the reading. Its trend settles: the second half's
+  // slope is e^{-2} of the first's. The spectrum's mean period is the slow mode's (~1.1 of them in
+  // the run), so the automatic window is refused; a window given by hand reads lambda_1, but the
+  // reading is not given (it read a neutral limit cycle, the RMS about the run's mean steady).
+  std::vector<double> x(4000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    x[i] = std::exp(-0.1 * t) + 0.3 * std::exp(-0.3 * t) * std::sin(2 * std::numbers::pi * t);
+  }
+  const Series s = make_series_with_step({x}, 0.01);
+  const Drift d = linear_drift(s);
+  EXPECT_LT(d.share, kDriftShare);
+  EXPECT_GT(d.settling_share, 0.75);
+  try {
+    estimate_mlce(s, {});
+    ADD_FAILURE() << "1.1 mean periods estimated with the automatic window";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("drifts"), std::string::npos) << e.what();
+  }
+  MlceOptions o;
+  o.theiler = 100;
+  const auto r = estimate_mlce(s, o);
+  EXPECT_NEAR(r.lambda, -0.1, 0.05 * 0.1) << r.fit.rule;
+  EXPECT_FALSE(has_warning(r, "drifts"));
+  EXPECT_EQ(r.unreliable, "fewer than two mean periods of a motion that persists");
+  EXPECT_EQ(read_stability(r).stability, Stability::undetermined);
+}
+
 TEST(EstimateSystems, CurveOfFewPairsIsFlagged) {
   // Henon x: the curve averages one pair per reference point (max_references strides them).
   MlceOptions few;

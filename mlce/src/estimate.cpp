@@ -217,7 +217,14 @@ void check_span(const Series& series, const MlceOptions& options, const Span& sp
                   std::ceil(span.own_period));
     r.warnings.push_back(std::string(text) + ": too few for a reliable exponent; analyse a longer run");
   }
-  if (!options.theiler && span.periods < kMinMeanPeriods && persisting) {
+  if (options.theiler && span.periods < kMinMeanPeriods && persisting) {
+    // The user's window stands, but what the refusal below guards against still holds: the
+    // reading is not given on it (a decay dominated by a slow overdamped mode over 1.1 of its
+    // "periods" read as a neutral limit cycle at lambda x period = -3.7).
+    if (r.unreliable.empty()) r.unreliable = "fewer than two mean periods of a motion that persists";
+    return;
+  }
+  if (span.periods < kMinMeanPeriods && persisting) {
     char text[400];
     std::snprintf(text, sizeof text,
                   "series too short: %zu samples span only %.3g mean periods (%.0f samples each, eq. 19) of a motion "

@@ -406,8 +406,14 @@ Drift linear_drift(const Series& s) {
     if (!(peak > 0.0)) continue;
     scaled.resize(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) scaled[i] = x[i] / peak;
-    const double r2 = fit_line(scaled.data(), std::size_t{0}, scaled.size() - 1).r2;
-    if (std::isfinite(r2) && r2 > d.share) d.share = r2, d.channel = c;
+    const std::size_t last = scaled.size() - 1, half = last / 2;
+    const double r2 = fit_line(scaled.data(), std::size_t{0}, last).r2;
+    if (!std::isfinite(r2)) continue;
+    const double first = fit_line(scaled.data(), std::size_t{0}, half).slope, second = fit_line(scaled.data(), half, last).slope;
+    if (first * second <= 0.0 || std::abs(second) < kSettlingSlope * std::abs(first))
+      d.settling_share = std::max(d.settling_share, r2);
+    else if (r2 > d.share)
+      d.share = r2, d.channel = c;
   }
   return d;
 }

@@ -134,7 +134,8 @@ struct MlceResult {
   double amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
   /// Why lambda does not measure the motion's divergence, when one of the warnings says so (the
   /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
-  /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise).
+  /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise),
+  /// fewer than two mean periods of a motion that persists (estimated only under a given window).
   /// Empty otherwise. The reading (reading.hpp) is then undetermined.
   std::string unreliable;
   /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its

@@ -155,14 +155,20 @@ double amplitude_ratio(const Series& series);
 /// square overflows), and that channel. Small for a motion that returns near its past states (a
 /// limit cycle, chaos, a decay about a rest point: Lorenz x over 100 time units at most 0.025, over
 /// 20 at most 0.24 on 32 random starts, test_estimate_systems *Drift*), ~1 for one that keeps
-/// growing (a rotation angle).
+/// growing (a rotation angle). A trend that settles is no drift: where the line through the second
+/// half rises or falls less than kSettlingSlope x as fast as the one through the first half (or the
+/// other way), the channel comes to rest, as a slow overdamped mode decays (e^{-0.1 t} over 40 s:
+/// R^2 0.78, halves' slopes 0.14 apart); such channels count in settling_share, not in share.
 struct Drift {
-  double share = 0.0;
+  double share = 0.0;  ///< largest R^2 over the channels whose trend keeps going
   std::size_t channel = 0;
+  double settling_share = 0.0;  ///< largest R^2 over the channels whose trend settles
 };
 Drift linear_drift(const Series& series);
 /// Above this share the estimator warns that the series drifts (and says so when it refuses one).
 inline constexpr double kDriftShare = 0.5;
+/// A trend whose second half's slope is below this fraction of its first half's settles.
+inline constexpr double kSettlingSlope = 0.5;
 
 /// An angle printed modulo a turn (MBDyn's Euler angles in degrees wrap at +-180, its rotation
 /// vectors at pi; a rotating blade's or hub's azimuth wraps every revolution): a step between two
