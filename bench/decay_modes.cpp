@@ -9,6 +9,7 @@
 // counted. The growths also print how much the signal grows over the curve's horizon (its second half's envelope rate x
 // horizon, the fit's test for a signal that grows on its own: at least 0.5).
 //   build/decay_modes        (about 10 s)
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -24,15 +25,17 @@ namespace {
 using mlce::bench::Tally;
 using mlce::reference::DecayingMode;
 
-bool warns_slowing(const mlce::MlceResult& r) {
+bool warns(const mlce::MlceResult& r, const char* what) {
   for (const auto& w : r.warnings)
-    if (w.find("the decay slows") != std::string::npos) return true;
+    if (w.find(what) != std::string::npos) return true;
   return false;
 }
 
 struct Row {
   double late, before;
   bool slowing;
+  /// Each estimate warned that its neighbours converge faster than the signal decays.
+  bool faster_late, faster_before;
   double signal_growth;  ///< end envelope rate x horizon of the default estimate (the fit's test)
 };
 
@@ -43,7 +46,9 @@ Row estimate_both(const std::vector<double>& x, double dt) {
   before.fit.late_growth_share = 0.0;
   const auto a = mlce::estimate_mlce(series, late);
   const auto b = mlce::estimate_mlce(series, before);
-  return {a.lambda, b.lambda, warns_slowing(a), a.end_envelope_rate * static_cast<double>(a.horizon)};
+  constexpr const char* faster = "the neighbours converge";
+  return {a.lambda, b.lambda, warns(a, "the decay slows"), warns(a, faster), warns(b, faster),
+          a.end_envelope_rate * static_cast<double>(a.horizon)};
 }
 
 }  // namespace
@@ -51,8 +56,10 @@ Row estimate_both(const std::vector<double>& x, double dt) {
 int main() {
   const double dt = 0.01, truth = -0.3;
   Tally late, before;
-  int slowing = 0;
-  std::printf("%5s %6s %5s %4s %10s %10s %9s\n", "N", "rate2", "f2", "a1", "late", "before", "warning");
+  int slowing = 0, faster_late = 0, faster_before = 0;
+  double flagged_lo = INFINITY, flagged_hi = 0.0;  // before / lambda_1 of the estimates that warn
+  std::printf("%5s %6s %5s %4s %10s %10s %9s   (* the estimate warns that its neighbours converge faster than the "
+              "signal decays)\n", "N", "rate2", "f2", "a1", "late", "before", "warning");
   for (std::size_t n : {2000u, 4000u})
     for (double rate : {-0.5, -1.0, -3.0})
       for (double f : {0.45, 1.37, 3.3})
@@ -61,12 +68,16 @@ int main() {
           const Row r = estimate_both(x, dt);
           late.add(r.late / truth);
           before.add(r.before / truth);
-          slowing += r.slowing;
-          std::printf("%5zu %6.2f %5.2f %4.1f %10.4f %10.4f %9s\n", n, rate, f, a1, r.late, r.before,
-                      r.slowing ? "slows" : "");
+          slowing += r.slowing, faster_late += r.faster_late, faster_before += r.faster_before;
+          if (r.faster_before) flagged_lo = std::min(flagged_lo, r.before / truth), flagged_hi = std::max(flagged_hi, r.before / truth);
+          std::printf("%5zu %6.2f %5.2f %4.1f %10.4f%s %9.4f%s %9s\n", n, rate, f, a1, r.late, r.faster_late ? "*" : " ",
+                      r.before, r.faster_before ? "*" : " ", r.slowing ? "slows" : "");
         }
   std::printf("two modes, lambda_1 = -0.3 1/s, estimate / lambda_1 (%d of %zu warn that the decay slows):\n", slowing,
               late.values.size());
+  std::printf("  warn that the neighbours converge faster than the signal decays: late region %d, the rule before %d of "
+              "%zu (those read %.2f..%.2f lambda_1)\n",
+              faster_late, faster_before, late.values.size(), flagged_lo, flagged_hi);
   late.print("late region (default)");
   before.print("growth rule's region (before)");
 

@@ -752,6 +752,24 @@ TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
   EXPECT_FALSE(has_warning(l, "drifts"));
 }
 
+TEST(EstimateSystems, NeighboursConvergingFasterThanTheSignalDecaysAreSaid) {
+  // Two modes of like damping, e^{-0.2 t}(cos 2 pi t + cos 2.2 pi t) over 30 s (lambda_1 = -0.2
+  // exactly): three beats of 10 s, and the curve's horizon holds one. Its falling half reads about
+  // twice the rate, while the signal's own envelope falls at ~-0.2 over its second half; the
+  // estimate says so. Where the least damped mode leads (two modes of rates -0.3 and -1.0) it
+  // sets both, and nothing is said.
+  const auto beat = reference::decaying_modes(3000, 0.01, {{-0.2, 1.0, 1.0}, {-0.2, 1.1, 1.0}});
+  const auto r = estimate_mlce(make_series_with_step({beat}, 0.01), {});
+  EXPECT_LT(r.lambda, -0.3) << r.fit.rule;
+  EXPECT_TRUE(has_warning(r, "the neighbours converge")) << r.lambda;
+  const auto led = reference::decaying_modes(2000, 0.01, {{-0.3, 1.0, 1.0}, {-1.0, 1.37, 1.0}});
+  const auto l = estimate_mlce(make_series_with_step({led}, 0.01), {});
+  EXPECT_NEAR(l.lambda, -0.3, 0.05 * 0.3) << l.fit.rule;
+  EXPECT_FALSE(has_warning(l, "the neighbours converge")) << l.lambda;
+  const auto single = estimate_mlce(make_series_with_step({reference::damped_oscillator(2000, 0.01, 0.05, 2 * std::numbers::pi)}, 0.01), {});
+  EXPECT_FALSE(has_warning(single, "the neighbours converge")) << single.lambda;
+}
+
 TEST(EstimateSystems, ADecayThatSettlesIsNoDrift) {
   // A slow overdamped mode under a faster oscillating one, e^{-0.1 t} + 0.3 e^{-0.3 t} sin 2 pi t over
   // 40 s (lambda_1 = -0.1 exactly): a line explains 78 % of it, and it was called a drift ("a quantity

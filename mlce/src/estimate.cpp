@@ -50,6 +50,24 @@ bool signal_decays(const MlceResult& r) {
   return r.amplitude_ratio <= 1.0 / kPersistentAmplitude || r.envelope_rate / r.dt * period < -kDecayPerPeriod;
 }
 
+/// In a decay to rest the least damped mode sets both the signal's late envelope and the rate the
+/// neighbours converge at (every separation of a linear motion is a sum of its modes). Neighbours
+/// converging much faster than the signal decays over its second half measure something else: two
+/// modes of like damping whose beat is longer than the curve's horizon (e^{-0.2 t}(cos 2 pi t +
+/// cos 2.2 pi t) over 30 s, three beats: the curve follows one beat, and its falling half read
+/// -0.39 for -0.2, the envelope -0.22), or a region in the curve's bend. Said, not changed.
+void warn_about_convergence_faster_than_decay(MlceResult& r) {
+  constexpr double kFasterThanDecay = 1.5;
+  if (!(r.fit.slope < 0.0 && r.end_envelope_rate < 0.0) || !signal_decays(r)) return;
+  if (r.fit.slope >= kFasterThanDecay * r.end_envelope_rate) return;
+  r.warnings.push_back(fmt::format(
+      "the neighbours converge {:.3g} x as fast as the signal's own envelope decays over its second half ({:.4g} "
+      "against {:.4g} per sample): in a decay to rest the least damped mode sets both, so the fit region measures "
+      "something else, such as modes of like damping that beat over more than the curve's {} steps (analyse a longer "
+      "run) or the curve's bend (--fit A:B)",
+      r.fit.slope / r.end_envelope_rate, r.fit.slope, r.end_envelope_rate, r.curve.mean_log_distance.size() - 1));
+}
+
 /// Warnings about what the curve can measure (sets r.noise_level): a plateau reached within one
 /// embedding window (uncorrelated noise), and a first step that jumps (measurement noise); returns
 /// the index in r.warnings of the latter's warning, nullopt when the curve is not flagged noisy.
@@ -599,6 +617,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     compensate_noise(options.dither > 0.0 ? series : raw, series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
+  warn_about_convergence_faster_than_decay(r);
   express_per_time(r, series.dt);
   report(options, "done", 1.0);
   return r;
