@@ -770,6 +770,28 @@ TEST(EstimateSystems, NeighboursConvergingFasterThanTheSignalDecaysAreSaid) {
   EXPECT_FALSE(has_warning(single, "the neighbours converge")) << single.lambda;
 }
 
+TEST(EstimateSystems, ADecayWhoseFalseNeighboursSeparateIsReconstructedInMoreDimensions) {
+  // The same two modes of like damping over 120 s (the floor rule keeps the first 93.6 s, 12 beats):
+  // FNN leaves 3.3 % false at m = 3, yet there points of the same amplitude and another beat phase
+  // are matched and separate to their common scale: lambda = +0.68 1/s while the signal decays,
+  // read "undetermined". A decay to rest has no neighbours that separate; m = 4 reads lambda_1 = -0.2.
+  const auto beat = reference::decaying_modes(12000, 0.01, {{-0.2, 1.0, 1.0}, {-0.2, 1.1, 1.0}});
+  const auto r = estimate_mlce(make_series_with_step({beat}, 0.01), {});
+  EXPECT_NEAR(r.lambda, -0.2, 0.05 * 0.2) << r.fit.rule;
+  ASSERT_TRUE(r.dim_widened_from.has_value());
+  EXPECT_EQ(*r.dim_widened_from, 3u);
+  EXPECT_EQ(r.dim, 4u);
+  EXPECT_TRUE(has_warning(r, "m = 3 (false nearest neighbours) read lambda = +0.0068")) << r.warnings.front();
+  EXPECT_EQ(read_stability(r).stability, Stability::stable);
+  // A dimension given by hand stands: m = 3 keeps its contradiction, said by the reading.
+  MlceOptions given;
+  given.dim = 3;
+  const auto three = estimate_mlce(make_series_with_step({beat}, 0.01), given);
+  EXPECT_GT(three.lambda, 0.0);
+  EXPECT_FALSE(three.dim_widened_from.has_value());
+  EXPECT_EQ(read_stability(three).stability, Stability::undetermined);
+}
+
 TEST(EstimateSystems, ADecayThatSettlesIsNoDrift) {
   // A slow overdamped mode under a faster oscillating one, e^{-0.1 t} + 0.3 e^{-0.3 t} sin 2 pi t over
   // 40 s (lambda_1 = -0.1 exactly): a line explains 78 % of it, and it was called a drift ("a quantity

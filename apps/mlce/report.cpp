@@ -89,6 +89,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_period"] = r.mean_period.mean_period;
   if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
   if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
+  if (r.dim_widened_from) j["dim_widened_from"] = *r.dim_widened_from;
   if (r.fnn) j["fnn_points"] = r.fnn->points;  // kd-tree size per m (capped on long series)
   j["pairs"] = r.curve.pairs;
   j["references"] = r.curve.references;
@@ -126,7 +127,11 @@ std::string to_text(const MlceResult& r) {
                    r.mean_period.mean_frequency, r.time_unit.empty() ? "sample" : r.time_unit,
                    r.mean_period.clamped ? ", clamped" : "");
   s += fmt::format("delay           {} samples{}\n", r.delay, r.ami ? fmt::format(" ({})", to_string(r.ami->rule)) : " (given)");
-  s += fmt::format("dimension       {}{}\n", r.dim, r.fnn ? " (false nearest neighbours)" : " (given)");
+  s += fmt::format("dimension       {}{}\n", r.dim,
+                   r.dim_widened_from ? fmt::format(" (false nearest neighbours chose {}, which read lambda > 0 in a decay)",
+                                                    *r.dim_widened_from)
+                   : r.fnn            ? std::string(" (false nearest neighbours)")
+                                      : std::string(" (given)"));
   if (r.fnn) {
     s += "  FNN fraction ";
     for (std::size_t m = 0; m < r.fnn->fraction.size(); ++m) s += fmt::format(" m={}:{:.3f}", m + 1, r.fnn->fraction[m]);

@@ -1,5 +1,7 @@
 #include "mlce/estimate.hpp"
 
+#include "mlce/reading.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 
 #include "mlce/embedding.hpp"
 #include "mlce/numerics.hpp"
+#include "mlce/reading.hpp"
 #include "mlce/recurrence.hpp"
 #include "mlce/transient.hpp"
 
@@ -450,7 +453,53 @@ Embedding choose_embedding(const Series& series, const MlceOptions& options, std
   return e;
 }
 
+namespace {
+MlceResult estimate_once(const Series& raw, const MlceOptions& options);
+
+/// lambda > 0 while the signal decays to rest: the reading's contradiction (reading.cpp), which in a
+/// decay means neighbours that were never near in the motion's state.
+bool grows_while_decaying(const MlceResult& r) {
+  if (!(r.lambda > 0.0) || !r.unreliable.empty()) return false;
+  const Reading reading = read_stability(r);
+  return reading.stability == Stability::undetermined && reading.amplitude == AmplitudeTrend::decays;
+}
+}  // namespace
+
+/// FNN is Kennel's heuristic, and a decay of several modes can pass its threshold in fewer
+/// dimensions than its modes need: two modes of like damping beating over 93.6 s (e^{-0.2 t}(cos 2 pi t
+/// + cos 2.2 pi t)) leave 3.3 % false at m = 3, and there points of the same amplitude and another
+/// beat phase are matched, separate to their common scale, and read lambda = +0.68 for -0.2. A
+/// decay to rest cannot have neighbours that separate: when the automatic m reads lambda > 0 while
+/// the signal decays, m + 1 .. m + kExtraDimensions are tried (the same delay), and the first that
+/// reads no such contradiction is kept, with a warning; none: the first result stands.
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
+  MlceResult r = estimate_once(raw, options);
+  if (options.dim || !r.fnn || !grows_while_decaying(r)) return r;
+  constexpr std::size_t kExtraDimensions = 3;
+  MlceOptions wider = options;
+  wider.delay = r.delay;
+  for (std::size_t m = r.dim + 1; m <= std::min(r.dim + kExtraDimensions, options.fnn.max_dim); ++m) {
+    wider.dim = m;
+    MlceResult t;
+    try {
+      t = estimate_once(raw, wider);
+    } catch (const InputError&) {
+      break;  // too short for a larger m: the first result stands
+    }
+    if (grows_while_decaying(t)) continue;
+    t.ami = std::move(r.ami), t.fnn = std::move(r.fnn), t.dim_widened_from = r.dim;
+    t.warnings.insert(t.warnings.begin(),
+                      fmt::format("m = {} (false nearest neighbours) read lambda = {:+.4g} per sample while the signal "
+                                  "decays to rest: neighbours that separate in a decay were never near in its state, "
+                                  "a reconstruction too small for its modes; m = {} used",
+                                  r.dim, r.lambda_per_sample, m));
+    return t;
+  }
+  return r;
+}
+
+namespace {
+MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   validate_series(raw);
   MlceResult r;
   Series storage;
@@ -622,5 +671,6 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   report(options, "done", 1.0);
   return r;
 }
+}  // namespace
 
 }  // namespace mlce

@@ -111,6 +111,9 @@ struct MlceResult {
   MeanPeriodResult mean_period;
   std::optional<AmiResult> ami;  ///< when the delay was automatic
   std::optional<FnnResult> fnn;  ///< when the dimension was automatic
+  /// The m FNN chose, when it read lambda > 0 in a decay to rest and a larger m was used instead
+  /// (estimate_mlce's widening; fnn->dim is that m too); nullopt otherwise.
+  std::optional<std::size_t> dim_widened_from;
   DivergenceCurve curve;  ///< the curve fitted (phase-aligned when curve.phase_aligned)
   FitResult fit;
   /// lambda of the plain curve when the reported one comes from the phase-aligned curve; NaN otherwise
