@@ -1,7 +1,5 @@
 #include "mlce/estimate.hpp"
 
-#include "mlce/reading.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
