@@ -46,8 +46,11 @@ Row estimate_both(const std::vector<double>& x, double dt) {
   before.fit.late_growth_share = 0.0;
   const auto a = mlce::estimate_mlce(series, late);
   const auto b = mlce::estimate_mlce(series, before);
-  constexpr const char* faster = "the neighbours converge";
-  return {a.lambda, b.lambda, warns(a, "the decay slows"), warns(a, faster), warns(b, faster),
+  // The rate beyond the signal's own envelope (estimate.cpp): "converge" in a decay, "separate" in a growth.
+  auto faster = [](const mlce::MlceResult& r) {
+    return warns(r, "the neighbours converge") || warns(r, "the neighbours separate");
+  };
+  return {a.lambda, b.lambda, warns(a, "the decay slows"), faster(a), faster(b),
           a.end_envelope_rate * static_cast<double>(a.horizon)};
 }
 
@@ -125,16 +128,21 @@ int main() {
   // a second, slower growing mode; lambda_1 = 0.3.
   std::printf("growths (lambda_1 = 0.3 1/s, N 3000): late / before, (signal's growth over the horizon)\n");
   Tally late_growth, before_growth;
+  int growth_faster_late = 0, growth_faster_before = 0;
   for (double a1 : {0.01, 0.1, 1.0})
     for (const DecayingMode& other : {DecayingMode{-0.5, 1.37, 1.0, 0.7}, DecayingMode{-1.0, 3.3, 1.0, 0.7},
                                       DecayingMode{-0.5, 0.45, 1.0, 0.7}, DecayingMode{0.1, 1.37, 1.0, 0.7}}) {
       const Row r = estimate_both(mlce::reference::decaying_modes(3000, dt, {DecayingMode{0.3, 1.0, a1, 0.0}, other}), dt);
       late_growth.add(r.late / 0.3);
       before_growth.add(r.before / 0.3);
-      std::printf("  0.3@1 Hz x%-4g beside %+.1f@%.2f Hz x1: %.4f (%.3f) / %.4f (%.3f)  (%.2f)\n", a1, other.rate,
-                  other.frequency, r.late, r.late / 0.3, r.before, r.before / 0.3, r.signal_growth);
+      growth_faster_late += r.faster_late, growth_faster_before += r.faster_before;
+      std::printf("  0.3@1 Hz x%-4g beside %+.1f@%.2f Hz x1: %.4f%s (%.3f) / %.4f%s (%.3f)  (%.2f)\n", a1, other.rate,
+                  other.frequency, r.late, r.faster_late ? "*" : "", r.late / 0.3, r.before, r.faster_before ? "*" : "",
+                  r.before / 0.3, r.signal_growth);
     }
-  std::printf("growths, estimate / lambda_1:\n");
+  std::printf("growths, estimate / lambda_1 (* and warned that the neighbours separate faster than the signal grows: "
+              "late region %d, the rule before %d of %zu):\n",
+              growth_faster_late, growth_faster_before, late_growth.values.size());
   late_growth.print("late region (default)");
   before_growth.print("growth rule's region (before)");
   return 0;
