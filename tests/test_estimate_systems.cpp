@@ -15,6 +15,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/reading.hpp"
+#include "mlce/recurrence.hpp"
 #include "mlce/transient.hpp"
 #include "reference_systems.hpp"
 #include "result_checks.hpp"
@@ -750,6 +751,49 @@ TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
   const auto l = estimate_mlce(make_series_with_step({reference::lorenz_x(10000, 0.01, {1, 1, 1}, 0.0)}, 0.01), {});
   EXPECT_GT(l.skipped_start, 0u);
   EXPECT_FALSE(has_warning(l, "drifts"));
+}
+
+TEST(EstimateSystems, ALevelCreepingBeneathTheNeighboursIsSaid) {
+  // Roessler x plus 0.0005 t (0.5 over the run, ~10 % of x's deviation; a line explains under 1 %
+  // of the variance, far below kDriftShare) and Lorenz x plus 0.01 t: the neighbours' separations
+  // carry the level's change over their time apart, the curve is held up and lambda reads low. The
+  // pairs see the creep, with its sign, and at most at its true rate (the search prefers pairs whose
+  // own separation offsets it). The same series without the creep are not warned, nor are 8 more
+  // Lorenz x and Roessler x from other starts (bench/level_drift: 240 stationary flow series, share
+  // at most 0.010).
+  struct Case {
+    std::vector<double> x;
+    double dt, creep;
+  };
+  const std::vector<Case> cases = {{reference::roessler_x(10000, 0.1, {1.3, -2.1, 0.0}), 0.1, 5e-4},
+                                   {reference::lorenz_x(10000, 0.01, {2.0, -1.0, 25.0}), 0.01, 1e-2}};
+  for (const auto& c : cases) {
+    std::vector<double> creeping = c.x;
+    for (std::size_t i = 0; i < creeping.size(); ++i) creeping[i] += c.creep * c.dt * static_cast<double>(i);
+    const MlceResult plain = run(c.x, c.dt), crept = run(creeping, c.dt);
+    std::printf("creep %g per time unit: share %.4f (without: %.4f), seen %.3g, lambda %.4f (without: %.4f)\n", c.creep,
+                crept.neighbour_drift.share, plain.neighbour_drift.share, crept.neighbour_drift.rate_per_sample / c.dt,
+                crept.lambda, plain.lambda);
+    EXPECT_TRUE(has_warning(crept, "creeps beneath the neighbour pairs")) << c.creep;
+    EXPECT_GT(crept.neighbour_drift.share, kNeighbourDriftShare);
+    EXPECT_GT(crept.neighbour_drift.rate_per_sample, 0.0);
+    EXPECT_LE(crept.neighbour_drift.rate_per_sample / c.dt, c.creep);
+    EXPECT_LT(crept.lambda, plain.lambda);
+    EXPECT_LT(linear_drift(make_series_with_step({creeping}, c.dt)).share, kDriftShare);
+    EXPECT_FALSE(has_warning(plain, "creeps beneath")) << plain.neighbour_drift.share;
+  }
+  std::mt19937 gen(20261127);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  double largest = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const MlceResult l = run(reference::lorenz_x(10000, 0.01, {u(gen), u(gen), 20.0 + u(gen)}, 50.0), 0.01);
+    const MlceResult r = run(reference::roessler_x(10000, 0.1, {u(gen), u(gen), 0.0}), 0.1);
+    largest = std::max({largest, l.neighbour_drift.share, r.neighbour_drift.share});
+    EXPECT_FALSE(has_warning(l, "creeps beneath")) << k;
+    EXPECT_FALSE(has_warning(r, "creeps beneath")) << k;
+  }
+  std::printf("stationary Lorenz x and Roessler x, 8 each: largest share %.4f\n", largest);
+  EXPECT_LT(largest, kNeighbourDriftShare);
 }
 
 TEST(EstimateSystems, NeighboursConvergingFasterThanTheSignalDecaysAreSaid) {

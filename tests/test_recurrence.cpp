@@ -330,3 +330,56 @@ TEST(Recurrence, LorenzStartUpOfOneLowWindowIsLeftOutByDistance) {
   EXPECT_LT(std::abs(r.lambda - 0.9056), std::abs(kept.lambda - 0.9056));
   EXPECT_NE(r.warnings.front().find("typical distance"), std::string::npos) << r.warnings.front();
 }
+
+// neighbour_drift against pairs built by hand: channel 1 is a level a i plus an oscillation of
+// period P samples, channel 2 the oscillation alone, and every neighbour lies a whole number of
+// periods away (both ways), so that the neighbour's delay coordinates differ from the reference's by
+// exactly a Delta in channel 1 and by nothing in channel 2. The regression then recovers a, and with
+// distances set to twice the drift's part (sqrt(m) |a Delta| / sd of channel 1), the drift's share
+// of the squared distances is exactly 1/4.
+TEST(NeighbourDrift, ALevelLinearInTimeIsRecoveredFromPairsAWholeNumberOfPeriodsApart) {
+  constexpr std::size_t n = 3000, P = 50, m = 3, J = 7;
+  constexpr double a = 2.5e-3;
+  std::vector<double> level(n), plain(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    plain[i] = std::sin(2.0 * std::numbers::pi * static_cast<double>(i % P) / P);
+    level[i] = a * static_cast<double>(i) + 0.8 * plain[i];
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : level) mean += v / n;
+  for (double v : level) var += (v - mean) * (v - mean) / n;
+  const double sd = std::sqrt(var);
+  NeighbourPairs p;
+  p.dim = m, p.delay = J, p.theiler = P - 1, p.horizon = 1;
+  for (std::uint32_t j = 0; j < 2000; j += 3) {
+    const std::uint32_t periods = 1 + j % 9;
+    const std::uint32_t k = j >= 1000 ? j - periods * P : j + periods * P;
+    const double lag = static_cast<double>(k) - static_cast<double>(j);
+    p.references.push_back(j);
+    p.nearest.neighbour.push_back(k);
+    p.nearest.distance.push_back(2.0 * std::sqrt(static_cast<double>(m)) * std::abs(a * lag) / sd);
+  }
+  p.references.push_back(2001);  // a reference without a neighbour is passed over
+  p.nearest.neighbour.push_back(NeighbourResult::none);
+  p.nearest.distance.push_back(std::numeric_limits<double>::infinity());
+  const Series s = make_series_with_step({plain, level}, 0.01);
+  const NeighbourDrift d = neighbour_drift(s, p);
+  EXPECT_EQ(d.pairs, p.references.size() - 1);
+  EXPECT_EQ(d.channel, 1u);
+  EXPECT_NEAR(d.rate_per_sample, a, 1e-9 * a);
+  EXPECT_NEAR(d.share, 0.25, 1e-9);
+  EXPECT_NEAR(d.over_run_in_deviations, a * n / sd, 1e-9 * a * n / sd);
+  // The same with the channels' roles swapped in the pairs' eyes: a level that falls.
+  std::vector<double> falling = level;
+  for (std::size_t i = 0; i < n; ++i) falling[i] = -level[i];
+  const NeighbourDrift f = neighbour_drift(make_series_with_step({falling, plain}, 0.01), p);
+  EXPECT_EQ(f.channel, 0u);
+  EXPECT_NEAR(f.rate_per_sample, -a, 1e-9 * a);
+  EXPECT_NEAR(f.share, 0.25, 1e-9);
+  // No pairs: nothing measured, share 0; pairs of mismatched lengths are a logic error.
+  NeighbourPairs none = p;
+  none.references.clear(), none.nearest.neighbour.clear(), none.nearest.distance.clear();
+  EXPECT_EQ(neighbour_drift(s, none).share, 0.0);
+  none.references.push_back(0);
+  EXPECT_THROW(neighbour_drift(s, none), std::invalid_argument);
+}

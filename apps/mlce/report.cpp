@@ -72,6 +72,11 @@ nlohmann::json to_json(const MlceResult& r) {
       j["start_recurrence"]["decided_by_distance"] = r.recurrence.by_distance;
     }
   }
+  // The level's creep beneath the neighbour pairs (recurrence.hpp, neighbour_drift): its share of the
+  // pairs' squared initial distance, the channel (1-based) and the creep the pairs see, per time unit.
+  j["neighbour_drift"] = {{"share", r.neighbour_drift.share},
+                          {"channel", r.neighbour_drift.channel + 1},
+                          {"rate", finite_or_null(r.neighbour_drift.rate_per_sample / r.dt)}};
   j["noise_level"] = finite_or_null(r.noise_level);  // of the signal's standard deviation
   // Compensated: the noise estimate's relative error (of its mean square) and lambda's standard error
   // from it (per time unit, within ci95), and the noise's share of the pairs' mean square at the fit's

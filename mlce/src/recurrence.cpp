@@ -95,4 +95,47 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
   return r;
 }
 
+NeighbourDrift neighbour_drift(const Series& series, const NeighbourPairs& pairs) {
+  NeighbourDrift d;
+  const auto& refs = pairs.references;
+  const auto& nn = pairs.nearest.neighbour;
+  if (nn.size() != refs.size() || pairs.nearest.distance.size() != refs.size())
+    throw std::invalid_argument("neighbour_drift: expected one neighbour and one distance per reference");
+  const std::vector<double> divisor = unit_deviation_divisors(series);
+  const std::size_t C = series.channel_count(), m = pairs.dim, J = pairs.delay, n = series.size();
+  std::vector<CompensatedSum> moment(C);  // sum_q s_qc Delta_q, per channel
+  CompensatedSum lag_squares, distance_squares;
+  for (std::size_t q = 0; q < refs.size(); ++q) {
+    const std::size_t j = refs[q], k = nn[q];
+    if (nn[q] == NeighbourResult::none || j + (m - 1) * J >= n || k + (m - 1) * J >= n) continue;
+    const double lag = static_cast<double>(k) - static_cast<double>(j);
+    for (std::size_t c = 0; c < C; ++c) {
+      const auto& x = series.channels[c];
+      double s = 0.0;
+      // Each sample over its divisor first, as the search's coordinates: no difference of two huge
+      // values of opposite sign overflows.
+      for (std::size_t i = 0; i < m; ++i) s += x[k + i * J] / divisor[c] - x[j + i * J] / divisor[c];
+      moment[c].add(s / static_cast<double>(m) * lag);
+    }
+    lag_squares.add(lag * lag);
+    distance_squares.add(pairs.nearest.distance[q] * pairs.nearest.distance[q]);
+    ++d.pairs;
+  }
+  if (d.pairs == 0 || !(lag_squares.value() > 0.0) || !(distance_squares.value() > 0.0)) return d;
+  double largest = -1.0;
+  for (std::size_t c = 0; c < C; ++c) {
+    const double a = moment[c].value() / lag_squares.value();  // unit deviations per sample
+    const double part = static_cast<double>(m) * a * a * lag_squares.value() / distance_squares.value();
+    d.share += part;
+    if (part > largest) {
+      largest = part;
+      d.channel = c;
+      d.rate_per_sample = a * divisor[c];
+      d.over_run_in_deviations = a * static_cast<double>(n);  // the coordinates are in deviations
+    }
+  }
+  d.share = std::min(d.share, 1.0);  // the regression's part of the distances cannot exceed them
+  return d;
+}
+
 }  // namespace mlce

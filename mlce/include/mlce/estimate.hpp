@@ -156,6 +156,8 @@ struct MlceResult {
   /// result describes the rest (n_points counts it, the curve starts there).
   std::size_t skipped_start = 0;
   RecurrenceResult recurrence;  ///< the test's windows (empty when it was not run)
+  /// The level's drift beneath the curve's neighbour pairs (neighbour_drift, recurrence.hpp).
+  NeighbourDrift neighbour_drift;
   std::vector<std::string> warnings;  ///< every stage's warnings, in pipeline order
 };
 

@@ -95,4 +95,32 @@ struct RecurrenceResult {
 RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admissible, const RecurrenceOptions& options,
                                  const DelayEmbedding* embedding = nullptr);
 
+/// Does the series' level drift beneath its neighbour pairs? Eq. 18's neighbours are meant to be
+/// near in state; when the level of a channel moves over the run (a slow trend, a quantity that
+/// creeps), two points Delta samples apart also differ by the level's change over Delta, the same in
+/// every delay coordinate. That offset neither grows nor decays, so it holds the divergence curve's
+/// start up and flattens it, and the search prefers neighbours close in time. Per channel c, the
+/// pairs' mean coordinate difference s_qc (the m delay coordinates of the neighbour minus the
+/// reference's, in the search's unit-deviation coordinates) is regressed through the origin on the
+/// signed time apart Delta_q: a_c = sum s_qc Delta_q / sum Delta_q^2. That part of every pair's
+/// separation, m a_c^2 Delta_q^2 summed, over the pairs' summed squared distances, is the share.
+/// Unlike the straight line through the whole series (Drift), it is not fooled by the slow swings a
+/// stationary motion makes by chance (Lorenz x over 100 time units: lines of R^2 up to 0.025, whose
+/// removal made it read as low as 0.56 lambda_1), since neighbours are near in state wherever in the
+/// swing they lie: at most 0.010 over 240 stationary Lorenz and Roessler series, 8e-4 over 32 maps
+/// (bench/level_drift).
+struct NeighbourDrift {
+  double share = 0.0;          ///< summed over the channels, in [0, 1]
+  std::size_t channel = 0;     ///< 0-based: the channel whose drift makes most of it
+  double rate_per_sample = 0.0;  ///< that channel's drift, its own units per sample
+  /// That channel's drift over the analysed series' length, in its standard deviations.
+  double over_run_in_deviations = 0.0;
+  std::size_t pairs = 0;       ///< pairs it was measured on
+};
+NeighbourDrift neighbour_drift(const Series& series, const NeighbourPairs& pairs);
+/// Above this share the estimator warns that the level drifts beneath the neighbours: on Lorenz x
+/// plus a t (N = 10^4, dt = 0.01), a = 0.002 (0.3 % of x's deviation per time unit) gives shares
+/// 0.014-0.067 and reads 2-15 % low; Roessler x plus 0.0005 t, 0.06-0.18 and 11-35 % low.
+inline constexpr double kNeighbourDriftShare = 0.02;
+
 }  // namespace mlce
