@@ -5,8 +5,9 @@
 //   stationary: 48 Lorenz x, y, z (N = 10^4, dt = 0.01, random starts after 50 time units), 48
 //               Roessler x and z (dt = 0.1, after 500), 16 Henon x and logistic from other starts,
 //               van der Pol (mu 0.5, 1, 2), a quasi-periodic two-tone, white noise, van der Pol
-//               with 2 % noise: the share's smallest, median and largest value, and how many are
-//               warned (share above kNeighbourDriftShare, motion persisting)
+//               with 2 % noise, and 16 Lorenz (x, y, z) and Roessler (x, y) embedded jointly: the
+//               share's smallest, median and largest value, and how many are warned (share above
+//               kNeighbourDriftShare, motion persisting)
 //   trends:     the first 16 Lorenz x and Roessler x plus a t: per a, the estimates / lambda_1 and the
 //               shares (range), and how many are warned
 //   detrended:  the same stationary Lorenz x with their least-squares line removed: what removing a
@@ -36,9 +37,9 @@ struct Reading {
   bool warned = false;
 };
 
-Reading estimate(const std::vector<double>& x, double dt) {
+Reading estimate(std::vector<std::vector<double>> channels, double dt) {
   try {
-    const auto r = mlce::estimate_mlce(mlce::make_series_with_step({x}, dt), mlce::MlceOptions{});
+    const auto r = mlce::estimate_mlce(mlce::make_series_with_step(std::move(channels), dt), mlce::MlceOptions{});
     Reading out{r.lambda, r.neighbour_drift.share, false};
     for (const auto& w : r.warnings) out.warned = out.warned || w.find("creeps beneath the neighbour pairs") != std::string::npos;
     return out;
@@ -47,6 +48,8 @@ Reading estimate(const std::vector<double>& x, double dt) {
     return {};
   }
 }
+
+Reading estimate(const std::vector<double>& x, double dt) { return estimate(std::vector<std::vector<double>>{x}, dt); }
 
 struct Column {
   std::vector<double> values;
@@ -89,7 +92,7 @@ int main() {
   std::mt19937_64 g(7);
   std::uniform_real_distribution<double> u(-10, 10);
   std::vector<std::vector<double>> lorenz_x, roessler_x;
-  Column lx, ly, lz, rx, rz, maps, others;
+  Column lx, ly, lz, rx, rz, maps, others, joint;
   std::printf("stationary series (share of the pairs' squared initial distance that a drifting level makes):\n");
   for (int i = 0; i < kFlows; ++i) {
     const std::array<double, 3> x0 = {u(g), u(g), 20 + u(g)};
@@ -97,10 +100,13 @@ int main() {
     lx.add(estimate(lorenz_x.back(), 0.01));
     ly.add(estimate(lorenz(10000, 0.01, x0, 50.0, 1), 0.01));
     lz.add(estimate(lorenz(10000, 0.01, x0, 50.0, 2), 0.01));
+    if (i < 16)
+      joint.add(estimate(std::vector<std::vector<double>>{lorenz_x.back(), lorenz(10000, 0.01, x0, 50.0, 1), lorenz(10000, 0.01, x0, 50.0, 2)}, 0.01));
     const std::array<double, 3> r0 = {u(g) / 2, u(g) / 2, 0.0};
     roessler_x.push_back(roessler(10000, 0.1, r0, 0));
     rx.add(estimate(roessler_x.back(), 0.1));
     rz.add(estimate(roessler(10000, 0.1, r0, 2), 0.1));
+    if (i < 16) joint.add(estimate(std::vector<std::vector<double>>{roessler_x.back(), roessler(10000, 0.1, r0, 1)}, 0.1));
   }
   for (int i = 0; i < 16; ++i) {
     maps.add(estimate(henon_x(10000, 0.1 + 0.01 * i, 0.1), 1.0));
@@ -123,6 +129,7 @@ int main() {
   rz.print("Roessler z");
   maps.print("Henon x, logistic");
   others.print("limit cycles, tones, noise");
+  joint.print("Lorenz xyz, Roessler xy");
 
   std::printf("\ntrends: the series plus a t (estimate / lambda_1 range; share range; warned of %d)\n", kTrended);
   auto trend_rows = [&](const char* name, const std::vector<std::vector<double>>& set, double dt, double truth,
