@@ -9,7 +9,8 @@
 //               share's smallest, median and largest value, and how many are warned (share above
 //               kNeighbourDriftShare, motion persisting)
 //   trends:     the first 16 Lorenz x and Roessler x plus a t: per a, the estimates / lambda_1 and the
-//               shares (range), and how many are warned
+//               shares (range), and how many are warned; van der Pol x plus a t (a limit cycle, not
+//               warned: its curve stays level)
 //   detrended:  the same stationary Lorenz x with their least-squares line removed: what removing a
 //               trend that is not there does (the reason the warning advises no detrending)
 //   passes:     the first 4 Lorenz x + 0.01 t and Roessler x + 0.002 t, the creep the pairs see removed
@@ -150,6 +151,11 @@ int main() {
   };
   trend_rows("Lorenz x", lorenz_x, 0.01, kLorenz, {0.0, 0.001, 0.002, 0.005, 0.01, 0.02});
   trend_rows("Roessler x", roessler_x, 0.1, kRoessler, {0.0, 0.0002, 0.0005, 0.001, 0.002});
+  // A limit cycle: its curve stays level with the offset or without it, and is not warned.
+  for (double a : {0.0, 0.001, 0.01, 0.05}) {
+    const Reading r = estimate(with_trend(van_der_pol_x(10000, 0.01, 1.0), a, 0.01), 0.01);
+    std::printf("  van der Pol x (mu = 1) a = %-5g lambda %+.2g  share %.4f  warned %d\n", a, r.lambda, r.share, r.warned);
+  }
 
   std::printf("\ndetrended (least-squares line removed from the stationary series):\n");
   double qlo = 1e300, qhi = -1e300, qsum = 0;

@@ -796,7 +796,7 @@ TEST(EstimateSystems, ALevelCreepingBeneathTheNeighboursIsSaid) {
   // pairs see the creep, with its sign, and at most at its true rate (the search prefers pairs whose
   // own separation offsets it). The same series without the creep are not warned, nor are 8 more
   // Lorenz x and Roessler x from other starts (bench/level_drift: 240 stationary flow series, share
-  // at most 0.010).
+  // at most 0.010), nor a limit cycle on a creep, whose curve stays level either way.
   struct Case {
     std::vector<double> x;
     double dt, creep;
@@ -830,6 +830,15 @@ TEST(EstimateSystems, ALevelCreepingBeneathTheNeighboursIsSaid) {
   }
   std::printf("stationary Lorenz x and Roessler x, 8 each: largest share %.4f\n", largest);
   EXPECT_LT(largest, kNeighbourDriftShare);
+  // A limit cycle's curve stays level with the offset or without it: van der Pol x plus 0.01 t shows
+  // a large share, reads neutral all the same, and is not warned.
+  std::vector<double> cycle = reference::van_der_pol_x(10000, 0.01);
+  for (std::size_t i = 0; i < cycle.size(); ++i) cycle[i] += 0.01 * 0.01 * static_cast<double>(i);
+  const MlceResult v = run(cycle, 0.01);
+  std::printf("van der Pol x + 0.01 t: share %.3f, lambda %.2g\n", v.neighbour_drift.share, v.lambda);
+  EXPECT_GT(v.neighbour_drift.share, kNeighbourDriftShare);
+  EXPECT_LT(std::abs(v.lambda), 0.01);
+  EXPECT_FALSE(has_warning(v, "creeps beneath"));
 }
 
 TEST(EstimateSystems, NeighboursConvergingFasterThanTheSignalDecaysAreSaid) {
