@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/numerics.hpp"
 #include "reference_systems.hpp"
 
 namespace {
@@ -74,14 +75,8 @@ std::vector<double> with_trend(std::vector<double> x, double a, double dt) {
 }
 
 std::vector<double> without_line(std::vector<double> x) {
-  const double n = static_cast<double>(x.size());
-  double st = 0, sx = 0, stt = 0, stx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double t = static_cast<double>(i);
-    st += t, sx += x[i], stt += t * t, stx += t * x[i];
-  }
-  const double b = (stx - st * sx / n) / (stt - st * st / n), a = (sx - b * st) / n;
-  for (std::size_t i = 0; i < x.size(); ++i) x[i] -= a + b * static_cast<double>(i);
+  const mlce::LineFit line = mlce::fit_line(x.data(), std::size_t{0}, x.size() - 1);  // least squares over the sample index
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] -= line.intercept + line.slope * static_cast<double>(i);
   return x;
 }
 
