@@ -111,6 +111,28 @@ TEST_F(Cli, EstimateJsonHasEveryField) {
   EXPECT_EQ(j["n_points"].get<int>(), 5000);
 }
 
+// A level that creeps beneath the neighbour pairs, in the JSON and in the summary: Roessler x plus
+// 0.0005 t (time column in s, dt = 0.1). The rate is per time unit, seen with its sign and at most
+// at the true creep (the search prefers pairs whose own separation offsets it).
+TEST_F(Cli, ALevelCreepingBeneathTheNeighboursIsInTheJsonAndTheSummary) {
+  std::vector<double> x = mlce::reference::roessler_x(10000, 0.1, {1.3, -2.1, 0.0});
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] += 5e-4 * 0.1 * static_cast<double>(i);
+  const auto f = series_file(x, 0.1);
+  const CliRun r = run("estimate " + f + " --column 2 --time-column 1 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("neighbour_drift")) << r.out;
+  EXPECT_GT(j["neighbour_drift"]["share"].get<double>(), 0.02);
+  EXPECT_EQ(j["neighbour_drift"]["channel"].get<int>(), 1);
+  EXPECT_GT(j["neighbour_drift"]["rate"].get<double>(), 0.0);
+  EXPECT_LE(j["neighbour_drift"]["rate"].get<double>(), 5e-4);
+  EXPECT_NE(j["warnings"].dump().find("creeps beneath the neighbour pairs"), std::string::npos) << j["warnings"].dump();
+  const CliRun human = run("estimate " + f + " --column 2 --time-column 1");
+  ASSERT_EQ(human.status, 0) << human.err;
+  EXPECT_NE(human.out.find("creeps beneath the neighbour pairs"), std::string::npos) << human.out;
+  EXPECT_NE(human.out.find("per s"), std::string::npos) << human.out;
+}
+
 TEST_F(Cli, ReferenceCountIsAtLeastOneOrAll) {
   // --refs 0 once meant "all" silently; a count must be >= 1, and 'all' is said in words.
   const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
