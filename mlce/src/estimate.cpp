@@ -240,7 +240,7 @@ void warn_about_neighbour_drift(const Series& series, bool persisting, MlceResul
   const char* unit = series.time_unit.empty() ? "sample" : series.time_unit.c_str();
   r.warnings.push_back(fmt::format(
       "the level of {} creeps beneath the neighbour pairs: the part of their separations that grows with their time "
-      "apart makes {:.0f} % of the pairs' squared initial distance (above {:.0f} %; a stationary motion ~0.1 %); the "
+      "apart makes {:.0f} % of the pairs' squared initial distance (above {:.0f} %; a stationary motion's stays below 1 %); the "
       "pairs see a creep of {:+.3g} per {} ({:+.2g} standard deviations over the series; a lower bound, since the "
       "search prefers pairs whose own separation offsets it). That offset neither grows nor decays, so lambda reads "
       "low (Roessler x plus 0.0002 t, 4 % of a deviation over the run: 20 % low): analyse a channel without the creep "

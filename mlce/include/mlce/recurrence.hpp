@@ -106,9 +106,9 @@ RecurrenceResult recurrent_start(const NeighbourPairs& pairs, std::size_t admiss
 /// separation, m a_c^2 Delta_q^2 summed, over the pairs' summed squared distances, is the share.
 /// Unlike the straight line through the whole series (Drift), it is not fooled by the slow swings a
 /// stationary motion makes by chance (Lorenz x over 100 time units: lines of R^2 up to 0.025, whose
-/// removal made it read as low as 0.56 lambda_1), since neighbours are near in state wherever in the
-/// swing they lie: at most 0.010 over 240 stationary Lorenz and Roessler series, 8e-4 over 32 maps
-/// (bench/level_drift).
+/// removal made 16 series read 0.637-0.953 lambda_1), since neighbours are near in state wherever in
+/// the swing they lie: at most 0.010 over 240 stationary Lorenz and Roessler series, 8e-4 over 32
+/// maps (bench/level_drift).
 struct NeighbourDrift {
   double share = 0.0;          ///< summed over the channels, in [0, 1]
   std::size_t channel = 0;     ///< 0-based: the channel whose drift makes most of it
@@ -118,9 +118,10 @@ struct NeighbourDrift {
   std::size_t pairs = 0;       ///< pairs it was measured on
 };
 NeighbourDrift neighbour_drift(const Series& series, const NeighbourPairs& pairs);
-/// Above this share the estimator warns that the level drifts beneath the neighbours: on Lorenz x
-/// plus a t (N = 10^4, dt = 0.01), a = 0.002 (0.3 % of x's deviation per time unit) gives shares
-/// 0.014-0.067 and reads 2-15 % low; Roessler x plus 0.0005 t, 0.06-0.18 and 11-35 % low.
+/// Above this share the estimator warns that the level creeps beneath the neighbours (bench/level_drift,
+/// 16 series each): Lorenz x plus a t (N = 10^4, dt = 0.01), a = 0.002 (0.2 over the run, 2.5 % of x's
+/// deviation), gives shares 0.005-0.054 and reads 0.876-1.013 lambda_1 (mean 0.953, 6 warned);
+/// Roessler x (dt = 0.1) plus 0.0005 t, 0.065-0.126 and 0.591-0.904 (mean 0.742, all warned).
 inline constexpr double kNeighbourDriftShare = 0.02;
 
 }  // namespace mlce
