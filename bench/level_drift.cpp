@@ -17,7 +17,7 @@
 //               and the search made again, 12 times: the estimate / lambda_1, the share and the creep
 //               removed so far after each pass (a correction that was not built: each pass sees only
 //               part of what is left)
-//   build/level_drift        (about 80 s)
+//   build/level_drift        (about 70 s)
 #include <algorithm>
 #include <array>
 #include <cmath>
