@@ -323,7 +323,7 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
   std::mt19937 gen(1);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
-  Tally median, first, joint;
+  Tally median, first, joint, joint_curve_first_region, first_curve_joint_region;
   int agree = 0, not_judged = 0;
   std::string disagreements;
   for (int k = 0; k < 32; ++k) {
@@ -343,7 +343,18 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
       continue;
     }
     median.add(r.verdict.median_lambda / sys.lambda, own);
-    if (r.channels[0].result) first.add(r.channels[0].result->lambda / sys.lambda, own);
+    if (const auto& alone = r.channels[0].result) {
+      first.add(alone->lambda / sys.lambda, own);
+      // Where does the joint state's difference come from: its curve (fitted over the first channel's
+      // region) or its region (the first channel's curve fitted over it)? Both curves phase-aligned.
+      const auto slope_over = [&](const mlce::MlceResult& curve_of, const mlce::FitResult& region) {
+        const auto& y = curve_of.curve.mean_log_distance;
+        const std::size_t last = std::min(region.last, y.size() - 1);
+        return mlce::fit_line(y.data(), region.first, last).slope / sys.dt / sys.lambda;
+      };
+      joint_curve_first_region.add(slope_over(together, alone->fit), own);
+      first_curve_joint_region.add(slope_over(*alone, together.fit), own);
+    }
     if (r.verdict.agree) {
       ++agree;
       continue;
@@ -365,6 +376,8 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   median.print("median of the channels");
   first.print((std::string(1, "xyz"[components[0]]) + " alone").c_str());
   joint.print("embedded jointly");
+  joint_curve_first_region.print((std::string("joint curve, ") + "xyz"[components[0]] + "'s region").c_str());
+  first_curve_joint_region.print((std::string(1, "xyz"[components[0]]) + "'s curve, the joint region").c_str());
 }
 
 /// Consecutive stretches of one long run: Lorenz x from (1, 1, 1) after 50

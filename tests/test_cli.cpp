@@ -133,6 +133,27 @@ TEST_F(Cli, ALevelCreepingBeneathTheNeighboursIsInTheJsonAndTheSummary) {
   EXPECT_NE(human.out.find("per s"), std::string::npos) << human.out;
 }
 
+TEST_F(Cli, AWidenedDimensionSaysWhyInTheJsonAndTheSummary) {
+  // Roessler (x, y) jointly (the start of EstimateSystems.AFlowThatDivergesIsNeverReconstructedIn
+  // FewerThanThreeCoordinates): FNN's m = 1 leaves a plane, widened to m = 2.
+  const std::array<double, 3> x0{1.8165450207445701, -2.4431951381544246, 0.03630509678848215};
+  auto flow = [](const std::array<double, 3>& s) { return mlce::reference::roessler_rhs(s); };
+  const auto f = columns_file("xy.txt", "# t x y", 0.1,
+                              {mlce::reference::sample_flow<3>(flow, x0, 0.1, 10000, 500.0, 10, 0),
+                               mlce::reference::sample_flow<3>(flow, x0, 0.1, 10000, 500.0, 10, 1)});
+  const CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["dim"].get<int>(), 2) << r.out;
+  EXPECT_EQ(j["dim_widened_from"].get<int>(), 1) << r.out;
+  EXPECT_EQ(j["dim_widened_because"].get<std::string>(), "flow_in_a_plane");
+  const CliRun human = run("estimate " + f + " --time-column 1 --column 2 --column 3");
+  ASSERT_EQ(human.status, 0) << human.err;
+  EXPECT_NE(human.out.find("false nearest neighbours chose 1, too few coordinates for a flow that diverges"),
+            std::string::npos)
+      << human.out;
+}
+
 TEST_F(Cli, ReferenceCountIsAtLeastOneOrAll) {
   // --refs 0 once meant "all" silently; a count must be >= 1, and 'all' is said in words.
   const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
@@ -722,7 +743,11 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
   EXPECT_FALSE(has(d1, "lambda is unreliable")) << d1["warnings"];
   EXPECT_EQ(d1["lambda"].get<double>(), d1again["lambda"].get<double>());
   EXPECT_NE(d1["lambda"].get<double>(), d7["lambda"].get<double>());
-  // Closer to lambda_1 = 0.9056 than the rounded series' reading (1.6-1.8), within 20 %.
+  // The rounded series' FNN leaves a plane (m = 2: 14.5 % false at m = 1, 0.01 % at 2), where its
+  // repeated points' pairs read 1.50; its curve saturates, so a flow's state is widened to m = 3
+  // (estimate_mlce), and it stays unreliable. The dithered series: within 20 % of lambda_1 = 0.9056.
+  EXPECT_EQ(plain["dim"].get<int>(), 3) << plain["fnn_fraction"];
+  EXPECT_EQ(plain["dim_widened_because"].get<std::string>(), "flow_in_a_plane");
   for (const auto& j : {d1, d7}) {
     std::printf("rounded: %.4f, dithered: %.4f, noise_level %.4f (quantum and dither: %.4f)\n",
                 plain["lambda"].get<double>(), j["lambda"].get<double>(), j["noise_level"].get<double>(), noise_truth);
@@ -731,7 +756,6 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
     EXPECT_GE(j["noise_level"].get<double>(), 0.95 * noise_truth);
     EXPECT_LE(j["noise_level"].get<double>(), 1.6 * noise_truth);
     EXPECT_NEAR(j["lambda"].get<double>(), 0.9056, 0.2 * 0.9056);
-    EXPECT_LT(std::abs(j["lambda"].get<double>() - 0.9056), std::abs(plain["lambda"].get<double>() - 0.9056));
   }
 }
 

@@ -885,6 +885,7 @@ TEST(EstimateSystems, ADecayWhoseFalseNeighboursSeparateIsReconstructedInMoreDim
   EXPECT_NEAR(r.lambda, -0.2, 0.05 * 0.2) << r.fit.rule;
   ASSERT_TRUE(r.dim_widened_from.has_value());
   EXPECT_EQ(*r.dim_widened_from, 3u);
+  EXPECT_EQ(r.dim_widened_because, DimensionWidening::growth_in_a_decay);
   EXPECT_EQ(r.dim, 4u);
   EXPECT_TRUE(has_warning(r, "m = 3 (false nearest neighbours) read lambda = +0.0068")) << r.warnings.front();
   EXPECT_EQ(read_stability(r).stability, Stability::stable);
@@ -895,6 +896,49 @@ TEST(EstimateSystems, ADecayWhoseFalseNeighboursSeparateIsReconstructedInMoreDim
   EXPECT_GT(three.lambda, 0.0);
   EXPECT_FALSE(three.dim_widened_from.has_value());
   EXPECT_EQ(read_stability(three).stability, Stability::undetermined);
+}
+
+TEST(EstimateSystems, AFlowThatDivergesIsNeverReconstructedInFewerThanThreeCoordinates) {
+  // Roessler (x, y) embedded jointly: FNN leaves 4.9 % false at m = 1 (below its 5 % threshold), a
+  // state of 2 coordinates, whose neighbours separate into a plateau. In a plane a flow has fixed
+  // points and limit cycles only (Poincare-Bendixson): the estimate is redone at m = 2.
+  const std::array<double, 3> x0{1.8165450207445701, -2.4431951381544246, 0.03630509678848215};
+  auto flow = [](const std::array<double, 3>& s) { return reference::roessler_rhs(s); };
+  auto tangent = [](const std::array<double, 6>& s) { return reference::roessler_tangent_rhs(s); };
+  const double dt = 0.1;
+  const double own = reference::own_exponent(flow, tangent, x0, 500.0, dt, 0.01, 10000);
+  const Series xy = make_series_with_step({reference::sample_flow<3>(flow, x0, dt, 10000, 500.0, 10, 0),
+                                           reference::sample_flow<3>(flow, x0, dt, 10000, 500.0, 10, 1)},
+                                          dt);
+  const auto r = estimate_mlce(xy, {});
+  ASSERT_TRUE(r.dim_widened_from.has_value());
+  EXPECT_EQ(*r.dim_widened_from, 1u);
+  EXPECT_EQ(r.dim_widened_because, DimensionWidening::flow_in_a_plane);
+  EXPECT_EQ(r.dim, 2u);
+  EXPECT_TRUE(has_warning(r, "a flow cannot diverge exponentially in fewer than 3 dimensions")) << r.warnings.front();
+  EXPECT_NEAR(r.lambda / own, 1.0, 0.05) << own;
+  // m = 1 given by hand stands, and reads farther from the trajectory's own exponent.
+  MlceOptions plane;
+  plane.dim = 1;
+  const auto p = estimate_mlce(xy, plane);
+  EXPECT_FALSE(p.dim_widened_from.has_value());
+  EXPECT_GT(std::abs(p.lambda / own - 1.0), std::abs(r.lambda / own - 1.0) + 0.05) << p.lambda / own;
+
+  // A map is chaotic in a plane: Henon's own state (x_n, y_n = 0.3 x_{n-1}) is not widened and reads
+  // its exponent; nor is a limit cycle's (x, dx/dt), whose neighbours do not separate.
+  const auto hx = reference::henon_x(10001);
+  std::vector<double> hy(hx.begin(), hx.end() - 1), hxx(hx.begin() + 1, hx.end());
+  for (double& v : hy) v *= 0.3;
+  const auto h = estimate_mlce(make_series_with_step({hxx, hy}, 1.0), {});
+  EXPECT_EQ(h.dim, 1u);
+  EXPECT_FALSE(h.dim_widened_from.has_value());
+  EXPECT_NEAR(h.lambda, 0.4192, 0.02 * 0.4192);
+  const auto vx = reference::van_der_pol_x(10001);
+  std::vector<double> v(vx.begin(), vx.end() - 1), dv(vx.size() - 1);
+  for (std::size_t i = 0; i + 1 < vx.size(); ++i) dv[i] = (vx[i + 1] - vx[i]) / 0.01;
+  const auto c = estimate_mlce(make_series_with_step({v, dv}, 0.01), {});
+  EXPECT_FALSE(c.dim_widened_from.has_value()) << c.dim;
+  EXPECT_LT(std::abs(c.lambda), 0.01);
 }
 
 TEST(EstimateSystems, ADecayThatSettlesIsNoDrift) {

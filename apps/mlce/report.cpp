@@ -94,7 +94,11 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_period"] = r.mean_period.mean_period;
   if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
   if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
-  if (r.dim_widened_from) j["dim_widened_from"] = *r.dim_widened_from;
+  if (r.dim_widened_from) {
+    j["dim_widened_from"] = *r.dim_widened_from;
+    j["dim_widened_because"] =
+        r.dim_widened_because == DimensionWidening::flow_in_a_plane ? "flow_in_a_plane" : "growth_in_a_decay";
+  }
   if (r.fnn) j["fnn_points"] = r.fnn->points;  // kd-tree size per m (capped on long series)
   j["pairs"] = r.curve.pairs;
   j["references"] = r.curve.references;
@@ -133,8 +137,10 @@ std::string to_text(const MlceResult& r) {
                    r.mean_period.clamped ? ", clamped" : "");
   s += fmt::format("delay           {} samples{}\n", r.delay, r.ami ? fmt::format(" ({})", to_string(r.ami->rule)) : " (given)");
   s += fmt::format("dimension       {}{}\n", r.dim,
-                   r.dim_widened_from ? fmt::format(" (false nearest neighbours chose {}, which read lambda > 0 in a decay)",
-                                                    *r.dim_widened_from)
+                   r.dim_widened_from ? fmt::format(" (false nearest neighbours chose {}, {})", *r.dim_widened_from,
+                                                    r.dim_widened_because == DimensionWidening::flow_in_a_plane
+                                                        ? "too few coordinates for a flow that diverges"
+                                                        : "which read lambda > 0 in a decay")
                    : r.fnn            ? std::string(" (false nearest neighbours)")
                                       : std::string(" (given)"));
   if (r.fnn) {

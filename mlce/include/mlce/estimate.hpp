@@ -54,6 +54,17 @@ inline constexpr double kMaxWindowPeriods = 2.0;
 /// formal least-squares one and says nothing about the curve's own noise).
 inline constexpr std::size_t kFewPairs = 160;
 
+/// A flow's neighbours cannot separate exponentially in a state of fewer coordinates than this
+/// (Poincare-Bendixson): estimate_mlce widens such an automatic embedding.
+inline constexpr std::size_t kMinChaoticFlowDimensions = 3;
+
+/// Why estimate_mlce used a larger m than false nearest neighbours chose.
+enum class DimensionWidening {
+  none,
+  growth_in_a_decay,  ///< the chosen m read lambda > 0 while the signal decays to rest
+  flow_in_a_plane,    ///< the state had fewer than kMinChaoticFlowDimensions coordinates, yet its curve saturates
+};
+
 struct MlceOptions {
   std::optional<std::size_t> delay;    ///< J; automatic: AMI first minimum
   std::optional<std::size_t> dim;      ///< m; automatic: FNN
@@ -111,9 +122,10 @@ struct MlceResult {
   MeanPeriodResult mean_period;
   std::optional<AmiResult> ami;  ///< when the delay was automatic
   std::optional<FnnResult> fnn;  ///< when the dimension was automatic
-  /// The m FNN chose, when it read lambda > 0 in a decay to rest and a larger m was used instead
-  /// (estimate_mlce's widening; fnn->dim is that m too); nullopt otherwise.
+  /// The m FNN chose, when a larger m was used instead (estimate_mlce's widening; fnn->dim is that
+  /// m too), and why; nullopt otherwise.
   std::optional<std::size_t> dim_widened_from;
+  DimensionWidening dim_widened_because = DimensionWidening::none;
   DivergenceCurve curve;  ///< the curve fitted (phase-aligned when curve.phase_aligned)
   FitResult fit;
   /// lambda of the plain curve when the reported one comes from the phase-aligned curve; NaN otherwise
