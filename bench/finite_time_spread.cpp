@@ -324,6 +324,7 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   std::mt19937 gen(1);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
   Tally median, first, joint, joint_curve_first_region, first_curve_joint_region;
+  std::vector<Tally> other_curve_first_region(components.size());  // channel c's curve over the first's region
   int agree = 0, not_judged = 0;
   std::string disagreements;
   for (int k = 0; k < 32; ++k) {
@@ -354,6 +355,8 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
       };
       joint_curve_first_region.add(slope_over(together, alone->fit), own);
       first_curve_joint_region.add(slope_over(*alone, together.fit), own);
+      for (std::size_t c = 1; c < components.size(); ++c)
+        if (const auto& other = r.channels[c].result) other_curve_first_region[c].add(slope_over(*other, alone->fit), own);
     }
     if (r.verdict.agree) {
       ++agree;
@@ -378,6 +381,9 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   joint.print("embedded jointly");
   joint_curve_first_region.print((std::string("joint curve, ") + "xyz"[components[0]] + "'s region").c_str());
   first_curve_joint_region.print((std::string(1, "xyz"[components[0]]) + "'s curve, the joint region").c_str());
+  for (std::size_t c = 1; c < components.size(); ++c)
+    other_curve_first_region[c].print(
+        (std::string(1, "xyz"[components[c]]) + "'s curve alone, " + "xyz"[components[0]] + "'s region").c_str());
 }
 
 /// Consecutive stretches of one long run: Lorenz x from (1, 1, 1) after 50
