@@ -540,8 +540,8 @@ bool grows_while_decaying(const MlceResult& r) {
 /// the signal decays, m + 1 .. m + kExtraDimensions are tried (the same delay), and the first that
 /// reads no such contradiction is kept, with a warning; none: the first result stands.
 ///
-/// Likewise a flow cannot separate its neighbours exponentially in fewer than three state
-/// dimensions (Poincare-Bendixson: a plane holds fixed points and limit cycles, no chaos). When the
+/// Likewise a flow's attractor in fewer than three state dimensions is a fixed point or a limit
+/// cycle (Poincare-Bendixson: no chaos in a plane), where neighbours do not keep separating. When the
 /// automatic m gives a sampled flow (mean period >= kMinFlowPeriod) a state of m x channels < 3
 /// coordinates and its curve grows into a saturation plateau (lambda > 0), the estimate is redone
 /// with the smallest m that gives three, with a warning. FNN's 5 % threshold passed m = 1 on 10 of
@@ -576,8 +576,9 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     if (!t) return r;  // too short for a larger m: the first result stands
     return widened(std::move(*t), DimensionWidening::flow_in_a_plane,
                    fmt::format("m = {} (false nearest neighbours) gives a state of {} coordinate(s), and its neighbours "
-                               "separate into a plateau (lambda = {:+.4g} per sample): a flow cannot diverge "
-                               "exponentially in fewer than 3 dimensions (Poincare-Bendixson); m = {} used",
+                               "separate up to the attractor's scale (lambda = {:+.4g} per sample): a flow of fewer "
+                               "than 3 dimensions settles on fixed points and limit cycles only, where neighbours "
+                               "do not keep separating (Poincare-Bendixson); m = {} used",
                                r.dim, r.dim * channels, r.lambda_per_sample, m));
   }
   if (!grows_while_decaying(r)) return r;
