@@ -923,6 +923,12 @@ TEST(EstimateSystems, AFlowThatDivergesIsNeverReconstructedInFewerThanThreeCoord
   const auto p = estimate_mlce(xy, plane);
   EXPECT_FALSE(p.dim_widened_from.has_value());
   EXPECT_GT(std::abs(p.lambda / own - 1.0), std::abs(r.lambda / own - 1.0) + 0.05) << p.lambda / own;
+  // Nor is it widened beyond the largest m FNN is asked to test.
+  MlceOptions capped;
+  capped.fnn.max_dim = 1;
+  const auto c1 = estimate_mlce(xy, capped);
+  EXPECT_EQ(c1.dim, 1u);
+  EXPECT_FALSE(c1.dim_widened_from.has_value());
 
   // A map is chaotic in a plane: Henon's own state (x_n, y_n = 0.3 x_{n-1}) is not widened and reads
   // its exponent; nor is a limit cycle's (x, dx/dt), whose neighbours do not separate.

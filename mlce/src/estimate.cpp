@@ -572,6 +572,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
       r.dim * channels < kMinChaoticFlowDimensions && r.mean_period.mean_period >= kMinFlowPeriod &&
       r.fit.end == CurveEnd::saturation && r.lambda_per_sample > 0.0) {
     const std::size_t m = (kMinChaoticFlowDimensions + channels - 1) / channels;
+    if (m > options.fnn.max_dim) return r;  // beyond the largest m asked for, as the decay's widening
     auto t = at_dimension(m);
     if (!t) return r;  // too short for a larger m: the first result stands
     return widened(std::move(*t), DimensionWidening::flow_in_a_plane,

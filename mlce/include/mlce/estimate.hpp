@@ -54,8 +54,9 @@ inline constexpr double kMaxWindowPeriods = 2.0;
 /// formal least-squares one and says nothing about the curve's own noise).
 inline constexpr std::size_t kFewPairs = 160;
 
-/// A flow's neighbours cannot separate exponentially in a state of fewer coordinates than this
-/// (Poincare-Bendixson): estimate_mlce widens such an automatic embedding.
+/// A flow whose state has fewer coordinates than this settles on fixed points and limit cycles only
+/// (Poincare-Bendixson), where neighbours do not keep separating up to the attractor's scale:
+/// estimate_mlce widens an automatic embedding whose curve does.
 inline constexpr std::size_t kMinChaoticFlowDimensions = 3;
 
 /// Why estimate_mlce used a larger m than false nearest neighbours chose.
