@@ -325,8 +325,8 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   std::uniform_real_distribution<double> u(-3.0, 3.0);
   Tally median, first, joint, joint_curve_first_region, first_curve_joint_region;
   std::vector<Tally> other_curve_first_region(components.size());  // channel c's curve over the first's region
-  int agree = 0, not_judged = 0;
-  std::string disagreements;
+  int agree = 0, not_judged = 0, widened_count = 0;
+  std::string disagreements, widened;  // joint states FNN left with fewer than 3 coordinates (estimate_mlce widens them)
   for (int k = 0; k < 32; ++k) {
     const State x0{u(gen), u(gen), std::abs(u(gen)) / 3};
     std::vector<std::vector<double>> channels;
@@ -338,6 +338,12 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
     // The channels as one state (several --channel without --each): embedded jointly.
     const auto together = mlce::estimate_mlce(series, {});
     joint.add(together.lambda / sys.lambda, own, together.ci95_low / sys.lambda, together.ci95_high / sys.lambda);
+    if (together.dim_widened_because == mlce::DimensionWidening::flow_in_a_plane) {
+      char item[64];
+      std::snprintf(item, sizeof item, " #%d (%.1f %% false)", k + 1, 100.0 * together.fnn->fraction[*together.dim_widened_from - 1]);
+      widened += item;
+      ++widened_count;
+    }
     const auto r = mlce::estimate_each_channel(series, {});
     if (r.estimated < 2) {
       ++not_judged;
@@ -379,6 +385,8 @@ void channels_study(const System& sys, const std::vector<std::size_t>& component
   median.print("median of the channels");
   first.print((std::string(1, "xyz"[components[0]]) + " alone").c_str());
   joint.print("embedded jointly");
+  std::printf("                                 widened to 3 coordinates (a flow in a plane) on %d of 32:%s\n", widened_count,
+              widened.empty() ? " none" : widened.c_str());
   joint_curve_first_region.print((std::string("joint curve, ") + "xyz"[components[0]] + "'s region").c_str());
   first_curve_joint_region.print((std::string(1, "xyz"[components[0]]) + "'s curve, the joint region").c_str());
   for (std::size_t c = 1; c < components.size(); ++c)

@@ -748,6 +748,9 @@ TEST_F(Cli, QuantisedSeriesIsFlaggedAndDitherIsReproducible) {
   // (estimate_mlce), and it stays unreliable. The dithered series: within 20 % of lambda_1 = 0.9056.
   EXPECT_EQ(plain["dim"].get<int>(), 3) << plain["fnn_fraction"];
   EXPECT_EQ(plain["dim_widened_because"].get<std::string>(), "flow_in_a_plane");
+  const auto in_the_plane = nlohmann::json::parse(run(base + " --dim 2").out);
+  std::printf("rounded, m = 2 given: %.4f; FNN's false fractions %s\n", in_the_plane["lambda"].get<double>(),
+              plain["fnn_fraction"].dump().c_str());
   for (const auto& j : {d1, d7}) {
     std::printf("rounded: %.4f, dithered: %.4f, noise_level %.4f (quantum and dither: %.4f)\n",
                 plain["lambda"].get<double>(), j["lambda"].get<double>(), j["noise_level"].get<double>(), noise_truth);

@@ -913,6 +913,9 @@ TEST(EstimateSystems, AFlowThatDivergesIsNeverReconstructedInFewerThanThreeCoord
   const auto r = estimate_mlce(xy, {});
   ASSERT_TRUE(r.dim_widened_from.has_value());
   EXPECT_EQ(*r.dim_widened_from, 1u);
+  ASSERT_TRUE(r.fnn.has_value());
+  std::printf("Roessler (x, y): %.2f %% false at m = 1, lambda %.4f at m = 2 (own %.4f)\n", 100.0 * r.fnn->fraction[0],
+              r.lambda, own);
   EXPECT_EQ(r.dim_widened_because, DimensionWidening::flow_in_a_plane);
   EXPECT_EQ(r.dim, 2u);
   EXPECT_TRUE(has_warning(r, "a flow of fewer than 3 dimensions settles on fixed points and limit cycles only")) << r.warnings.front();

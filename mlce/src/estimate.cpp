@@ -545,7 +545,7 @@ bool grows_while_decaying(const MlceResult& r) {
 /// automatic m gives a sampled flow (mean period >= kMinFlowPeriod) a state of m x channels < 3
 /// coordinates and its curve grows into a saturation plateau (lambda > 0), the estimate is redone
 /// with the smallest m that gives three, with a warning. FNN's 5 % threshold passed m = 1 on 10 of
-/// 32 jointly embedded Roessler (x, y) states (4-5 % false; `build/finite_time_spread channels`),
+/// 32 jointly embedded Roessler (x, y) states (3.9-5.0 % false; `build/finite_time_spread channels`),
 /// m = 2 on one Roessler x at c = 14 (`build/other_flows`) and on Lorenz x rounded to integers.
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_once(raw, options);
