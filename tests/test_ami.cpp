@@ -47,6 +47,27 @@ TEST(Ami, MapsGetDelayOne) {
   }
 }
 
+TEST(Ami, AMapsMinimumBeyondItsMeanPeriodIsNotTheDelay) {
+  // The logistic map at r = 3.6 alternates between two bands: its AMI levels off near ln 2 rather
+  // than at the estimator's floor, and the shoulder rule finds a "minimum" dozens of lags on. Its
+  // mean period (eq. 19) is 3 samples: a map, which decorrelates within a few iterations.
+  const auto x = reference::logistic(10000, 0.1234567, 3.6);
+  const Series s = make_series_with_step({x}, 1.0);
+  AmiOptions o;
+  const auto unaware = estimate_delay_ami(s, o);  // the period unknown: the minimum stands
+  EXPECT_GT(unaware.delay, 10u);
+  EXPECT_NEAR(unaware.ami.back(), std::log(2.0), 0.05);  // the bands' alternation never decorrelates
+  o.mean_period = 3;
+  const auto r = estimate_delay_ami(s, o);
+  EXPECT_EQ(r.delay, 1u);
+  EXPECT_EQ(r.rule, DelayRule::autocorrelation_1e);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("beyond the mean period (3 samples) of a map"), std::string::npos) << r.warnings[0];
+  // A flow's period keeps the rule as it was.
+  o.mean_period = kMinFlowPeriod;
+  EXPECT_EQ(estimate_delay_ami(s, o).delay, unaware.delay);
+}
+
 TEST(Ami, AutocorrelationTimeOfAr1) {
   // AR(1) with coefficient phi has autocorrelation phi^tau: 1/e is reached at ceil(-1/ln phi).
   const double phi = 0.9;

@@ -246,6 +246,30 @@ TEST(EstimateSystems, LogisticWithinTwoPercentOfLn2) {
   expect_clean(r);
 }
 
+// Banded chaotic maps (the orbit visits 2 or 4 bands in a fixed cycle): their AMI levels off above
+// its floor, and the shoulder rule took a "minimum" 14-38 lags on (m = 5-7 then, 0.77-1.30 of the
+// orbits' own exponents); within the bands the pairs saturate short of the whole attractor's scale,
+// which the bounded rule took for a limit cycle (Henon a = 1.06: 0.18). `build/map_bands` scans
+// r = 3.57..4 and a = 1.00..1.40. The truth: the orbit's own exponent, the mean of ln |f'| (logistic)
+// or the tangent map (Henon) along the very iterations sampled.
+TEST(EstimateSystems, BandedChaoticMapsWithinTwoPercentOfTheirOrbitsExponents) {
+  for (const double r : {3.58, 3.6, 3.65}) {
+    const auto x = reference::logistic(10000, 0.1234567, r);
+    const double own = reference::logistic_own_exponent(x, r);
+    const auto e = run(x, 1.0);
+    EXPECT_NEAR(e.lambda, own, 0.02 * own) << "r = " << r << ": " << e.fit.rule;
+    EXPECT_EQ(e.delay, 1u) << "r = " << r;
+    EXPECT_TRUE(e.unreliable.empty()) << "r = " << r << ": " << e.unreliable;
+  }
+  for (const double a : {1.06, 1.12}) {
+    const auto x = reference::henon_x(10000, 0.1, 0.1, a);
+    const double own = reference::henon_own_exponent(10000, 0.1, 0.1, a);
+    const auto e = run(x, 1.0);
+    EXPECT_NEAR(e.lambda, own, 0.02 * own) << "a = " << a << ": " << e.fit.rule;
+    EXPECT_NE(e.fit.end, CurveEnd::bounded) << "a = " << a;
+  }
+}
+
 // In floating point this logistic orbit lands on 1/2, then 1, and stays at the fixed point 0 from
 // sample 6037 on (bench/finite_time_spread, default maps section, series 4): 3963 samples of 0. The
 // estimator analyses the chaotic part up to the floor, says so, and still reads ln 2.

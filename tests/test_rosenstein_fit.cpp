@@ -528,6 +528,29 @@ TEST(Fit, BoundedDivergenceIsNotReadAsGrowth) {
   EXPECT_GT(chaotic.slope, 5e-3);
 }
 
+TEST(Fit, DivergenceThatSaturatesShortOfTheAttractorScaleIsNotBounded) {
+  // The curve of the logistic map at r = 3.58 (four bands visited in turn, m = 1): the pairs
+  // separate within their band at the orbit's exponent, from -10.6 by 7.7 over 72 steps, then level
+  // off 2.2 below the attractor scale of all four bands. Not a limit cycle's drift (a factor of a
+  // few): the exponent is the rise.
+  const double slope = 0.1062;
+  std::vector<double> y;
+  for (int i = 0; i <= 256; ++i) y.push_back(-10.6 + slope * std::min(i, 72) + 0.01 * std::sin(i / 3.0));
+  FitOptions o;
+  o.period = 3;
+  const double attractor = y.back() + 2.2;
+  const FitResult r = fit_divergence(synthetic(y, attractor), o);
+  EXPECT_NE(r.end, CurveEnd::bounded) << r.rule;
+  EXPECT_NEAR(r.slope, slope, 0.02 * slope) << r.rule;
+  // The rule before bounded_max_rise: bounded, slope ~0.
+  o.bounded_max_rise = std::numeric_limits<double>::infinity();
+  const FitResult before = fit_divergence(synthetic(y, attractor), o);
+  EXPECT_EQ(before.end, CurveEnd::bounded) << before.rule;
+  EXPECT_LT(std::abs(before.slope), 1e-3) << before.rule;
+  o.bounded_max_rise = 0.0;
+  EXPECT_THROW(fit_divergence(synthetic(y, attractor), o), OptionError);
+}
+
 TEST(Fit, LimitCycleCurveThatRisesAndFallsBackIsBounded) {
   // A limit cycle that has not fully settled (Hammond at 240 rpm, blade 3 inoperative, 25 s after
   // the transient): the start-up jumps by 0.5, the neighbours drift apart by 0.8 over 660 steps

@@ -298,7 +298,10 @@ int cmd_ami(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
-  const AmiResult r = cli::on_file(in, [&] { return estimate_delay_ami(loaded.series, o); });
+  const AmiResult r = cli::on_file(in, [&] {
+    o.mean_period = estimate_mean_period(loaded.series, {}).mean_period;  // as mlce estimate's delay rule
+    return estimate_delay_ami(loaded.series, o);
+  });
   if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::ami_csv(r));
   if (!plot_path.empty())
     cli::plot_columns_png(cli::ami_csv(r), "average mutual information: " + in.file, "delay tau (samples)",
@@ -335,10 +338,11 @@ int cmd_fnn(const std::vector<std::string>& args) {
   const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");
   std::size_t J = 0;
   const FnnResult r = cli::on_file(in, [&] {
-    o.theiler = given_theiler ? *given_theiler : estimate_mean_period(loaded.series, {}).mean_period;
+    const std::size_t mean_period = estimate_mean_period(loaded.series, {}).mean_period;
+    o.theiler = given_theiler ? *given_theiler : mean_period;
     MlceOptions delay_only;  // the estimator's delay rule; the dimension is what this command shows
     delay_only.delay = given_delay, delay_only.dim = 1;
-    J = choose_embedding(loaded.series, delay_only, o.theiler).delay;
+    J = choose_embedding(loaded.series, delay_only, mean_period).delay;
     return estimate_dimension_fnn(loaded.series, J, o);
   });
   if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::fnn_csv(r));

@@ -208,14 +208,22 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
   for (std::size_t c = 0; c < s.channel_count(); ++c) {
     ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, options);
     std::size_t d = a.delay;
-    if (d == 0) {
+    // The channel is named where there are several (mlce estimate --each names its own channels).
+    const std::string channel = s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string();
+    const bool map = options.mean_period > 0 && options.mean_period < kMinFlowPeriod;
+    if (d == 0 || (map && d > options.mean_period)) {
       any_fallback = true;
+      const std::size_t minimum = d;
       d = autocorrelation_time(s.channels[c], max_delay);
-      // The channel is named where there are several (mlce estimate --each names its own channels).
-      r.warnings.push_back((s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string()) +
-                           "AMI has no significant minimum up to tau = " +
-                           std::to_string(max_delay) + " (decays into its noise floor, as for maps): delay = " +
-                           "autocorrelation 1/e time = " + std::to_string(d));
+      r.warnings.push_back(
+          channel +
+          (minimum == 0 ? "AMI has no significant minimum up to tau = " + std::to_string(max_delay) +
+                              " (decays into its noise floor, as for maps)"
+                        : "AMI's first minimum, at tau = " + std::to_string(minimum) + ", lies beyond the mean period (" +
+                              std::to_string(options.mean_period) +
+                              " samples) of a map: its AMI levels off above its floor, as the bands of a banded "
+                              "chaotic map do, and does not mark a decorrelation") +
+          ": delay = autocorrelation 1/e time = " + std::to_string(d));
     }
     r.channel_delay.push_back(d);
     if (c == 0) {

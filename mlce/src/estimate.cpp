@@ -504,6 +504,7 @@ Embedding choose_embedding(const Series& series, const MlceOptions& options, std
     report(options, "AMI delay", 0.0);
     AmiOptions ao = options.ami;
     ao.stop_at_minimum = true;
+    if (ao.mean_period == 0) ao.mean_period = mean_period;
     e.ami = estimate_delay_ami(series, ao);
     e.delay = e.ami->delay;
   }

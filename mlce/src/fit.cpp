@@ -126,19 +126,21 @@ std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<
   return pieces;
 }
 
-/// Rule 0b: the curve stays bounded_margin below the attractor scale and starts in the lower half of
+/// Rule 0b: the curve stays bounded_margin below the attractor scale, starts in the lower half of
 /// its range (nearest neighbours start closer than they later are: no decay, which starts at the
-/// top). It is bounded when it has settled, over its second half its least-squares line changing
+/// top) and rises from its start by at most max_rise (more is an exponential divergence that
+/// saturates short of the attractor scale, as within the bands of a banded map). It is bounded when it has settled, over its second half its least-squares line changing
 /// by less than 0.25 or by less than 0.4 of the curve's range (a straight rise changes by half of it
 /// there), or when it falls back over its second half by more than that: a growth saturates at the
 /// attractor scale and never falls; a limit cycle that has not fully settled does (its neighbours
 /// drift apart by the search's selection bias, then close in again as the residual decaying mode dies
 /// out: Hammond at 240 rpm, blade 3 inoperative, rose by 1.3 and fell by 0.7 over 25 s).
 enum class Bounded { no, settled, falls_back };
-Bounded bounded_kind(const std::vector<double>& y, double attractor, double margin) {
+Bounded bounded_kind(const std::vector<double>& y, double attractor, double margin, double max_rise) {
   const std::size_t n = y.size(), half = n / 2;
   const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi)) return Bounded::no;
+  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi) || *hi - y[0] > max_rise)
+    return Bounded::no;
   const double late = fit_line(y.data(), half, n - 1).slope * static_cast<double>(n - 1 - half);
   const double tolerance = std::max(0.25, 0.4 * (*hi - *lo));
   return std::abs(late) < tolerance ? Bounded::settled : late < 0.0 ? Bounded::falls_back : Bounded::no;
@@ -383,7 +385,7 @@ bool fit_flat(const std::vector<double>& y, FitResult& r, std::ostringstream& ru
 bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitResult& r, std::ostringstream& rule) {
   const auto& y = curve.mean_log_distance;
   const std::size_t n = y.size();
-  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin) : Bounded::no;
+  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin, options.bounded_max_rise) : Bounded::no;
   if (kind == Bounded::no) return false;
   // A curve that falls back while the signal's own amplitude decays at least persist_share x as fast
   // is a decay to rest, not a limit cycle closing in again: its early rise is the start-up, and a
@@ -640,6 +642,7 @@ void FitOptions::validate() const {
   if (!(merge_tolerance >= 0.0 && merge_tolerance < 1.0)) throw OptionError("fit.merge_tolerance: expected [0, 1)");
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
+  if (!(bounded_max_rise > 0.0)) throw OptionError("fit.bounded_max_rise: expected > 0");
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
   if (!(map_straightness > 0.0 && map_straightness <= 1.0)) throw OptionError("fit.map_straightness: expected (0, 1]");
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");

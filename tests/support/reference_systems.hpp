@@ -164,65 +164,66 @@ inline std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, do
   return with_white_noise(damped_oscillator(n, dt, zeta, omega), noise, 7);
 }
 
-/// Henon a = 1.4, b = 0.3; lambda_1 = 0.41922 per iteration. From (x0, y0) after 1000 iterations.
-inline std::vector<double> henon_x(std::size_t n, double x0 = 0.1, double y0 = 0.1) {
+/// Henon x -> 1 - a x^2 + y, y -> 0.3 x, a = 1.4 unless given (lambda_1 = 0.41922 per iteration).
+/// From (x0, y0) after 1000 iterations.
+inline std::vector<double> henon_x(std::size_t n, double x0 = 0.1, double y0 = 0.1, double a = 1.4) {
   double x = x0, y = y0;
   for (int i = 0; i < 1000; ++i) {
-    const double xn = 1.0 - 1.4 * x * x + y;
+    const double xn = 1.0 - a * x * x + y;
     y = 0.3 * x;
     x = xn;
   }
   std::vector<double> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = x;
-    const double xn = 1.0 - 1.4 * x * x + y;
+    const double xn = 1.0 - a * x * x + y;
     y = 0.3 * x;
     x = xn;
   }
   return out;
 }
 
-/// Logistic map r = 4; lambda = ln 2 per iteration.
-inline std::vector<double> logistic(std::size_t n, double x0 = 0.1234567) {
+/// Logistic map x -> r x (1 - x), r = 4 unless given (lambda = ln 2 per iteration), after 100 iterations.
+inline std::vector<double> logistic(std::size_t n, double x0 = 0.1234567, double r = 4.0) {
   double x = x0;
-  for (int i = 0; i < 100; ++i) x = 4.0 * x * (1.0 - x);
+  for (int i = 0; i < 100; ++i) x = r * x * (1.0 - x);
   std::vector<double> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     out[i] = x;
-    x = 4.0 * x * (1.0 - x);
+    x = r * x * (1.0 - x);
   }
   return out;
 }
 
-/// The finite-time exponent of the very Henon trajectory henon_x(n, x0, y0) samples: the tangent
+/// The finite-time exponent of the very Henon trajectory henon_x(n, x0, y0, a) samples: the tangent
 /// map along its n iterations, the tangent vector aligned during the last 50 of the 1000
 /// discarded ones. Independent of any estimator: what one series of n iterations can carry.
-inline double henon_own_exponent(std::size_t n, double x0 = 0.1, double y0 = 0.1) {
+inline double henon_own_exponent(std::size_t n, double x0 = 0.1, double y0 = 0.1, double a = 1.4) {
   double x = x0, y = y0, u = 1, v = 0;
   long double acc = 0;
   for (std::size_t i = 0; i < 1000 + n; ++i) {
     if (i >= 950) {
-      const double un = -2.8 * x * u + v;  // Jacobian [[-2.8 x, 1], [0.3, 0]]
+      const double un = -2.0 * a * x * u + v;  // Jacobian [[-2 a x, 1], [0.3, 0]]
       v = 0.3 * u, u = un;
       const double norm = std::hypot(u, v);
       if (i >= 1000) acc += std::log(norm);
       u /= norm, v /= norm;
     }
-    const double xn = 1.0 - 1.4 * x * x + y;
+    const double xn = 1.0 - a * x * x + y;
     y = 0.3 * x, x = xn;
   }
   return static_cast<double>(acc / static_cast<long double>(n));
 }
 
-/// The same for a logistic (r = 4) series: the mean of ln |f'(x)| = ln |4 - 8 x| over its samples
-/// up to the first exact 0 (a floating-point orbit can land on 1/2, then 1, then the repelling
-/// fixed point 0 and stay there). A sample exactly at 1/2 (f' = 0) is left out.
-inline double logistic_own_exponent(const std::vector<double>& x) {
+/// The same for a logistic series (r = 4 unless given): the mean of ln |f'(x)| = ln |r - 2 r x| over
+/// its samples up to the first exact 0 (a floating-point orbit can land on 1/2, then 1, then the
+/// repelling fixed point 0 and stay there). A sample exactly at 1/2 (f' = 0) is left out.
+inline double logistic_own_exponent(const std::vector<double>& x, double r = 4.0) {
   long double acc = 0;
   std::size_t terms = 0;
   for (const double v : x) {
     if (v == 0.0) break;
-    const double slope = std::abs(4.0 - 8.0 * v);
+    const double slope = std::abs(r - 2.0 * r * v);
     if (slope > 0) acc += std::log(slope), ++terms;
   }
   return terms > 0 ? static_cast<double>(acc / static_cast<long double>(terms)) : 0.0;

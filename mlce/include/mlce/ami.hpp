@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "mlce/mean_period.hpp"
 #include "mlce/series.hpp"
 
 namespace mlce {
@@ -40,6 +41,16 @@ struct AmiOptions {
   /// ami.cpp and README "The delay rule"). Lorenz x loses 0.62 at dt = 0.1 and 0.47 at dt = 0.05; a
   /// sine of 126 samples per period 0.24.
   double coarse_first_lag = 0.4;
+  /// The series' mean period in samples (eq. 19; 0 = unknown). When it is below kMinFlowPeriod (a
+  /// map), a minimum later than this period is not taken for the delay: the delay is then the
+  /// autocorrelation 1/e time, as when there is no minimum, with a warning. A map decorrelates
+  /// within a few iterations; a curve that settles above its floor instead, with a minimum or a
+  /// shoulder dozens of iterations on, carries a component that never decorrelates. The bands of a
+  /// banded chaotic map, visited in a fixed cycle, do that: the logistic map at r = 3.6 alternates
+  /// between two bands, its AMI levels off near ln 2 = 0.69 nats, and the shoulder rule took lag
+  /// 26 (mean period 3), where FNN needed m = 5 and the estimate read 0.90 of the orbit's own
+  /// exponent (r = 3.58..3.67: 0.79..1.34), against 0.998 at delay 1 (`build/map_bands`).
+  std::size_t mean_period = 0;
   /// Stop at the first accepted minimum (the estimator's use); off: whole curve (the `ami` command).
   bool stop_at_minimum = false;
   void validate() const;
@@ -51,7 +62,8 @@ struct AmiResult {
   std::vector<double> smoothed;
   /// Chosen delay in samples: first significant local minimum of the smoothed curve; when there
   /// is none (maps, whose AMI decays into the noise floor; monotonically decorrelating series),
-  /// the first tau at which the autocorrelation falls to 1/e (1 for maps).
+  /// or a map's lies beyond its mean period (AmiOptions::mean_period), the first tau at which the
+  /// autocorrelation falls to 1/e (1 for maps).
   std::size_t delay = 1;
   DelayRule rule = DelayRule::first_minimum;
   std::size_t bins = 0;

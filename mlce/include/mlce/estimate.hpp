@@ -38,8 +38,8 @@ enum class PhaseAlignment { automatic, off, on };
 /// read 0.44-0.49 of its rate on 8 noise seeds, compensated 0.96-1.05 (test_estimate_systems).
 /// off: eq. 23's curve always.
 enum class NoiseCompensation { automatic, off };
-// kMinFlowPeriod lives in fit.hpp (the fit also treats a map's curve apart): a series whose mean
-// period is shorter is treated as a map, with no phase alignment.
+// kMinFlowPeriod lives in mean_period.hpp (the AMI delay and the fit also treat a map apart): a
+// series whose mean period is shorter is treated as a map, with no phase alignment.
 
 /// With an automatic Theiler window, a motion that persists (transient.hpp: persists) must span at least this many of its own mean
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
@@ -178,7 +178,7 @@ MlceResult estimate_mlce(const Series& series, const MlceOptions& options);
 
 /// The estimator's embedding, for the commands that need it without an estimate (stsp, fnn):
 /// Theiler window = options.theiler or `mean_period` (eq. 20 with eq. 19); delay = options.delay or
-/// the first AMI minimum (eqs. 15-17); dimension = options.dim or FNN with that window. The AMI/FNN
+/// the first AMI minimum (eqs. 15-17; a map's only within `mean_period`: AmiOptions::mean_period); dimension = options.dim or FNN with that window. The AMI/FNN
 /// results (and their warnings) are kept when computed.
 struct Embedding {
   std::size_t delay = 1, dim = 1, theiler = 1;

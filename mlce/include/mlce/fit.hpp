@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "mlce/mean_period.hpp"
 #include "mlce/rosenstein.hpp"
 
 namespace mlce {
@@ -35,10 +36,6 @@ bool first_step_jumps_to_level(const std::vector<double>& y, double slope_per_st
 
 enum class CurveEnd { none, saturation, floor, flat, bounded };
 
-/// A series whose mean period is shorter than this many samples is treated as a map (or a flow
-/// sampled too coarsely to interpolate between samples): no phase alignment (estimate.hpp), and
-/// its curve is held to FitOptions::map_straightness.
-inline constexpr std::size_t kMinFlowPeriod = 8;
 
 struct FitOptions {
   /// Explicit fit range [first, last] in steps of the curve (overrides the rule).
@@ -58,6 +55,13 @@ struct FitOptions {
   /// scale (DivergenceCurve::attractor_log_distance), after it has stopped rising, is bounded:
   /// the neighbours never separate (limit cycle, torus) and lambda is ~0, not the start-up rise.
   double bounded_margin = 2.0;
+  /// ... unless it rose from its first step by more than this (natural log units, a factor e^4 ~
+  /// 55): pairs that a search picked drift apart by its selection bias, by a factor of a few, while
+  /// this is an exponential divergence that saturates short of the attractor scale. The bands of a
+  /// banded chaotic map do that: the logistic map at r = 3.58 visits four bands in turn, its pairs
+  /// separate within their band, from -10.6 to -2.9 at the orbit's exponent, and level off 2.2
+  /// below the scale of the whole attractor (`build/map_bands`).
+  double bounded_max_rise = 4.0;
   /// The chosen region is straight when the slope of its second half is at least this fraction of
   /// its first half's; otherwise it reaches into the bend and its last quarter is dropped (repeated
   /// while the region is at least 4 minimum pieces long). 1 would trim any concave region. 0.97
@@ -181,7 +185,7 @@ struct FitResult {
 ///  0. A curve whose total range is below 0.25 (distances change by less than e^0.25) is flat
 ///     (lambda ~ 0): the whole curve is fitted.
 ///  0b. A curve that never comes within bounded_margin of the attractor scale, starts in the lower
-///     half of its range (a decay starts at the top) and has settled (over its second half its
+///     half of its range (a decay starts at the top), rises by at most bounded_max_rise and has settled (over its second half its
 ///     least-squares line changes by less than 0.25, or by less than 0.4 of the curve's range, which a straight rise does not) is
 ///     bounded: pairs selected as nearest neighbours drift apart by the selection bias of the
 ///     search and then wander without separating (limit cycle, torus, paper 001 §5.2's LCOs). No

@@ -20,6 +20,12 @@ struct MeanPeriodOptions {
   void validate() const;
 };
 
+/// A series whose mean period (eq. 19) is shorter than this many samples is treated as a map (or a
+/// flow sampled too coarsely to interpolate between samples): no phase alignment (estimate.hpp),
+/// its curve held to FitOptions::map_straightness (fit.hpp), and no AMI minimum beyond its mean
+/// period taken for the delay (AmiOptions::mean_period).
+inline constexpr std::size_t kMinFlowPeriod = 8;
+
 struct MeanPeriodResult {
   /// Power-weighted mean frequency sum(P_k f_k)/sum(P_k) over the one-sided periodogram of the
   /// mean-removed series, DC bin excluded; in cycles per time unit. For several channels, the
