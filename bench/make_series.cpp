@@ -5,6 +5,7 @@
 //   make_series lorenz N dt TRANSIENT X Y Z    (from (X, Y, Z) instead)
 //   make_series roessler N dt TRANSIENT X Y Z  (Roessler from (X, Y, Z) after TRANSIENT time units)
 //   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
+//   make_series logistic N R > file             (the logistic map at r = R instead of 4)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -16,7 +17,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: make_series lorenz|roessler|roessler_z|vanderpol|henon|logistic|oscillator N [dt]\n"
                          "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n"
                          "       make_series lorenz N dt TRANSIENT X Y Z   (from (X, Y, Z))\n"
-                         "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n");
+                         "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n"
+                         "       make_series logistic N R            (the logistic map at r = R)\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -46,7 +48,7 @@ int main(int argc, char** argv) {
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);
   else if (name == "oscillator") x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, 0.05, 2.0 * M_PI);
   else if (name == "henon") x = henon_x(n), dt = 1.0;
-  else if (name == "logistic") x = logistic(n), dt = 1.0;
+  else if (name == "logistic") x = logistic(n, 0.1234567, argc > 3 ? std::strtod(argv[3], nullptr) : 4.0), dt = 1.0;
   else {
     std::fprintf(stderr, "make_series: unknown system '%s'\n", name.c_str());
     return 2;

@@ -39,6 +39,9 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
       const std::size_t j = fast.neighbour[k];
       EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
     }
+    EXPECT_EQ(fast.zero_distance_candidates, slow.zero_distance_candidates) << "split " << split;
+    EXPECT_EQ(fast.near_repeat_candidates, slow.near_repeat_candidates) << "split " << split;
+    EXPECT_EQ(fast.without_neighbour, slow.without_neighbour) << "split " << split;
   }
 }
 }  // namespace
@@ -101,6 +104,47 @@ TEST(Neighbours, RepeatedPointsAreSkippedNotReturnedAtZeroDistance) {
   EXPECT_EQ(far.zero_distance_candidates, 0u);
   for (std::size_t k = 0; k < q.size(); ++k) EXPECT_EQ(far.repeated[k] + far_slow.repeated[k], 0) << k;
   EXPECT_NE(far.neighbour.front(), NeighbourResult::none);  // neighbours found, none a repeat
+}
+
+// A series that repeats exactly: every query passes over the repeats of its point (1000 of them for
+// the period-3 orbit below), so the index regroups its points by equal delay vectors and searches
+// one per group (NeighbourIndex::kCrowdedRepeats), with the same neighbours, distances, repeats and
+// counts as the brute force over every point, within a Theiler window, under a repeat resolution,
+// and up to a limit.
+TEST(Neighbours, RepeatedPointsAreSearchedOncePerClassWithTheSameResult) {
+  const auto orbit = reference::logistic(3000, 0.1234567, 3.83);  // settled on its period-3 cycle
+  ASSERT_EQ(orbit[2000], orbit[2003]);
+  std::vector<double> table(20), tabled, coarse = reference::lorenz_x(3000);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double& v : table) v = u(rng);
+  for (std::size_t i = 0; i < 3000; ++i) tabled.push_back(table[i % 20]);  // period 20, exact
+  for (double& v : coarse) v = std::round(2.0 * v) / 2.0;                    // quantised: some repeats
+  for (std::size_t dim : {1u, 3u}) {
+    expect_same_as_brute_force(orbit, dim, 1, 0);
+    expect_same_as_brute_force(orbit, dim, 1, 5);
+    expect_same_as_brute_force(tabled, dim, 3, 100);
+    expect_same_as_brute_force(tabled, dim, 3, 7, 1e-10);
+    expect_same_as_brute_force(coarse, dim, 17, 10);
+  }
+  expect_same_as_brute_force(tabled, 2, 1, 2990);  // a window that leaves most points no candidate
+  // Up to a limit, as the adaptive horizon searches (the groups hold points beyond it too).
+  const std::size_t M = DelayEmbedding::max_points(tabled.size(), 2, 3), L = M - 700;
+  const DelayEmbedding all({std::span<const double>(tabled)}, 2, 3, M), first({std::span<const double>(tabled)}, 2, 3, L);
+  std::vector<std::uint32_t> q;
+  for (std::size_t i = 0; i < L; i += 3) q.push_back(static_cast<std::uint32_t>(i));
+  NeighbourOptions o;
+  o.theiler = 30;
+  const NeighbourIndex index(all, o);
+  for (int pass = 0; pass < 2; ++pass) {  // the first pass regroups, the second searches the groups
+    const auto limited = index.nearest(q, L);
+    const auto alone = find_nearest_neighbours_brute_force(first, q, o);
+    EXPECT_EQ(limited.neighbour, alone.neighbour) << "pass " << pass;
+    EXPECT_EQ(limited.distance, alone.distance) << "pass " << pass;
+    EXPECT_EQ(limited.repeat_of, alone.repeat_of) << "pass " << pass;
+    EXPECT_EQ(limited.zero_distance_candidates, alone.zero_distance_candidates) << "pass " << pass;
+    EXPECT_GT(limited.zero_distance_candidates, q.size() * NeighbourIndex::kCrowdedRepeats);  // the case at hand
+  }
 }
 
 TEST(Neighbours, PointsThatRepeatToRoundingAreRepeatsUnderARepeatResolution) {

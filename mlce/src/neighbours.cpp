@@ -3,10 +3,12 @@
 #include <nanoflann.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,25 +17,82 @@ namespace {
 
 /// Points [first, first + count) of an embedding as a nanoflann dataset: a long series is split
 /// into parts whose kd-trees are built side by side (nanoflann 1.4 builds one tree on one thread).
+/// With `map`, the dataset's point k is the embedding's point map[k] (one point per class of
+/// repeats, RepeatClasses), and first/count count entries of the map.
 class EmbeddingRange {
  public:
-  EmbeddingRange(const DelayEmbedding& embedding, std::size_t first, std::size_t count)
-      : embedding_(&embedding), first_(first), count_(count) {}
+  EmbeddingRange(const DelayEmbedding& embedding, std::size_t first, std::size_t count,
+                 const std::uint32_t* map = nullptr)
+      : embedding_(&embedding), first_(first), count_(count), map_(map) {}
   std::size_t first() const { return first_; }
+  /// The embedding's index of the range's first point.
+  std::size_t first_point() const { return map_ ? map_[first_] : first_; }
   std::size_t kdtree_get_point_count() const { return count_; }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const { return embedding_->coordinate(first_ + i, d); }
+  double kdtree_get_pt(std::size_t i, std::size_t d) const {
+    return embedding_->coordinate(map_ ? map_[first_ + i] : first_ + i, d);
+  }
   template <class BBox>
   bool kdtree_get_bbox(BBox&) const { return false; }
 
  private:
   const DelayEmbedding* embedding_;
   std::size_t first_, count_;
+  const std::uint32_t* map_;
 };
 
 using Metric = nanoflann::L2_Simple_Adaptor<double, EmbeddingRange, double, std::uint32_t>;
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<Metric, EmbeddingRange, -1, std::uint32_t>;
 
 std::size_t separation(std::size_t a, std::size_t b) { return a > b ? a - b : b - a; }
+
+/// The embedding's points grouped by equal delay vectors (every coordinate ==). An exactly periodic
+/// or quantised series repeats each point many times, and a kd-tree search passes over every
+/// repeat of its query (they are closer than any neighbour): N / P repeats per query for a
+/// period of P samples, O(N^2 / P) in all (the period-3 orbit of the logistic map at r = 3.83,
+/// 3 x 10^4 samples: 35 s). Searched over one point per class, each class is offered once and
+/// its members are counted and chosen by index arithmetic (the same result: test
+/// `Neighbours.RepeatedPointsAreSearchedOncePerClassWithTheSameResult`).
+struct RepeatClasses {
+  std::vector<std::uint32_t> first;    ///< per class, its earliest point; ascending
+  std::vector<std::uint32_t> offsets;  ///< class c's points: points[offsets[c] .. offsets[c + 1])
+  std::vector<std::uint32_t> points;   ///< ascending within a class
+};
+
+RepeatClasses group_repeats(const DelayEmbedding& e) {
+  const std::size_t n = e.size(), D = e.dimension();
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::size_t d = 0; d < D; ++d) {
+      const double x = e.coordinate(a, d), y = e.coordinate(b, d);
+      if (x != y) return x < y;
+    }
+    return a < b;  // equal points in time order
+  };
+  std::sort(order.begin(), order.end(), less);
+  const auto same = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::size_t d = 0; d < D; ++d)
+      if (e.coordinate(a, d) != e.coordinate(b, d)) return false;
+    return true;
+  };
+  std::vector<std::pair<std::size_t, std::size_t>> runs;  // [begin, end) of order, one per class
+  for (std::size_t k = 0; k < n;) {
+    std::size_t end = k + 1;
+    while (end < n && same(order[k], order[end])) ++end;
+    runs.emplace_back(k, end);
+    k = end;
+  }
+  std::sort(runs.begin(), runs.end(), [&](const auto& a, const auto& b) { return order[a.first] < order[b.first]; });
+  RepeatClasses c;
+  c.offsets.push_back(0);
+  for (const auto& [begin, end] : runs) {
+    c.first.push_back(order[begin]);
+    c.points.insert(c.points.end(), order.begin() + static_cast<std::ptrdiff_t>(begin),
+                    order.begin() + static_cast<std::ptrdiff_t>(end));
+    c.offsets.push_back(static_cast<std::uint32_t>(c.points.size()));
+  }
+  return c;
+}
 
 /// nanoflann result set for one nearest neighbour outside the Theiler window (eq. 20). The
 /// exclusion and the skipping of zero-distance duplicates happen inside the tree search, so the
@@ -53,25 +112,30 @@ class TheilerNearestResultSet {
   /// The tree searched next holds the points from `first` on (its indices are local to it). The
   /// set carries its best distance from one tree's search to the next, which prunes it.
   void set_offset(std::size_t first) { offset_ = first; }
+  /// The trees hold one point per class of repeats: a local index names a class.
+  void set_classes(const RepeatClasses* classes) { classes_ = classes; }
 
   void init() {}
   std::size_t size() const { return index_ == NeighbourResult::none ? 0 : 1; }
   bool full() const { return true; }
   bool addPoint(double squared_distance, std::uint32_t local_index) {
-    const std::size_t index = offset_ + local_index;
-    if (index >= limit_) return true;                        // beyond the points searched
-    if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
-    if (squared_distance <= repeat_squared_) {  // repeated point: log(0) downstream, take the next one
-      ++(squared_distance == 0.0 ? zero_hits_ : near_hits_);
-      repeat_ = std::min(repeat_, static_cast<std::uint32_t>(index));
+    if (classes_ == nullptr) {
+      const std::size_t index = offset_ + local_index;
+      if (index >= limit_) return true;                        // beyond the points searched
+      if (separation(index, query_) <= theiler_) return true;  // temporally correlated: excluded
+      add(squared_distance, index, 1);
       return true;
     }
-    // Equal distances go to the earlier point, whatever order the trees visit them in.
-    if (squared_distance < best_ || (squared_distance == best_ && index < index_)) {
-      best_ = squared_distance;
-      worst_ = std::nextafter(best_, std::numeric_limits<double>::infinity());
-      index_ = static_cast<std::uint32_t>(index);
-    }
+    // Every point of the class is at this distance: the earliest admissible one stands for them
+    // all, and a repeat counts each admissible one, as the search over every point would.
+    const std::size_t c = offset_ + local_index;
+    const std::uint32_t* begin = classes_->points.data() + classes_->offsets[c];
+    const std::uint32_t* end = std::lower_bound(begin, classes_->points.data() + classes_->offsets[c + 1], limit_);
+    const std::uint32_t* window_begin = std::lower_bound(begin, end, query_ > theiler_ ? query_ - theiler_ : 0);
+    const std::uint32_t* window_end = std::upper_bound(window_begin, end, query_ + theiler_);
+    const auto admissible = static_cast<std::size_t>((window_begin - begin) + (end - window_end));
+    if (admissible == 0) return true;
+    add(squared_distance, window_begin != begin ? *begin : *window_end, admissible);
     return true;
   }
   /// Just above the best distance: nanoflann offers a leaf's point only when it is strictly
@@ -86,6 +150,22 @@ class TheilerNearestResultSet {
   std::uint32_t repeat() const { return repeat_; }
 
  private:
+  /// An admissible candidate (the earliest of `count` at this distance).
+  void add(double squared_distance, std::size_t index, std::size_t count) {
+    if (squared_distance <= repeat_squared_) {  // repeated point: log(0) downstream, take the next one
+      (squared_distance == 0.0 ? zero_hits_ : near_hits_) += count;
+      repeat_ = std::min(repeat_, static_cast<std::uint32_t>(index));
+      return;
+    }
+    // Equal distances go to the earlier point, whatever order the trees visit them in.
+    if (squared_distance < best_ || (squared_distance == best_ && index < index_)) {
+      best_ = squared_distance;
+      worst_ = std::nextafter(best_, std::numeric_limits<double>::infinity());
+      index_ = static_cast<std::uint32_t>(index);
+    }
+  }
+
+  const RepeatClasses* classes_ = nullptr;
   std::size_t query_, theiler_, limit_, offset_ = 0;
   double repeat_squared_;
   double best_ = std::numeric_limits<double>::infinity(), worst_ = std::numeric_limits<double>::infinity();
@@ -134,22 +214,24 @@ void validate_repeat_resolution(double value, const char* option) {
 struct NeighbourIndex::Trees {
   std::vector<EmbeddingRange> ranges;
   std::vector<std::unique_ptr<KdTree>> trees;
+  RepeatClasses classes;  ///< empty: the trees hold every point
 };
 
-NeighbourIndex::NeighbourIndex(const DelayEmbedding& embedding, const NeighbourOptions& options)
-    : embedding_(&embedding), options_(options), trees_(std::make_unique<Trees>()) {
-  options.validate();
-  if (embedding.size() < 2) return;
-  const std::size_t n = embedding.size(), parts = options.split_tree_points > 0 && n >= options.split_tree_points ? 2 : 1;
-  auto& ranges = trees_->ranges;
-  auto& trees = trees_->trees;
-  for (std::size_t p = 0; p < parts; ++p) ranges.emplace_back(embedding, p * n / parts, (p + 1) * n / parts - p * n / parts);
-  trees.resize(parts);
+namespace {
+
+/// The kd-trees over `count` points (the embedding's first `count`, or the points `map` names),
+/// split in two halves built side by side from options.split_tree_points on.
+void build_trees(NeighbourIndex::Trees& t, const DelayEmbedding& embedding, std::size_t count,
+                 const std::uint32_t* map, const NeighbourOptions& options) {
+  const std::size_t parts = options.split_tree_points > 0 && count >= options.split_tree_points ? 2 : 1;
+  for (std::size_t p = 0; p < parts; ++p)
+    t.ranges.emplace_back(embedding, p * count / parts, (p + 1) * count / parts - p * count / parts, map);
+  t.trees.resize(parts);
   std::vector<std::exception_ptr> failures(parts);  // an exception must not leave an OpenMP region
   const auto build = [&](std::size_t p) {
     try {
-      trees[p] = std::make_unique<KdTree>(embedding.dimension(), ranges[p],
-                                          nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
+      t.trees[p] = std::make_unique<KdTree>(embedding.dimension(), t.ranges[p],
+                                            nanoflann::KDTreeSingleIndexAdaptorParams(options.leaf_size));
     } catch (...) {
       failures[p] = std::current_exception();
     }
@@ -160,34 +242,36 @@ NeighbourIndex::NeighbourIndex(const DelayEmbedding& embedding, const NeighbourO
     if (failure) std::rethrow_exception(failure);
 }
 
-NeighbourIndex::~NeighbourIndex() = default;
-
-NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const {
+/// The queries' nearest neighbours among points [0, limit) through the trees `t`. With `stop_when_crowded`,
+/// gives up (nullopt) once a query has passed over more than NeighbourIndex::kCrowdedRepeats repeats
+/// of its point: the trees should be regrouped.
+std::optional<NeighbourResult> search(const NeighbourIndex::Trees& t, const DelayEmbedding& embedding,
+                                      const NeighbourOptions& options, const std::vector<std::uint32_t>& queries,
+                                      std::size_t limit, bool stop_when_crowded) {
   NeighbourResult r = make_result(queries.size());
-  limit = std::min(limit, embedding_->size());
-  if (limit < 2 || trees_->trees.empty()) {
-    finish(r);
-    return r;
-  }
-  const auto& ranges = trees_->ranges;
-  const auto& trees = trees_->trees;
-  const nanoflann::SearchParams params(32, static_cast<float>(options_.eps));
-  const std::size_t D = embedding_->dimension();
+  const nanoflann::SearchParams params(32, static_cast<float>(options.eps));
+  const std::size_t D = embedding.dimension();
+  const RepeatClasses* classes = t.classes.first.empty() ? nullptr : &t.classes;
   std::size_t zeros = 0, near = 0;
+  std::atomic<bool> crowded{false};
   const auto nq = static_cast<std::ptrdiff_t>(queries.size());
 #pragma omp parallel reduction(+ : zeros, near)
   {
     std::vector<double> q(D);
 #pragma omp for schedule(dynamic, 512)
     for (std::ptrdiff_t k = 0; k < nq; ++k) {
+      if (stop_when_crowded && crowded.load(std::memory_order_relaxed)) continue;
       const std::size_t i = queries[static_cast<std::size_t>(k)];
-      embedding_->point(i, q.data());
-      TheilerNearestResultSet set(i, options_.theiler, limit, repeat_squared(q.data(), D, options_));
-      for (std::size_t p = 0; p < trees.size(); ++p) {
-        if (ranges[p].first() >= limit) break;
-        set.set_offset(ranges[p].first());
-        trees[p]->findNeighbors(set, q.data(), params);
+      embedding.point(i, q.data());
+      TheilerNearestResultSet set(i, options.theiler, limit, repeat_squared(q.data(), D, options));
+      set.set_classes(classes);
+      for (std::size_t p = 0; p < t.trees.size(); ++p) {
+        if (t.ranges[p].first_point() >= limit) break;
+        set.set_offset(t.ranges[p].first());
+        t.trees[p]->findNeighbors(set, q.data(), params);
       }
+      if (stop_when_crowded && set.zero_hits() + set.near_hits() > NeighbourIndex::kCrowdedRepeats)
+        crowded.store(true, std::memory_order_relaxed);
       zeros += set.zero_hits();
       near += set.near_hits();
       r.repeated[static_cast<std::size_t>(k)] = set.zero_hits() + set.near_hits() > 0;
@@ -198,10 +282,42 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
       }
     }
   }
+  if (crowded.load()) return std::nullopt;
   r.zero_distance_candidates = zeros;
   r.near_repeat_candidates = near;
   finish(r);
   return r;
+}
+
+}  // namespace
+
+NeighbourIndex::NeighbourIndex(const DelayEmbedding& embedding, const NeighbourOptions& options)
+    : embedding_(&embedding), options_(options), trees_(std::make_unique<Trees>()) {
+  options.validate();
+  if (embedding.size() < 2) return;
+  build_trees(*trees_, embedding, embedding.size(), nullptr, options);
+}
+
+NeighbourIndex::~NeighbourIndex() = default;
+
+NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const {
+  limit = std::min(limit, embedding_->size());
+  if (limit < 2 || trees_->trees.empty()) {
+    NeighbourResult r = make_result(queries.size());
+    finish(r);
+    return r;
+  }
+  if (!grouped_) {
+    if (auto r = search(*trees_, *embedding_, options_, queries, limit, !grouping_tried_)) return *std::move(r);
+    grouping_tried_ = true;
+    RepeatClasses classes = group_repeats(*embedding_);
+    if (classes.first.size() == embedding_->size())  // repeats within the resolution, none exact: no help
+      return *search(*trees_, *embedding_, options_, queries, limit, false);
+    grouped_ = std::make_unique<Trees>();
+    grouped_->classes = std::move(classes);
+    build_trees(*grouped_, *embedding_, grouped_->classes.first.size(), grouped_->classes.first.data(), options_);
+  }
+  return *search(*grouped_, *embedding_, options_, queries, limit, false);
 }
 
 NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,

@@ -83,14 +83,21 @@ class NeighbourIndex {
   NeighbourIndex& operator=(const NeighbourIndex&) = delete;
   /// Nearest neighbour of each query among the points [0, limit) (the same result as an index
   /// over those points only). Runs the queries on all cores (OpenMP); the result does not depend
-  /// on the thread count.
+  /// on the thread count. Not to be called from two threads at once: a query that passes over
+  /// more than kCrowdedRepeats repeats of its point (a periodic or quantised series) makes the
+  /// index regroup its points by equal delay vectors, once, and search one point per group.
   NeighbourResult nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const;
 
+  static constexpr std::size_t kCrowdedRepeats = 64;
+
+  struct Trees;  ///< kd-trees and the points they hold (neighbours.cpp)
+
  private:
-  struct Trees;
   const DelayEmbedding* embedding_;
   NeighbourOptions options_;
   std::unique_ptr<Trees> trees_;
+  mutable std::unique_ptr<Trees> grouped_;  ///< over one point per class of repeats, once needed
+  mutable bool grouping_tried_ = false;     ///< grouped_ was built, or found no two equal points
 };
 
 /// Nearest neighbour among the embedding's points of each point in `queries` (indices into the
