@@ -503,6 +503,39 @@ TEST(EstimateSystems, WhiteNoiseIsFlaggedAsUnresolved) {
   EXPECT_LE(r.fit.end_index, r.dim + 2) << r.fit.rule;  // the plateau piece starts right after the window
 }
 
+// Stochastic series have no deterministic exponent, and FNN never unfolds them: its fraction stays
+// at kStochasticFnnShare or more at every m up to 10 (white noise, AR(1) processes, random walks),
+// while a deterministic signal it does not quite unfold stays lower (Roessler z). A random walk's
+// curve rises and levels off as chaos does, and read "chaotic" before the rule.
+TEST(EstimateSystems, AStochasticSeriesThatNeverUnfoldsIsNotRead) {
+  std::mt19937_64 gen(2026);
+  std::normal_distribution<double> g;
+  const auto lowest = [](const MlceResult& r) {
+    return r.fnn ? *std::min_element(r.fnn->fraction.begin(), r.fnn->fraction.end()) : 0.0;
+  };
+  const auto series = [&](double coefficient) {  // x_k = coefficient x_{k-1} + e_k; 1: a random walk
+    std::vector<double> x(10000);
+    double v = 0.0;
+    for (double& s : x) s = v = coefficient * v + g(gen);
+    return x;
+  };
+  for (const double coefficient : {0.0, 0.9, 0.99, 1.0, 1.0, 1.0}) {
+    const auto r = run(series(coefficient), 1.0);
+    const Reading reading = read_stability(r);
+    std::printf("x_k = %.2f x_(k-1) + e_k: FNN lowest %.3f, lambda %.4f per sample, reading %s (%s)\n", coefficient,
+                lowest(r), r.lambda, reading.motion.c_str(), r.unreliable.c_str());
+    EXPECT_EQ(reading.stability, Stability::undetermined) << coefficient;
+    if (!has_warning(r, "the series drifts")) {  // a walk that strays far is a drift already
+      EXPECT_GE(lowest(r), kStochasticFnnShare) << coefficient;
+      EXPECT_TRUE(has_warning(r, "false nearest neighbours stay at")) << coefficient;
+    }
+  }
+  const auto z = run(reference::roessler(10000, 0.1, {1.0, 1.0, 0.0}, 2), 0.1);
+  std::printf("Roessler z: FNN lowest %.3f\n", lowest(z));
+  EXPECT_LT(lowest(z), kStochasticFnnShare);
+  EXPECT_FALSE(has_warning(z, "false nearest neighbours stay at"));
+}
+
 // Measurement noise added to Lorenz x: the curve's first step jumps by the noise's share, which
 // gives its level. Truth: the sample standard deviation of the noise added, over the noisy
 // series' own (the estimator standardises what it is given). The estimate is an upper one (the

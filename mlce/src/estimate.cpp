@@ -314,6 +314,25 @@ void warn_about_window(MlceResult& r, double own_period) {
       window, window / own_period, std::ceil(own_period)));
 }
 
+/// False nearest neighbours that stay at kStochasticFnnShare or more at every m: no deterministic
+/// motion of up to FnnOptions::max_dim dimensions was reconstructed, and the pairs' separation is
+/// that of a stochastic process (a random walk's curve rises and levels off as chaos does: "chaotic"
+/// was read). Said, and lambda marked unreliable. Not on a signal that decays (signal_decays): a
+/// decay's points shrink towards rest, Kennel's criteria judge them against the whole record's size,
+/// and the decaying lags of the isotropic MBDyn run stay at 14-20 % false while the curve reads their
+/// eigenvalue (-1.178 for -1.183 1/s).
+void warn_about_unfolding(MlceResult& r) {
+  if (!r.fnn || r.fnn->reached_threshold || r.fnn->fraction.empty() || signal_decays(r)) return;
+  const auto lowest = std::min_element(r.fnn->fraction.begin(), r.fnn->fraction.end());
+  if (*lowest < kStochasticFnnShare) return;
+  r.warnings.push_back(fmt::format(
+      "false nearest neighbours stay at {:.3g} % or more at every m up to {} (lowest at m = {}): the series unfolds "
+      "into no low-dimensional deterministic motion (noise, a stochastic process such as a random walk, or a motion "
+      "of more dimensions than that), and lambda does not measure a divergence",
+      100.0 * *lowest, r.fnn->fraction.size(), lowest - r.fnn->fraction.begin() + 1));
+  if (r.unreliable.empty()) r.unreliable = "no low-dimensional deterministic reconstruction (false neighbours stay)";
+}
+
 /// The fit rule's period (FitOptions::period: its segments' and region's length) for a series of
 /// several channels embedded jointly: the median of the channels' own mean periods (eq. 19 per
 /// channel; of the two middle ones, their mean), while the Theiler window keeps eq. 19's fastest
@@ -768,6 +787,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     compensate_noise(options.dither > 0.0 ? series : raw, series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
   append(r.warnings, r.fit.warnings);
+  warn_about_unfolding(r);  // after the curve's own verdicts, which name the cause more closely
   warn_about_rate_beyond_envelope(r);
   express_per_time(r, series.dt);
   report(options, "done", 1.0);

@@ -54,6 +54,15 @@ inline constexpr double kMaxWindowPeriods = 2.0;
 /// formal least-squares one and says nothing about the curve's own noise).
 inline constexpr std::size_t kFewPairs = 160;
 
+/// False nearest neighbours (an automatic m) that never fall below their threshold and stay at this
+/// share or more at every m tried: the series unfolds into no low-dimensional deterministic motion,
+/// and estimate_mlce flags lambda as unreliable (not on a decaying signal). Stochastic series stay
+/// high (10^4 samples: white noise 0.179, AR(1) with coefficient 0.9 and 0.99 0.148 and 0.156, random
+/// walks 0.155-0.42, which read "limit cycle" and "chaotic" before), a deterministic signal that FNN
+/// does not quite unfold lower (Roessler z 0.063): `build/test_estimate_systems
+/// --gtest_filter='*NeverUnfolds*'` prints them.
+inline constexpr double kStochasticFnnShare = 0.12;
+
 /// A flow whose state has fewer coordinates than this settles on fixed points and limit cycles only
 /// (Poincare-Bendixson), where neighbours do not keep separating up to the attractor's scale:
 /// estimate_mlce widens an automatic embedding whose curve does.
