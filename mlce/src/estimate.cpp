@@ -319,8 +319,8 @@ void warn_about_window(MlceResult& r, double own_period) {
 /// that of a stochastic process (a random walk's curve rises and levels off as chaos does: "chaotic"
 /// was read). Said, and lambda marked unreliable. Not on a signal that decays (signal_decays): a
 /// decay's points shrink towards rest, Kennel's criteria judge them against the whole record's size,
-/// and the decaying lags of the isotropic MBDyn run stay at 14-20 % false while the curve reads their
-/// eigenvalue (-1.178 for -1.183 1/s).
+/// and the decaying lags of the isotropic MBDyn run stay at 13.7-19.8 % false (its FNN warnings)
+/// while the curve reads their eigenvalue (-1.178 for -1.183 1/s).
 void warn_about_unfolding(MlceResult& r) {
   if (!r.fnn || r.fnn->reached_threshold || r.fnn->fraction.empty() || signal_decays(r)) return;
   const auto lowest = std::min_element(r.fnn->fraction.begin(), r.fnn->fraction.end());
