@@ -17,10 +17,20 @@
 // clean orbit's own exponent, m, the curve's first step over its fitted slope per step, and whether
 // the estimator flagged the noise (noise_level):
 //   build/map_bands noise  (about 1 s)
+// and maps whose orbit switches slowly between two lobes, with a flow's mean period but a share of
+// their power at periods below 4 samples (MeanPeriodResult::map, MeanPeriodOptions::map_fast_share):
+// the Duffing (Holmes) map x -> y, y -> -b x + a y - y^3 (b = 0.1: a = 2.62 ... 2.78; b = 0.2:
+// a = 2.70 ... 2.76, and the textbook a = 2.75), the cubic map x -> a x - x^3 (a = 2.60 ... 2.80) and the Pomeau-Manneville map
+// x -> x + x^z mod 1 (z = 1.5, 1.75), each beside its orbit's own exponent, automatic and treated as
+// a map by its mean period alone (map_fast_share = 1, the rule before); then the fast share of
+// sampled flows (Lorenz x at dt = 0.01 ... 0.15, Roessler x at dt = 0.1 ... 0.8, Lorenz x with white
+// noise of 10 ... 40 % of its standard deviation), for the threshold's margin:
+//   build/map_bands switching  (about 12 s)
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "mlce/estimate.hpp"
@@ -102,9 +112,103 @@ void noise_study() {
 
 }  // namespace
 
+/// One switching orbit: automatic, and treated as a map by its mean period alone.
+void switching_row(const char* name, const mlce::reference::MapSample& o, int& rows, int& within, int& within_before) {
+  const auto series = mlce::make_series_with_step({o.x}, 1.0);
+  const auto r = mlce::estimate_mlce(series, {});
+  mlce::MlceOptions by_period;
+  by_period.mean_period.map_fast_share = 1.0;  // never reached but by a tone at the Nyquist frequency
+  const auto b = mlce::estimate_mlce(series, by_period);
+  const bool ok = std::abs(r.lambda / o.own_exponent - 1.0) <= 0.05, ok_before = std::abs(b.lambda / o.own_exponent - 1.0) <= 0.05;
+  ++rows, within += ok, within_before += ok_before;
+  std::printf("  %-32s own %.4f  T %2zu fast %.3f %s | %.4f (%.3f) J %zu m %zu%s || by period: %.4f (%.3f) J %zu m %zu%s\n", name,
+              o.own_exponent, r.mean_period.mean_period, r.mean_period.fast_share, r.mean_period.map ? "map " : "flow",
+              r.lambda, r.lambda / o.own_exponent, r.delay, r.dim, r.unreliable.empty() ? "" : " (undetermined)", b.lambda,
+              b.lambda / o.own_exponent, b.delay, b.dim, b.unreliable.empty() ? "" : " (undetermined)");
+}
+
+mlce::reference::MapSample pomeau_manneville(std::size_t n, double z) {
+  double x = 0.3;
+  auto step = [z](double v) {
+    const double next = v + std::pow(v, z);
+    return next >= 1.0 ? next - 1.0 : next;
+  };
+  for (int i = 0; i < 1000; ++i) x = step(x);
+  mlce::reference::MapSample o;
+  long double acc = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    o.x.push_back(x);
+    acc += std::log(1.0 + z * std::pow(x, z - 1.0));
+    x = step(x);
+  }
+  o.own_exponent = static_cast<double>(acc / static_cast<long double>(n));
+  return o;
+}
+
+void switching_study() {
+  constexpr std::size_t n = 10000;
+  int rows = 0, within = 0, within_before = 0;
+  char name[64];
+  std::printf("Maps that switch slowly between lobes, N = %zu: own | mean period T, fast share, map/flow | estimate (/ own), "
+              "delay, m || treated as a map by T alone (map_fast_share = 1)\n", n);
+  for (const auto& [b, from, steps] : {std::tuple{0.1, 2.62, 9}, std::tuple{0.2, 2.70, 4}})
+    for (int k = 0; k < steps; ++k) {
+      const double a = from + 0.02 * k;
+      std::snprintf(name, sizeof name, "Duffing a %.2f b %.1f", a, b);
+      switching_row(name, mlce::reference::duffing_map_x(n, a, b), rows, within, within_before);
+    }
+  switching_row("Duffing a 2.75 b 0.2 (textbook)", mlce::reference::duffing_map_x(n), rows, within, within_before);
+  for (int k = 0; k <= 5; ++k) {
+    const double a = 2.60 + 0.04 * k;
+    std::snprintf(name, sizeof name, "cubic a %.2f", a);
+    switching_row(name, mlce::reference::cubic_map(n, a), rows, within, within_before);
+  }
+  for (const double z : {1.5, 1.75}) {
+    std::snprintf(name, sizeof name, "Pomeau-Manneville z %.2f", z);
+    switching_row(name, pomeau_manneville(n, z), rows, within, within_before);
+  }
+  std::printf("within 5 %% of own: %d of %d automatic, %d by the mean period alone\n", within, rows, within_before);
+  std::printf("Fast share of sampled flows (N = 10^4; MeanPeriodOptions::map_fast_share = %.2f):\n",
+              mlce::MeanPeriodOptions{}.map_fast_share);
+  // Each with its estimate over the known lambda_1, automatic and as a flow (map_fast_share = 1).
+  auto flow = [](const char* label, const std::vector<double>& x, double dt, double lambda_1) {
+    const auto series = mlce::make_series_with_step({x}, dt);
+    const auto r = mlce::estimate_mlce(series, {});
+    mlce::MlceOptions as_flow;
+    as_flow.mean_period.map_fast_share = 1.0;
+    const auto f = mlce::estimate_mlce(series, as_flow);
+    auto verdict = [](const mlce::MlceResult& e) { return e.unreliable.empty() ? std::string() : " undetermined: " + e.unreliable; };
+    std::printf("  %-30s T %3zu  fast share %.4f  %-4s | %.3f lambda_1%s || as a flow: %.3f%s\n", label, r.mean_period.mean_period,
+                r.mean_period.fast_share, r.mean_period.map ? "map" : "flow", r.lambda / lambda_1, verdict(r).c_str(),
+                f.lambda / lambda_1, verdict(f).c_str());
+  };
+  for (const double dt : {0.01, 0.05, 0.1, 0.15}) {
+    std::snprintf(name, sizeof name, "Lorenz x, dt %.2f", dt);
+    flow(name, mlce::reference::lorenz_x(n, dt), dt, 0.9056);
+  }
+  for (const double dt : {0.1, 0.3, 0.5, 0.8}) {
+    std::snprintf(name, sizeof name, "Roessler x, dt %.1f", dt);
+    flow(name, mlce::reference::roessler_x(n, dt), dt, 0.0714);
+  }
+  const auto lorenz = mlce::reference::lorenz_x(n);
+  double mean = 0, sq = 0;
+  for (const double v : lorenz) mean += v;
+  mean /= static_cast<double>(n);
+  for (const double v : lorenz) sq += (v - mean) * (v - mean);
+  const double deviation = std::sqrt(sq / static_cast<double>(n));
+  for (const double share : {0.1, 0.2, 0.3, 0.35, 0.4}) {
+    std::snprintf(name, sizeof name, "Lorenz x + %.0f %% white noise", 100 * share);
+    flow(name, mlce::reference::with_white_noise(lorenz, share * deviation, 7), 0.01, 0.9056);
+  }
+}
+
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "noise") {
     noise_study();
+    return 0;
+  }
+  if (argc > 1 && std::string(argv[1]) == "switching") {
+    switching_study();
     return 0;
   }
   scan("logistic map", "r", 3.57, 4.0, 0.01, [](double r, std::size_t n) {

@@ -60,12 +60,18 @@ TEST(Ami, AMapsMinimumBeyondItsMeanPeriodIsNotTheDelay) {
   o.mean_period = 3;
   const auto r = estimate_delay_ami(s, o);
   EXPECT_EQ(r.delay, 1u);
-  EXPECT_EQ(r.rule, DelayRule::autocorrelation_1e);
+  EXPECT_EQ(r.rule, DelayRule::map_iteration);
   ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_NE(r.warnings[0].find("beyond the mean period (3 samples) of a map"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("beyond 3 samples in a map"), std::string::npos) << r.warnings[0];
   // A flow's period keeps the rule as it was.
   o.mean_period = kMinFlowPeriod;
   EXPECT_EQ(estimate_delay_ami(s, o).delay, unaware.delay);
+  // ... unless the series is a map by its spectrum (MeanPeriodResult::map): then a minimum beyond
+  // kMinFlowPeriod - 1 is not the delay either.
+  o.mean_period = 27, o.map = true;
+  const auto switching = estimate_delay_ami(s, o);
+  EXPECT_EQ(switching.delay, 1u);
+  EXPECT_EQ(switching.rule, DelayRule::map_iteration);
 }
 
 TEST(Ami, AutocorrelationTimeOfAr1) {

@@ -270,6 +270,36 @@ TEST(EstimateSystems, BandedChaoticMapsWithinTwoPercentOfTheirOrbitsExponents) {
   }
 }
 
+// Maps whose orbit stays on one lobe for many iterations before it switches: the switching puts
+// most of the power at low frequencies, so the mean period (eq. 19) reads 8-27 samples as a
+// sampled flow's would, but 6.6-16 % of the power lies at periods below 4 samples, where a sampled
+// flow has almost none (MeanPeriodResult::map). Read as flows they took delays of 2-171 and m = 6-9
+// (the AMI keeps the lobe's memory), then phase alignment between iterations: -0.07..0.29 of their
+// exponents, every one flagged undetermined (`build/map_bands switching`). As maps: delay 1, and each
+// orbit's own exponent.
+TEST(EstimateSystems, MapsThatSwitchSlowlyBetweenLobesReadTheirOrbitsExponents) {
+  struct Case {
+    const char* name;
+    reference::MapSample sample;
+    double tolerance;
+  };
+  const std::vector<Case> cases{{"Duffing map a = 2.75, b = 0.2", reference::duffing_map_x(10000), 0.05},
+                                {"Duffing map a = 2.7, b = 0.1", reference::duffing_map_x(10000, 2.7, 0.1), 0.02},
+                                {"cubic map a = 2.64", reference::cubic_map(10000, 2.64), 0.02},
+                                {"cubic map a = 2.72", reference::cubic_map(10000, 2.72), 0.02}};
+  for (const auto& c : cases) {
+    const auto e = run(c.sample.x, 1.0);
+    EXPECT_TRUE(e.mean_period.map) << c.name << ": fast share " << e.mean_period.fast_share;
+    EXPECT_GE(e.mean_period.mean_period, kMinFlowPeriod) << c.name << " (a map by its spectrum, not its period)";
+    EXPECT_EQ(e.delay, 1u) << c.name;
+    EXPECT_NEAR(e.lambda, c.sample.own_exponent, c.tolerance * c.sample.own_exponent) << c.name << ": " << e.fit.rule;
+    EXPECT_TRUE(e.unreliable.empty()) << c.name << ": " << e.unreliable;
+    std::printf("%-30s own %.4f  estimate %.4f (%.3f)  mean period %zu, fast share %.3f, m %zu\n", c.name,
+                c.sample.own_exponent, e.lambda, e.lambda / c.sample.own_exponent, e.mean_period.mean_period,
+                e.mean_period.fast_share, e.dim);
+  }
+}
+
 // In floating point this logistic orbit lands on 1/2, then 1, and stays at the fixed point 0 from
 // sample 6037 on (bench/finite_time_spread, default maps section, series 4): 3963 samples of 0. The
 // estimator analyses the chaotic part up to the floor, says so, and still reads ln 2.

@@ -37,6 +37,32 @@ TEST(MeanPeriod, PowerWeightedMeanFrequencyMatchesAnalyticSpectrum) {
   }
 }
 
+TEST(MeanPeriod, FastShareIsThePowerAboveAQuarterOfTheSamplingRate) {
+  // Two on-bin tones, one at a period of 20 samples and one of 3: the share of the power above
+  // fs/4 is a2^2 / (a1^2 + a2^2) exactly (Hann's leakage stays within a bin of each line).
+  const std::size_t n = 4200;  // a multiple of 20 and 3
+  for (const double a2 : {0.1, 0.3, 1.0}) {
+    const auto r = estimate_mean_period(two_tones(n, 1.0, 1.0 / 20, 1.0, 1.0 / 3, a2), {});
+    EXPECT_NEAR(r.fast_share, a2 * a2 / (1.0 + a2 * a2), 1e-9);
+    // A map whatever its mean period once 5 % or more of the power is that fast (MeanPeriodResult::map).
+    EXPECT_EQ(r.map, a2 * a2 / (1.0 + a2 * a2) >= 0.05) << a2;
+    EXPECT_EQ(r.mean_period, static_cast<std::size_t>(std::ceil((1.0 + a2 * a2) / (1.0 / 20 + a2 * a2 / 3) - 1e-9)));
+    // A map with a flow's mean period (its slow part's) is given a white spectrum's period of 4 samples
+    // for the estimator's rules; a period below kMinFlowPeriod is kept (a2 = 1: 6 samples).
+    EXPECT_EQ(r.rule_period(), r.map && r.mean_period >= kMinFlowPeriod ? 4u : r.mean_period) << a2;
+  }
+  // A mean period below kMinFlowPeriod is a map with no fast power at all: its own period stays.
+  const auto slow_map = estimate_mean_period(two_tones(n, 1.0, 1.0 / 5, 1.0, 1.0 / 6, 1.0), {});
+  EXPECT_LT(slow_map.fast_share, 1e-9);
+  EXPECT_TRUE(slow_map.map);
+  EXPECT_EQ(slow_map.rule_period(), slow_map.mean_period);
+  EXPECT_LT(slow_map.mean_period, kMinFlowPeriod);
+  // The option is validated.
+  MeanPeriodOptions bad;
+  bad.map_fast_share = 0.0;
+  EXPECT_THROW(estimate_mean_period(two_tones(n, 1.0, 1.0 / 20, 1.0, 1.0 / 3, 0.1), bad), OptionError);
+}
+
 TEST(MeanPeriod, MultichannelTakesTheHighestMeanFrequency) {
   const std::size_t n = 2048;
   Series s = two_tones(n, 1.0, 10.0 / n, 1.0, 20.0 / n, 0.0);

@@ -299,7 +299,8 @@ int cmd_ami(const std::vector<std::string>& args) {
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const AmiResult r = cli::on_file(in, [&] {
-    o.mean_period = estimate_mean_period(loaded.series, {}).mean_period;  // as mlce estimate's delay rule
+    const MeanPeriodResult mp = estimate_mean_period(loaded.series, {});  // as mlce estimate's delay rule
+    o.mean_period = mp.rule_period(), o.map = mp.map;
     return estimate_delay_ami(loaded.series, o);
   });
   if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::ami_csv(r));
@@ -338,8 +339,8 @@ int cmd_fnn(const std::vector<std::string>& args) {
   const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");
   std::size_t J = 0;
   const FnnResult r = cli::on_file(in, [&] {
-    const std::size_t mean_period = estimate_mean_period(loaded.series, {}).mean_period;
-    o.theiler = given_theiler ? *given_theiler : mean_period;
+    const MeanPeriodResult mean_period = estimate_mean_period(loaded.series, {});
+    o.theiler = given_theiler ? *given_theiler : mean_period.mean_period;
     MlceOptions delay_only;  // the estimator's delay rule; the dimension is what this command shows
     delay_only.delay = given_delay, delay_only.dim = 1;
     J = choose_embedding(loaded.series, delay_only, mean_period).delay;
@@ -409,8 +410,9 @@ int cmd_stsp(const std::vector<std::string>& args) {
     // The estimator's embedding: AMI delay, then FNN with the mean-period Theiler window.
     MlceOptions eo;
     eo.delay = given_delay, eo.dim = given_dim;
-    o.mean_period = estimate_mean_period(loaded.series, {}).mean_period;
-    const Embedding e = choose_embedding(loaded.series, eo, o.mean_period);
+    const MeanPeriodResult mp = estimate_mean_period(loaded.series, {});
+    o.mean_period = mp.mean_period;
+    const Embedding e = choose_embedding(loaded.series, eo, mp);
     o.delay = e.delay, o.dim = e.dim;
     return space_time_separation(loaded.series, o);
   });

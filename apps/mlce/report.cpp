@@ -92,6 +92,8 @@ nlohmann::json to_json(const MlceResult& r) {
   j["time_unit"] = r.time_unit;
   j["mean_frequency"] = r.mean_period.mean_frequency;
   j["mean_period"] = r.mean_period.mean_period;
+  j["fast_share"] = r.mean_period.fast_share;
+  j["treated_as_map"] = r.mean_period.map;
   if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
   if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
   if (r.dim_widened_from) {
@@ -132,9 +134,13 @@ std::string to_text(const MlceResult& r) {
   s += "reading         " + read_stability(r).summary + "\n";
   s += fmt::format("series          {} samples, dt = {:.6g} {}\n", r.n_points, r.dt,
                    r.time_unit.empty() ? "(per sample)" : r.time_unit);
-  s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}\n", r.mean_period.mean_period,
+  s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}{}\n", r.mean_period.mean_period,
                    r.mean_period.mean_frequency, r.time_unit.empty() ? "sample" : r.time_unit,
-                   r.mean_period.clamped ? ", clamped" : "");
+                   r.mean_period.clamped ? ", clamped" : "",
+                   r.mean_period.map && r.mean_period.mean_period >= kMinFlowPeriod
+                       ? fmt::format("; a map: {:.1f} % of the power at periods below 4 samples",
+                                     100.0 * r.mean_period.fast_share)
+                       : std::string());
   s += fmt::format("delay           {} samples{}\n", r.delay, r.ami ? fmt::format(" ({})", to_string(r.ami->rule)) : " (given)");
   s += fmt::format("dimension       {}{}\n", r.dim,
                    r.dim_widened_from ? fmt::format(" (false nearest neighbours chose {}, {})", *r.dim_widened_from,
@@ -209,10 +215,10 @@ std::string curve_row(const MlceResult& r, std::size_t i) {
                      r.curve.terms[i], in ? 1 : 0, r.fit.intercept + r.fit.slope * static_cast<double>(i));
 }
 
-/// ",local_slope" of every curve step: per time unit over one mean period (local_slopes), an empty
+/// ",local_slope" of every curve step: per time unit over one mean period (MeanPeriodResult::rule_period; local_slopes), an empty
 /// field within half a period of either end, where no centred window fits.
 std::vector<std::string> local_slope_fields(const MlceResult& r, bool* any = nullptr) {
-  const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.mean_period);
+  const std::vector<double> slope = local_slopes(r.curve.mean_log_distance, r.mean_period.rule_period());
   std::vector<std::string> fields;
   fields.reserve(slope.size());
   for (const double s : slope) fields.push_back(std::isfinite(s) ? fmt::format(",{:.10g}", s / r.dt) : ",");

@@ -169,7 +169,12 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
 }  // namespace
 
 const char* to_string(DelayRule rule) {
-  return rule == DelayRule::first_minimum ? "first AMI minimum" : "autocorrelation 1/e time";
+  switch (rule) {
+    case DelayRule::first_minimum: return "first AMI minimum";
+    case DelayRule::autocorrelation_1e: return "autocorrelation 1/e time";
+    case DelayRule::map_iteration: return "a map's iteration";
+  }
+  return "unknown";
 }
 
 void AmiOptions::validate() const {
@@ -204,26 +209,29 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
                          std::to_string(max_delay) + " (half the series' " + std::to_string(n) + " samples)");
   const Series s = standardized(series);
   std::size_t best = 0;
-  bool any_fallback = false;
+  bool any_fallback = false, any_map_step = false;
   for (std::size_t c = 0; c < s.channel_count(); ++c) {
     ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, options);
     std::size_t d = a.delay;
     // The channel is named where there are several (mlce estimate --each names its own channels).
     const std::string channel = s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string();
-    const bool map = options.mean_period > 0 && options.mean_period < kMinFlowPeriod;
-    if (d == 0 || (map && d > options.mean_period)) {
-      any_fallback = true;
+    const bool map = options.map || (options.mean_period > 0 && options.mean_period < kMinFlowPeriod);
+    const std::size_t map_period =
+        options.mean_period > 0 ? std::min(options.mean_period, kMinFlowPeriod - 1) : kMinFlowPeriod - 1;
+    if (d == 0 || (map && d > map_period)) {
       const std::size_t minimum = d;
-      d = autocorrelation_time(s.channels[c], max_delay);
+      d = map ? 1 : autocorrelation_time(s.channels[c], max_delay);
+      (map ? any_map_step : any_fallback) = true;
       r.warnings.push_back(
           channel +
           (minimum == 0 ? "AMI has no significant minimum up to tau = " + std::to_string(max_delay) +
                               " (decays into its noise floor, as for maps)"
-                        : "AMI's first minimum, at tau = " + std::to_string(minimum) + ", lies beyond the mean period (" +
-                              std::to_string(options.mean_period) +
-                              " samples) of a map: its AMI levels off above its floor, as the bands of a banded "
-                              "chaotic map do, and does not mark a decorrelation") +
-          ": delay = autocorrelation 1/e time = " + std::to_string(d));
+                        : "AMI's first minimum, at tau = " + std::to_string(minimum) + ", lies beyond " +
+                              std::to_string(map_period) +
+                              " samples in a map: its AMI levels off above its floor, as the bands of a banded "
+                              "chaotic map or the lobes of a map that switches between them slowly do, and does not "
+                              "mark a decorrelation") +
+          (map ? ": delay = 1 (a map's iteration)" : ": delay = autocorrelation 1/e time = " + std::to_string(d)));
     }
     r.channel_delay.push_back(d);
     if (c == 0) {
@@ -234,7 +242,10 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
     best = best == 0 ? d : std::min(best, d);
   }
   r.delay = std::max<std::size_t>(1, best);
-  r.rule = any_fallback && r.channel_delay.size() == 1 ? DelayRule::autocorrelation_1e : DelayRule::first_minimum;
+  r.rule = r.channel_delay.size() > 1 ? DelayRule::first_minimum
+           : any_map_step             ? DelayRule::map_iteration
+           : any_fallback             ? DelayRule::autocorrelation_1e
+                                      : DelayRule::first_minimum;
   return r;
 }
 

@@ -366,7 +366,8 @@ std::size_t fit_period(const MeanPeriodResult& mp, const MeanPeriodOptions& opti
 FitOptions fit_options_for(const Series& series, const MlceOptions& options, std::size_t period, bool floor_cut,
                            MlceResult& r) {
   FitOptions fo = options.fit;
-  if (fo.period == 0) fo.period = fit_period(r.mean_period, options.mean_period, series, period);
+  if (fo.period == 0)  // a map's curve separates within iterations: its rule period (MeanPeriodResult::rule_period)
+    fo.period = r.mean_period.map ? r.mean_period.rule_period() : fit_period(r.mean_period, options.mean_period, series, period);
   const EnvelopeRates envelope = envelope_rates(series, period);
   r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
   if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
@@ -514,16 +515,16 @@ void express_per_time(MlceResult& r, double dt) {
 
 }  // namespace
 
-Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period) {
+Embedding choose_embedding(const Series& series, const MlceOptions& options, const MeanPeriodResult& mean_period) {
   Embedding e;
-  e.theiler = options.theiler.value_or(mean_period);  // eq. 20 with T from eq. 19
+  e.theiler = options.theiler.value_or(mean_period.mean_period);  // eq. 20 with T from eq. 19
   if (options.delay) {
     e.delay = *options.delay;
   } else {
     report(options, "AMI delay", 0.0);
     AmiOptions ao = options.ami;
     ao.stop_at_minimum = true;
-    if (ao.mean_period == 0) ao.mean_period = mean_period;
+    if (ao.mean_period == 0) ao.mean_period = mean_period.rule_period(), ao.map = ao.map || mean_period.map;
     e.ami = estimate_delay_ami(series, ao);
     e.delay = e.ami->delay;
   }
@@ -562,7 +563,7 @@ bool grows_while_decaying(const MlceResult& r) {
 ///
 /// Likewise a flow's attractor in fewer than three state dimensions is a fixed point or a limit
 /// cycle (Poincare-Bendixson: no chaos in a plane), where neighbours do not keep separating. When the
-/// automatic m gives a sampled flow (mean period >= kMinFlowPeriod) a state of m x channels < 3
+/// automatic m gives a sampled flow (not MeanPeriodResult::map) a state of m x channels < 3
 /// coordinates and its curve grows into a saturation plateau (lambda > 0), the estimate is redone
 /// with the smallest m that gives three, with a warning. FNN's 5 % threshold passed m = 1 on 10 of
 /// 32 jointly embedded Roessler (x, y) states (3.9-5.0 % false; `build/finite_time_spread channels`),
@@ -589,7 +590,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
     return t;
   };
   if (const std::size_t channels = raw.channels.size();
-      r.dim * channels < kMinChaoticFlowDimensions && r.mean_period.mean_period >= kMinFlowPeriod &&
+      r.dim * channels < kMinChaoticFlowDimensions && !r.mean_period.map &&
       r.fit.end == CurveEnd::saturation && r.lambda_per_sample > 0.0) {
     const std::size_t m = (kMinChaoticFlowDimensions + channels - 1) / channels;
     if (m > options.fnn.max_dim) return r;  // beyond the largest m asked for, as the decay's widening
@@ -644,7 +645,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   r.amplitude_ratio = amplitude_ratio(series);
   const bool persisting = persists(r.amplitude_ratio);
   check_span(series, options, span, persisting, drift_warning, r);
-  Embedding e = choose_embedding(series, options, period);
+  Embedding e = choose_embedding(series, options, r.mean_period);
   r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
   r.ami = std::move(e.ami), r.fnn = std::move(e.fnn);
 
@@ -760,7 +761,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   // horizon, with every neighbour moved along its own trajectory to the sub-sample phase closest to
   // its reference (RosensteinOptions::align_phase), and fitted by the same rule. Limit cycles and
   // decays keep the plain curve: their separation is mostly along the flow, which is what they measure.
-  const bool sampled_flow = period >= kMinFlowPeriod;
+  const bool sampled_flow = !r.mean_period.map;
   const bool align = options.phase_alignment == PhaseAlignment::on ||
                      (options.phase_alignment == PhaseAlignment::automatic && sampled_flow && !options.fit.range &&
                       r.fit.end == CurveEnd::saturation && r.fit.slope > 0.0);

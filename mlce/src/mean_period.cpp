@@ -19,8 +19,14 @@ std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe; execution i
   return m;
 }
 
-/// Power-weighted mean frequency of one channel, cycles per sample.
-double mean_frequency_per_sample(const std::vector<double>& x, SpectralWindow window) {
+struct ChannelSpectrum {
+  double mean_frequency = 0.0;  ///< power-weighted mean, cycles per sample
+  double fast_share = 0.0;      ///< share of the power above a quarter of the sampling rate
+};
+
+/// Power-weighted mean frequency of one channel, cycles per sample, and the share of its power
+/// above a quarter of the sampling rate.
+ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow window) {
   const std::size_t n = x.size();
   CompensatedSum mean_sum;
   for (double v : x) mean_sum.add(v);
@@ -46,15 +52,16 @@ double mean_frequency_per_sample(const std::vector<double>& x, SpectralWindow wi
     fftw_destroy_plan(plan);
   }
   // One-sided periodogram P_k, k = 1..n/2 (DC excluded); the scale factor cancels in the ratio.
-  CompensatedSum power, moment;
+  CompensatedSum power, moment, fast;
   for (std::size_t k = 1; k < nc; ++k) {
     const double re = out.get()[k][0], im = out.get()[k][1];
     const double p = re * re + im * im;
     power.add(p);
     moment.add(p * static_cast<double>(k) / static_cast<double>(n));
+    if (4 * k > n) fast.add(p);  // f_k = k / n > 1/4 per sample
   }
-  if (!(power.value() > 0.0)) return 0.0;
-  return moment.value() / power.value();
+  if (!(power.value() > 0.0)) return {};
+  return {moment.value() / power.value(), fast.value() / power.value()};
 }
 
 }  // namespace
@@ -62,6 +69,8 @@ double mean_frequency_per_sample(const std::vector<double>& x, SpectralWindow wi
 void MeanPeriodOptions::validate() const {
   if (!(max_fraction > 0.0 && max_fraction <= 1.0))
     throw OptionError("mean_period.max_fraction = " + fmt::format("{:g}", max_fraction) + ": expected 0 < value <= 1");
+  if (!(map_fast_share > 0.0 && map_fast_share <= 1.0))
+    throw OptionError("mean_period.map_fast_share = " + fmt::format("{:g}", map_fast_share) + ": expected 0 < value <= 1");
 }
 
 MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOptions& options) {
@@ -74,9 +83,10 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
   const Series s = standardized(series);
   double f_max = 0.0;
   for (const auto& x : s.channels) {
-    const double f = mean_frequency_per_sample(x, options.window);
-    r.channel_frequency.push_back(f / series.dt);
-    f_max = std::max(f_max, f);
+    const ChannelSpectrum c = channel_spectrum(x, options.window);
+    r.channel_frequency.push_back(c.mean_frequency / series.dt);
+    f_max = std::max(f_max, c.mean_frequency);
+    r.fast_share = std::max(r.fast_share, c.fast_share);
   }
   r.mean_frequency_per_sample = f_max;
   r.mean_frequency = f_max / series.dt;
@@ -91,6 +101,7 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
     period = cap;
   }
   r.mean_period = static_cast<std::size_t>(std::max(1.0, period));
+  r.map = r.mean_period < kMinFlowPeriod || r.fast_share >= options.map_fast_share;
   return r;
 }
 

@@ -229,4 +229,50 @@ inline double logistic_own_exponent(const std::vector<double>& x, double r = 4.0
   return terms > 0 ? static_cast<double>(acc / static_cast<long double>(terms)) : 0.0;
 }
 
+/// The Duffing (Holmes) map x -> y, y -> -b x + a y - y^3 (the textbook a = 2.75, b = 0.2), x
+/// observed, from (0.1, 0.1) after 1000 iterations, and the finite-time exponent of that very
+/// trajectory (its tangent map along the same n iterations, aligned during the last 50 discarded
+/// ones). Its orbit stays on one lobe (x > 0 or x < 0) for dozens of iterations before it switches.
+struct MapSample {
+  std::vector<double> x;
+  double own_exponent = 0.0;  ///< per iteration
+};
+inline MapSample duffing_map_x(std::size_t n, double a = 2.75, double b = 0.2) {
+  double x = 0.1, y = 0.1, u = 1, v = 0;
+  long double acc = 0;
+  MapSample out;
+  out.x.reserve(n);
+  for (std::size_t i = 0; i < 1000 + n; ++i) {
+    if (i >= 1000) out.x.push_back(x);
+    if (i >= 950) {
+      const double un = v, vn = -b * u + (a - 3.0 * y * y) * v;  // Jacobian [[0, 1], [-b, a - 3 y^2]]
+      const double norm = std::hypot(un, vn);
+      if (i >= 1000) acc += std::log(norm);
+      u = un / norm, v = vn / norm;
+    }
+    const double xn = y, yn = -b * x + a * y - y * y * y;
+    x = xn, y = yn;
+  }
+  out.own_exponent = static_cast<double>(acc / static_cast<long double>(n));
+  return out;
+}
+
+/// The cubic map x -> a x - x^3 from x0 after 1000 iterations, and its orbit's own exponent, the
+/// mean of ln |a - 3 x^2| over the samples. Beyond a ~ 2.6 the two symmetric attractors merge and
+/// the orbit switches between x > 0 and x < 0 every few to dozens of iterations.
+inline MapSample cubic_map(std::size_t n, double a, double x0 = 0.1) {
+  double x = x0;
+  for (int i = 0; i < 1000; ++i) x = a * x - x * x * x;
+  MapSample out;
+  out.x.reserve(n);
+  long double acc = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    out.x.push_back(x);
+    acc += std::log(std::abs(a - 3.0 * x * x));
+    x = a * x - x * x * x;
+  }
+  out.own_exponent = static_cast<double>(acc / static_cast<long double>(n));
+  return out;
+}
+
 }  // namespace mlce::reference

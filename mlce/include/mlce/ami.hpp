@@ -8,7 +8,7 @@
 
 namespace mlce {
 
-enum class DelayRule { first_minimum, autocorrelation_1e };
+enum class DelayRule { first_minimum, autocorrelation_1e, map_iteration };
 
 struct AmiOptions {
   /// Largest delay evaluated. 0 = automatic: min((N-1)/4, 1000). A larger value than N/2 is
@@ -51,6 +51,14 @@ struct AmiOptions {
   /// 26 (mean period 3), where FNN needed m = 5 and the estimate read 0.90 of the orbit's own
   /// exponent (r = 3.58..3.67: 0.79..1.34), against 0.998 at delay 1 (`build/map_bands`).
   std::size_t mean_period = 0;
+  /// Treated as a map whatever `mean_period` (MeanPeriodResult::map: a spectrum with a share of its
+  /// power at periods below 4 samples). A map's delay, when its AMI has no minimum or its minimum
+  /// lies beyond min(mean_period, kMinFlowPeriod - 1), is 1: a map's iterate is its own time step.
+  /// The Duffing (Holmes) map x' = y, y' = -0.2 x + 2.75 y - y^3 stays on one lobe for dozens of
+  /// iterations; its AMI keeps that memory (no minimum up to 1000), its autocorrelation falls to 1/e
+  /// only after 171 iterations, and with that delay FNN took m = 9 and the estimate read 0.09 of the
+  /// orbit's exponent.
+  bool map = false;
   /// Stop at the first accepted minimum (the estimator's use); off: whole curve (the `ami` command).
   bool stop_at_minimum = false;
   void validate() const;
@@ -63,7 +71,8 @@ struct AmiResult {
   /// Chosen delay in samples: first significant local minimum of the smoothed curve; when there
   /// is none (maps, whose AMI decays into the noise floor; monotonically decorrelating series),
   /// or a map's lies beyond its mean period (AmiOptions::mean_period), the first tau at which the
-  /// autocorrelation falls to 1/e (1 for maps).
+  /// autocorrelation falls to 1/e; for a map (AmiOptions::map, or a mean period below
+  /// kMinFlowPeriod) 1.
   std::size_t delay = 1;
   DelayRule rule = DelayRule::first_minimum;
   std::size_t bins = 0;

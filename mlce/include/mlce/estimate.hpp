@@ -22,8 +22,9 @@ namespace mlce {
 using ProgressCallback = std::function<void(std::string_view stage, double fraction)>;
 
 /// Whether neighbours are moved along their own trajectories to the reference's phase
-/// (RosensteinOptions::align_phase). automatic: for sampled flows (mean period >= kMinFlowPeriod
-/// samples) whose plain curve grows into a saturation plateau (lambda > 0).
+/// (RosensteinOptions::align_phase). automatic: for sampled flows (not MeanPeriodResult::map: a mean
+/// period of kMinFlowPeriod samples or more and little power at periods below 4 samples) whose plain
+/// curve grows into a saturation plateau (lambda > 0).
 enum class PhaseAlignment { automatic, off, on };
 /// Whether a decay that carries white measurement noise is read from the noise-compensated curve
 /// (DivergenceCurve::compensated_log_distance: ln of the pairs' mean square distance, each over its
@@ -38,8 +39,8 @@ enum class PhaseAlignment { automatic, off, on };
 /// read 0.44-0.49 of its rate on 8 noise seeds, compensated 0.96-1.05 (test_estimate_systems).
 /// off: eq. 23's curve always.
 enum class NoiseCompensation { automatic, off };
-// kMinFlowPeriod lives in mean_period.hpp (the AMI delay and the fit also treat a map apart): a
-// series whose mean period is shorter is treated as a map, with no phase alignment.
+// kMinFlowPeriod and MeanPeriodResult::map live in mean_period.hpp (the AMI delay and the fit also
+// treat a map apart): a series treated as a map gets no phase alignment.
 
 /// With an automatic Theiler window, a motion that persists (transient.hpp: persists) must span at least this many of its own mean
 /// periods (1 / mean frequency; eq. 19 before rounding): otherwise no point has a neighbour on
@@ -186,14 +187,15 @@ struct MlceResult {
 MlceResult estimate_mlce(const Series& series, const MlceOptions& options);
 
 /// The estimator's embedding, for the commands that need it without an estimate (stsp, fnn):
-/// Theiler window = options.theiler or `mean_period` (eq. 20 with eq. 19); delay = options.delay or
-/// the first AMI minimum (eqs. 15-17; a map's only within `mean_period`: AmiOptions::mean_period); dimension = options.dim or FNN with that window. The AMI/FNN
-/// results (and their warnings) are kept when computed.
+/// Theiler window = options.theiler or `mean_period.mean_period` (eq. 20 with eq. 19); delay =
+/// options.delay or the first AMI minimum (eqs. 15-17; a map's only within its rule period, else 1:
+/// AmiOptions::mean_period and ::map, set from `mean_period`); dimension = options.dim or FNN with
+/// that window. The AMI/FNN results (and their warnings) are kept when computed.
 struct Embedding {
   std::size_t delay = 1, dim = 1, theiler = 1;
   std::optional<AmiResult> ami;
   std::optional<FnnResult> fnn;
 };
-Embedding choose_embedding(const Series& series, const MlceOptions& options, std::size_t mean_period);
+Embedding choose_embedding(const Series& series, const MlceOptions& options, const MeanPeriodResult& mean_period);
 
 }  // namespace mlce

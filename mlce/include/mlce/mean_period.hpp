@@ -1,6 +1,7 @@
 #pragma once
 // Mean frequency of the power spectrum and the mean period (paper 001 eq. 19), the default
 // Theiler window of the neighbour search (eq. 20).
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -17,14 +18,26 @@ struct MeanPeriodOptions {
   /// Upper clamp of the mean period as a fraction of the series length (a window wider than this
   /// leaves too few neighbour candidates). Clamping is reported as a warning.
   double max_fraction = 0.25;
+  /// A series with at least this share of its power at periods shorter than 4 samples (above a
+  /// quarter of the sampling rate) is treated as a map whatever its mean period (MeanPeriodResult::map).
+  /// A sampled flow's spectrum falls off well before that: Lorenz x at dt = 0.1 (6.5 samples per
+  /// loop) puts 1.2 % of its power there, Roessler x at dt = 0.8 2.5 %, Lorenz x (dt = 0.01) with
+  /// white noise of 29 % of its deviation 4.2 %. Maps whose orbit switches slowly between two lobes
+  /// have a long mean period from that switching and 6.6-16 % there (the Duffing / Holmes map, the
+  /// cubic map x -> a x - x^3; `build/map_bands switching`).
+  double map_fast_share = 0.05;
   void validate() const;
 };
 
 /// A series whose mean period (eq. 19) is shorter than this many samples is treated as a map (or a
 /// flow sampled too coarsely to interpolate between samples): no phase alignment (estimate.hpp),
 /// its curve held to FitOptions::map_straightness (fit.hpp), and no AMI minimum beyond its mean
-/// period taken for the delay (AmiOptions::mean_period).
+/// period taken for the delay (AmiOptions::mean_period). So is a series whose spectrum holds
+/// MeanPeriodOptions::map_fast_share of its power at periods below 4 samples (MeanPeriodResult::map).
 inline constexpr std::size_t kMinFlowPeriod = 8;
+
+/// The mean period of a white spectrum (mean frequency a quarter of the sampling rate), in samples.
+inline constexpr std::size_t kWhitePeriod = 4;
 
 struct MeanPeriodResult {
   /// Power-weighted mean frequency sum(P_k f_k)/sum(P_k) over the one-sided periodogram of the
@@ -36,6 +49,21 @@ struct MeanPeriodResult {
   /// ceil(fs / mean_frequency) in samples (eq. 19), after clamping to [1, max_fraction * N].
   std::size_t mean_period = 1;
   bool clamped = false;
+  /// Share of the power at frequencies above a quarter of the sampling rate (periods shorter than 4
+  /// samples) over the same periodogram, DC excluded; for several channels the largest.
+  double fast_share = 0.0;
+  /// Treated as a map: mean_period < kMinFlowPeriod, or fast_share >= MeanPeriodOptions::map_fast_share
+  /// (a map whose orbit switches slowly between lobes: its mean period is the switching's, not its
+  /// iteration's).
+  bool map = false;
+  /// The period the estimator's rules see (the AMI's map rule, the fit's segments, straightness and
+  /// region, the local slopes): the mean period, except for a map by its spectrum whose mean period
+  /// is a flow's (kMinFlowPeriod or more, set by its slow switching): kWhitePeriod, the mean period
+  /// of a white spectrum, as its pairs separate within iterations. With its 27 samples the Duffing
+  /// map's fit took segments of 14 steps and never trimmed its region's bend (0.927 of the orbit's
+  /// exponent in a scratch build), with 4 samples 0.974 (test_estimate_systems). The Theiler window
+  /// stays eq. 19's mean period.
+  [[nodiscard]] std::size_t rule_period() const { return map && mean_period >= kMinFlowPeriod ? kWhitePeriod : mean_period; }
   std::vector<std::string> warnings;
 };
 
