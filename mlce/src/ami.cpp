@@ -210,14 +210,14 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
   const Series s = standardized(series);
   std::size_t best = 0;
   bool any_fallback = false, any_map_step = false;
+  const bool map = options.map || (options.mean_period > 0 && options.mean_period < kMinFlowPeriod);
+  const std::size_t map_period =
+      options.mean_period > 0 ? std::min(options.mean_period, kMinFlowPeriod - 1) : kMinFlowPeriod - 1;
   for (std::size_t c = 0; c < s.channel_count(); ++c) {
     ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, options);
     std::size_t d = a.delay;
     // The channel is named where there are several (mlce estimate --each names its own channels).
     const std::string channel = s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string();
-    const bool map = options.map || (options.mean_period > 0 && options.mean_period < kMinFlowPeriod);
-    const std::size_t map_period =
-        options.mean_period > 0 ? std::min(options.mean_period, kMinFlowPeriod - 1) : kMinFlowPeriod - 1;
     if (d == 0 || (map && d > map_period)) {
       const std::size_t minimum = d;
       d = map ? 1 : autocorrelation_time(s.channels[c], max_delay);

@@ -1,7 +1,6 @@
 #pragma once
 // Mean frequency of the power spectrum and the mean period (paper 001 eq. 19), the default
 // Theiler window of the neighbour search (eq. 20).
-#include <algorithm>
 #include <string>
 #include <vector>
 
