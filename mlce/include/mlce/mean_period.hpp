@@ -21,9 +21,9 @@ struct MeanPeriodOptions {
   /// quarter of the sampling rate) is treated as a map whatever its mean period (MeanPeriodResult::map).
   /// A sampled flow's spectrum falls off well before that: Lorenz x at dt = 0.1 (6.5 samples per
   /// loop) puts 1.2 % of its power there, Roessler x at dt = 0.8 2.5 %, Lorenz x (dt = 0.01) with
-  /// white noise of 29 % of its deviation 4.2 %. Maps whose orbit switches slowly between two lobes
+  /// white noise of 30 % of its deviation 4.1 %. Maps whose orbit switches slowly between two lobes
   /// have a long mean period from that switching and 6.6-16 % there (the Duffing / Holmes map, the
-  /// cubic map x -> a x - x^3; `build/map_bands switching`).
+  /// cubic map x -> a x - x^3). All measured by `build/map_bands switching`.
   double map_fast_share = 0.05;
   void validate() const;
 };
