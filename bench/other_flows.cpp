@@ -8,11 +8,14 @@
 //  - Chua's circuit (alpha 15.6, beta 28, m0 -1.143, m1 -0.714), x, dt = 0.05, N = 10^4 and 4 x 10^4;
 //  - Thomas' cyclically symmetric flow (b = 0.208186), x, dt = 0.1, N = 2 x 10^4 and 2 x 10^5, and the
 //    mean log growth of random perturbations of 1e-8 over 40 time units (a weakly chaotic flow whose
-//    perturbations grow far faster than lambda_1 over the time a curve can follow them).
+//    perturbations grow far faster than lambda_1 over the time a curve can follow them);
+//  - Lorenz x (rho = 28) and Roessler x (a = b = 0.2) at c = 4.6, 5.0 and 5.7, near the onset of chaos
+//    and at the parameters: how closely each last third repeats one period on (EndRepeat).
 // Three starts each; per series: own exponent, estimate (its ratio to own), 95 % interval, m, J,
 // Theiler window, fit region, whether the curve bends within its fit region
-// (FitOptions::bend_warning), and the estimate without the region's 1.5-period minimum
-// (FitOptions::min_periods = 0).
+// (FitOptions::bend_warning), the estimate without the region's 1.5-period minimum
+// (FitOptions::min_periods = 0), the reading and how closely the last third repeats one period on
+// (MlceResult::end_repeat: chaos never repeats itself).
 //   build/other_flows        (about 30 s)
 #include <array>
 #include <cmath>
@@ -70,10 +73,10 @@ void run(const char* name, const Field& f, State x, double dt, int substeps, std
   bool bends = false;
   for (const auto& w : r.warnings) bends |= w.find("bends within") != std::string::npos;
   std::printf("  %-30s N %6zu  own %.4f  estimate %.4f (%.3f)  95 %% [%.4f, %.4f]%s  m %zu J %zu T %zu fit %zu..%zu%s"
-              "  [min_periods 0: %.3f, fit %zu..%zu]  reads: %s\n", name, n,
+              "  [min_periods 0: %.3f, fit %zu..%zu]  reads: %s, repeats %.3f\n", name, n,
               own, r.lambda, r.lambda / own, r.ci95_low, r.ci95_high, r.ci95_low <= own && own <= r.ci95_high ? "" : " (own outside)",
               r.dim, r.delay, r.theiler, r.fit.first, r.fit.last, bends ? "  BENDS" : "", r0.lambda / own, r0.fit.first, r0.fit.last,
-              mlce::read_stability(r).motion.c_str());
+              mlce::read_stability(r).motion.c_str(), r.end_repeat.difference);
 }
 
 }  // namespace
@@ -138,4 +141,20 @@ int main() {
   for (const double m : mean_log) std::printf(" %.2f", m);
   std::printf("  (growth %.3f per time unit; the attractor's lambda_1 is the own exponent above)\n",
               (mean_log.back() - mean_log.front()) / 40.0);
+  // Chaos never repeats itself (ReadingOptions::periodic_end): how closely the last third of the
+  // issue's flows, and of Roessler's (a = b = 0.2) near the onset of chaos, repeats one period on.
+  std::printf("The issue's flows and Roessler near the onset of chaos (a = b = 0.2), x: does the end repeat?\n");
+  const Field lorenz = [](const State& s) {
+    return State{10 * (s[1] - s[0]), s[0] * (28 - s[2]) - s[1], s[0] * s[1] - 8.0 / 3 * s[2],
+                 10 * (s[4] - s[3]), (28 - s[2]) * s[3] - s[4] - s[0] * s[5], s[1] * s[3] + s[0] * s[4] - 8.0 / 3 * s[5]};
+  };
+  for (int k = 0; k < 3; ++k) run("Lorenz rho = 28, dt 0.01", lorenz, State{1 + 0.1 * k, 1, 1}, 0.01, 10, 10000, 50);
+  for (const double c : {4.6, 5.0, 5.7}) {
+    const Field roessler = [c](const State& s) {
+      return State{-s[1] - s[2], s[0] + 0.2 * s[1], 0.2 + s[2] * (s[0] - c),
+                   -s[4] - s[5], s[3] + 0.2 * s[4], s[2] * s[3] + (s[0] - c) * s[5]};
+    };
+    const std::string name = "Roessler c = " + std::to_string(c).substr(0, 3) + ", dt 0.1";
+    for (int k = 0; k < 3; ++k) run(name.c_str(), roessler, State{1 + 0.1 * k, 1, 0}, 0.1, 10, 10000, 500);
+  }
 }

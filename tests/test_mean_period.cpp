@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "mlce/mean_period.hpp"
+#include "reference_systems.hpp"
 
 using namespace mlce;
 
@@ -111,4 +113,54 @@ TEST(MeanPeriod, ScaleInvariantAtExtremeAmplitudes) {
     for (double& v : t.channels[0]) v *= scale;
     EXPECT_NEAR(estimate_mean_period(t, {}).mean_frequency, ref.mean_frequency, 1e-12 * ref.mean_frequency);
   }
+}
+
+TEST(MeanPeriod, EndRepeatIsTheRmsDifferenceOnePeriodOnOverTheDeviation) {
+  // A periodic signal of 37.3 samples (a fundamental and its second harmonic, between two samples):
+  // the period to a few hundredths of a sample (the parabola through D's least value), and a
+  // difference set by the residual of that parabola only, far below any motion's.
+  constexpr double period = 37.3, two_pi = 2.0 * std::numbers::pi;
+  std::vector<double> cycle(6000), noisy(6000), white(6000);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (std::size_t i = 0; i < cycle.size(); ++i) {
+    const double phase = two_pi * static_cast<double>(i) / period;
+    cycle[i] = 3.0 + std::sin(phase) + 0.4 * std::cos(2.0 * phase + 0.5);
+    noisy[i] = cycle[i] + 0.05 * g(rng);
+    white[i] = g(rng);
+  }
+  const EndRepeat exact = end_repeat(make_series_with_step({cycle}, 0.01));
+  EXPECT_NEAR(exact.period, period, 0.05);
+  EXPECT_LT(exact.difference, 0.01);
+  // White noise e of deviation s on a cycle of variance v: D = 2 s^2 / (v + s^2) at the period
+  // (v = (1 + 0.4^2) / 2 = 0.58), difference = sqrt(D) = 0.0925 for s = 0.05, within its scatter
+  // over the 2000-sample third.
+  const EndRepeat with_noise = end_repeat(make_series_with_step({noisy}, 0.01));
+  EXPECT_NEAR(with_noise.period, period, 0.5);
+  EXPECT_NEAR(with_noise.difference, std::sqrt(2.0 * 0.0025 / (0.58 + 0.0025)), 0.01);
+  // White noise alone never repeats: D ~ 2 at every lag, difference ~ sqrt 2 (the least of 666 lags
+  // a little below it).
+  const EndRepeat noise = end_repeat(make_series_with_step({white}, 1.0));
+  EXPECT_GT(noise.difference, 1.2);
+  EXPECT_LT(noise.difference, 1.5);
+  // Chaos never repeats: Lorenz x (N = 10^4, dt = 0.01) and Roessler x (dt = 0.1) stay far from 0.
+  EXPECT_GT(end_repeat(make_series_with_step({reference::lorenz_x(10000, 0.01)}, 0.01)).difference, 0.5);
+  EXPECT_GT(end_repeat(make_series_with_step({reference::roessler_x(10000, 0.1)}, 0.1)).difference, 0.1);
+  // Channels average their D: the cycle beside white noise, D = (D_cycle + ~2) / 2.
+  const EndRepeat both = end_repeat(make_series_with_step({cycle, white}, 0.01));
+  EXPECT_GT(both.difference, 0.9);
+  // Scale-free: the cycle times 1e-200 and 1e200 reads the same (each channel over its peak first).
+  for (const double scale : {1e-200, 1e200}) {
+    std::vector<double> scaled = cycle;
+    for (double& v : scaled) v *= scale;
+    const EndRepeat e = end_repeat(make_series_with_step({scaled}, 0.01));
+    EXPECT_NEAR(e.period, exact.period, 1e-9 * period) << scale;
+    EXPECT_NEAR(e.difference, exact.difference, 1e-6) << scale;
+  }
+  // Nothing to tell: a constant, a third shorter than 16 samples, a period beyond a third of the third.
+  EXPECT_TRUE(std::isnan(end_repeat(make_series_with_step({std::vector<double>(300, 2.0)}, 1.0)).difference));
+  EXPECT_TRUE(std::isnan(end_repeat(make_series_with_step({std::vector<double>(cycle.begin(), cycle.begin() + 40)}, 1.0)).difference));
+  std::vector<double> slow(600);
+  for (std::size_t i = 0; i < slow.size(); ++i) slow[i] = std::sin(two_pi * static_cast<double>(i) / 500.0);
+  EXPECT_TRUE(std::isnan(end_repeat(make_series_with_step({slow}, 1.0)).period));
 }

@@ -309,3 +309,56 @@ TEST(Reading, BladeThreeInoperativeIsALimitCycleWhereFloquetSaysUnstable) {
     }
   }
 }
+
+TEST(Reading, AMotionThatEndsPeriodicIsALimitCycleNotChaos) {
+  // Hammond's rotor, blade 3's damper inoperative, 242.4 rpm (paper 001 Figs. 8-9; the shared MBDyn
+  // run's scene, whose trajectories the ad-hoc model follows to 1e-5 rad: test_mbdyn_vs_adhoc): from
+  // x_h = 0.1 m the motion grows (Floquet's exponent of the trivial solution is positive), overshoots
+  // at 14 s and settles on a limit cycle, whose largest exponent is 0 (QR: test_mbdyn_vs_adhoc's
+  // LongLimitCycleMlceIsZeroLikeTheQrExponent). Windows that start within the growth (8-12 s) and end
+  // at 30 s hold that transient: their neighbours separate and come back together, and blade 3's lag
+  // and the airframe's x and y read lambda of +0.5 .. +4.2 1/s on a curve that reaches the attractor
+  // scale, "chaotic" before MlceResult::end_repeat was read. Each window's last third repeats itself
+  // every limit-cycle period to a few per cent: a limit cycle, as the ReadingOptions say.
+  const models::Scene sc = models::load_scene(
+      "", {"--c", "4067.5,4067.5,0,4067.5", "--cy", "25539.35", "--rpm", "242.4", "--x0", "0.1", "--t_end", "30",
+           "--dt_out", "0.005", "--rtol", "1e-8"});
+  ASSERT_GT(spectrum::floquet(models::dynamical_system(sc), {}).exponents(0), 0.0);
+  const auto names = models::state_names(sc);
+  const std::vector<std::size_t> channels{2, 4, 5};
+  ASSERT_EQ(names[2], "zeta3");
+  ASSERT_EQ(names[4], "x_h");
+  ASSERT_EQ(names[5], "y_h");
+  std::vector<std::vector<double>> states(names.size());
+  models::simulate(sc, [&states](std::size_t, double, const Eigen::VectorXd& x) {
+    for (std::size_t c = 0; c < states.size(); ++c) states[c].push_back(x(static_cast<Eigen::Index>(c)));
+  });
+  ReadingOptions without;  // the rule off: what these windows read before it
+  without.periodic_end = 0.0;
+  int were_chaotic = 0;
+  for (const double from : {8.0, 10.0, 11.0, 12.0}) {
+    for (const std::size_t c : channels) {
+      const auto first = static_cast<std::ptrdiff_t>(std::lround(from / sc.dt_out));
+      const MlceResult m = estimate_mlce(
+          make_series_with_step({std::vector<double>(states[c].begin() + first, states[c].end())}, sc.dt_out), {});
+      const Reading r = read_stability(m), before = read_stability(m, without);
+      std::printf("%-5s %2.0f..30 s: lambda %+.3f per time unit, last third repeats every %.1f samples to %.4f; %s (rule off: %s)\n",
+                  names[c].c_str(), from, m.lambda, m.end_repeat.period, m.end_repeat.difference, r.motion.c_str(),
+                  before.motion.c_str());
+      expect_reading(r, Stability::neutral, "limit cycle", names[c].c_str());
+      EXPECT_LT(m.end_repeat.difference, 0.05) << names[c] << " from " << from;
+      // The limit cycle's period, about 0.99 s in the real MBDyn run (../shared/data/mbdyn/README.md).
+      EXPECT_NEAR(m.end_repeat.period * sc.dt_out, 0.99, 0.02) << names[c] << " from " << from;
+      if (before.motion == "chaotic") {
+        ++were_chaotic;
+        EXPECT_NE(r.summary.find("ends periodic"), std::string::npos) << r.summary;
+      }
+    }
+  }
+  EXPECT_GE(were_chaotic, 6);
+  ReadingOptions bad;
+  bad.periodic_end = -0.1;
+  EXPECT_THROW(bad.validate(), OptionError);
+  bad.periodic_end = 1.0;
+  EXPECT_THROW(bad.validate(), OptionError);
+}

@@ -116,6 +116,9 @@ nlohmann::json reading_json(const MlceResult& r) {
           {"motion", reading.motion},
           {"amplitude", to_string(reading.amplitude)},
           {"amplitude_ratio", finite_or_null(r.amplitude_ratio)},
+          // How closely the last third repeats itself one period on (mean_period.hpp, end_repeat).
+          {"end_repeat", {{"difference", finite_or_null(r.end_repeat.difference)},
+                          {"period", finite_or_null(r.end_repeat.period)}}},
           {"mean_period_time", finite_or_null(reading.mean_period)},
           {"lambda_per_period", finite_or_null(reading.lambda_per_period)},
           {"ci95_per_period", {finite_or_null(reading.ci_low_per_period), finite_or_null(reading.ci_high_per_period)}},

@@ -643,6 +643,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
   // first third's (transient.hpp). Read by the short-run refusal and by the recurrence test.
   r.amplitude_ratio = amplitude_ratio(series);
+  r.end_repeat = end_repeat(series);
   const bool persisting = persists(r.amplitude_ratio);
   check_span(series, options, span, persisting, drift_warning, r);
   Embedding e = choose_embedding(series, options, r.mean_period);

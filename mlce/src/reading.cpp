@@ -39,6 +39,7 @@ void ReadingOptions::validate() const {
   if (!(steady_share > 0.0 && steady_share < persist_share))
     throw OptionError("reading.steady_share: expected (0, persist_share)");
   if (!(chaos_scale_margin > 0.0)) throw OptionError("reading.chaos_scale_margin: expected > 0");
+  if (!(periodic_end >= 0.0 && periodic_end < 1.0)) throw OptionError("reading.periodic_end: expected [0, 1)");
 }
 
 namespace {
@@ -154,6 +155,26 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   if (out.ci_low_per_period > band) {
     if (a == AmplitudeTrend::decays)
       return undetermined("lambda > 0 while the amplitude decays (a transient? see the warnings; " + numbers + ")");
+    // Chaos never repeats itself: a flow whose curve reads chaos while its motion ends periodic
+    // (its last third repeats one period on, EndRepeat) is a limit cycle. Hammond's failed-damper run
+    // from within its growth (8-12 s) to 30 s read +0.5..+4.2 1/s, "chaotic", before this clause:
+    // the neighbours of its growth and settling separate, then come back together.
+    if (a == AmplitudeTrend::persists && !r.mean_period.map &&
+        !(below_attractor_scale(r.curve) > options.chaos_scale_margin) &&
+        r.end_repeat.difference < options.periodic_end) {
+      out.stability = Stability::neutral;
+      out.motion = "limit cycle";
+      const double period = r.end_repeat.period;
+      out.summary = fmt::format(
+          "neutral: the motion ends periodic (its last third repeats itself every {:.4g} samples{} to {:.2g} % of "
+          "its deviation): a limit cycle, largest exponent 0 (paper 001 Fig. 4); chaos never repeats itself, so "
+          "lambda > 0 is no chaotic attractor: the neighbours separated in a transient before the motion settled "
+          "(analyse from its end: --from auto) or are false ones; ",
+          period, r.time_unit.empty() ? std::string() : fmt::format(" = {:.4g} {}", period * r.dt, r.time_unit),
+          100.0 * r.end_repeat.difference);
+      out.summary += numbers + noise;
+      return out;
+    }
     out.stability = Stability::unstable;
     if (a == AmplitudeTrend::grows) {
       out.motion = "growing oscillation";

@@ -158,6 +158,9 @@ struct MlceResult {
   /// RMS of the analysed signal's last third over its first third's (amplitude_ratio, transient.hpp):
   /// ~1 for a motion that persists; NaN when the first third has zero RMS.
   double amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
+  /// How closely the analysed signal's last third repeats itself one period on (end_repeat,
+  /// mean_period.hpp): a motion that ends periodic is no chaotic attractor (reading.hpp).
+  EndRepeat end_repeat;
   /// Why lambda does not measure the motion's divergence, when one of the warnings says so (the
   /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
   /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise),

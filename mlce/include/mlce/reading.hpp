@@ -18,7 +18,8 @@
 //    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
 //    oscillation (an instability such as ground resonance); unstable + steady: chaos, when the curve
 //    comes within chaos_scale_margin of the attractor scale (else diverging: a growth beneath a steady
-//    carrier, as a rotating part's absolute coordinates, is not told from chaos); unstable +
+//    carrier, as a rotating part's absolute coordinates, is not told from chaos), and when the
+//    motion does not end periodic (else a limit cycle: chaos never repeats itself; periodic_end); unstable +
 //    changes: diverging, growth and chaos not told apart. A curve that falls while the amplitude is
 //    steady measures the neighbours converging onto a limit cycle, whose largest exponent is 0
 //    (paper 001 Fig. 4): neutral.
@@ -66,6 +67,16 @@ struct ReadingOptions {
   /// neighbours saturate across it; 1.54 on other starts, scratch); blade 2's hinge in the bundled
   /// growing MBDyn run, the rotation's steady carrier over the hub's growth, stays 3.38 below.
   double chaos_scale_margin = FitOptions{}.bounded_margin;
+  /// lambda > 0 on a steady amplitude is chaos only when the motion does not end periodic: a flow
+  /// whose last third repeats itself one period on to less than this (EndRepeat::difference, the
+  /// RMS difference over the RMS deviation) is a limit cycle, and its neighbours separated in a
+  /// transient before it settled or are false ones. 0.07: the windows of Hammond's failed-damper
+  /// run that start in its growth (8-12 s) and end at 30 s, on its settling limit cycle, repeat to
+  /// 0.003-0.036 and read "chaotic" before this rule (test_mbdyn_vs_adhoc prints them); the chaotic
+  /// flows of bench/other_flows repeat to 0.14 at the least (Roessler at c = 4.6, near the onset of
+  /// chaos). Not for maps: a banded chaotic map repeats its bands to a few per cent (Henon at
+  /// a = 1.06: 0.034, scratch).
+  double periodic_end = 0.07;
   void validate() const;  ///< throws OptionError naming the option
 };
 
