@@ -59,6 +59,7 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
     MlceWindow window;
     Series series;
     std::string channel;
+    std::vector<double> record_deviation;
   };
   std::vector<Candidate> candidates;
   for (const auto& ch : channels) {
@@ -66,7 +67,8 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
     LoadedSeries a = load_series(in);
     const std::string rule =
         std::isfinite(o.from) ? "given window" : "end of A's transient, latest over the channels (" + ch + ": " + a.transient_rule + ")";
-    candidates.push_back({{a.series.time(0), a.series.time(a.series.size() - 1), rule, {}, std::nullopt}, std::move(a.series), ch});
+    candidates.push_back({{a.series.time(0), a.series.time(a.series.size() - 1), rule, {}, std::nullopt}, std::move(a.series), ch,
+                          std::move(a.record_deviation)});
   }
   // Latest first; the first whose exponent measures a divergence sets the window, so only the
   // channels that would otherwise set it are estimated here.
@@ -77,6 +79,7 @@ MlceWindow mlce_window(const std::string& file_a, const std::vector<std::string>
   for (const auto& c : candidates) {
     MlceOptions eo;
     eo.skip_nonrecurrent_start = false;
+    eo.record_deviation = c.record_deviation;
     std::optional<MlceResult> a;
     try {
       a = estimate_mlce(c.series, eo);
@@ -112,10 +115,12 @@ MlcePair mlce_of_both(const std::string& file_a, const std::string& file_b, cons
     p.a = *window.a;  // estimated with the same options on the same samples when the window was set
   } else {
     const LoadedSeries a = load_series(in);
+    o.record_deviation = a.record_deviation;
     p.a = on_file(in, [&] { return estimate_mlce(a.series, o); });
   }
   in.file = file_b;
   const LoadedSeries b = load_series(in);
+  o.record_deviation = b.record_deviation;
   p.b = on_file(in, [&] { return estimate_mlce(b.series, o); });
   return p;
 }

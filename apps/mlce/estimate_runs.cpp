@@ -124,9 +124,11 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
     row.file = files[k];
     try {
       LoadedSeries loaded = load_series(in);
+      MlceOptions run_options = options;
+      run_options.record_deviation = loaded.record_deviation;
       MlceResult r = on_file(in, [&] {
         try {
-          return estimate_mlce(loaded.series, options);
+          return estimate_mlce(loaded.series, run_options);
         } catch (const OptionError& e) {  // the estimator checks its options first: wrong for every run
           throw UsageError(e.what());
         }

@@ -260,6 +260,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
                     ": the table of several runs; give two or more FILEs (one run's curve: --curve)");
 
   cli::LoadedSeries loaded = cli::load_series(in);
+  o.record_deviation = loaded.record_deviation;
   if (each) return estimate_each(in, loaded, o, json, curve_path, plot_path);
   MlceResult r = cli::on_file(in, [&] { return estimate_mlce(loaded.series, o); });
   const double analysed_from = loaded.series.time(r.skipped_start);

@@ -86,6 +86,8 @@ nlohmann::json to_json(const MlceResult& r) {
   if (r.noise_compensated && !r.curve.compensated_noise_share.empty())
     j["noise_share"] = {r.curve.compensated_noise_share[r.fit.first], r.curve.compensated_noise_share[r.fit.last]};
   j["unreliable"] = r.unreliable.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.unreliable);
+  // A window cut by --from / --to: its RMS over the record's largest deviation (estimate.hpp).
+  j["floor_window_ratio"] = finite_or_null(r.floor_window_ratio);
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
   j["dt"] = r.dt;

@@ -252,6 +252,7 @@ LoadedSeries load_column_series(const SeriesInput& in) {
 
 LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out) {
   using reader::ReadError;
+  if (!in.from.empty() || in.to) out.record_deviation = peak_deviations(out.series);
 
   if (in.from == "auto") {
     TransientResult tr;

@@ -31,6 +31,9 @@ struct LoadedSeries {
   Series series;
   std::vector<std::string> warnings;
   std::string transient_rule;  ///< how --from auto decided, when used
+  /// When --from / --to cut a window: each channel's largest deviation over the record read
+  /// (MlceOptions::record_deviation: does the window lie in the floor of a decay?). Empty otherwise.
+  std::vector<double> record_deviation;
 };
 
 /// The channels of an MBDyn prefix / NetCDF file (or col:K of a column file) with their time;

@@ -100,6 +100,20 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     out.summary = "undetermined: " + why;
     return out;
   };
+  // A window cut from a record after the record's decay ended (MlceResult::in_decay_floor): the
+  // motion had come to rest, by six orders of magnitude or more, before the window; its lambda
+  // measures the solver's residue (Hammond's isotropic rotor at 200 rpm from 20 s on: +0.3..+0.9 1/s,
+  // read "chaotic" before this clause).
+  if (r.in_decay_floor) {
+    out.stability = Stability::stable;
+    out.motion = "decays to rest";
+    out.summary = fmt::format(
+        "stable: the motion had decayed to rest before the analysed window, which holds only the floor of that "
+        "decay ({:.2g} of the record's largest deviation: solver tolerance and rounding); lambda measures that "
+        "residue, not the motion (analyse the decay: an earlier --from); {}",
+        r.floor_window_ratio, numbers);
+    return out;
+  }
   if (!std::isfinite(T)) return undetermined("the spectrum has no mean frequency to measure the rate against");
   if (!r.unreliable.empty()) return undetermined(r.unreliable + ": lambda does not measure a divergence (see the warnings)");
   // Measurement noise biases lambda (the warnings say how much) but does not make a clear sign

@@ -117,6 +117,15 @@ struct MlceOptions {
   /// white), is analysed only up to the floor (detect_floor;
   /// paper 001 Fig. 6: otherwise the estimate drifts with the run length). 0 = never cut.
   double floor_ratio = 1e-6;
+  /// When the series is a window cut from a longer record (the CLI's --from / --to): each channel's
+  /// largest deviation from its mean over that record (peak_deviations, transient.hpp), one per
+  /// channel. A window whose every channel's RMS deviation lies below floor_ratio of it, and whose
+  /// amplitude does not itself decay, holds only the floor of a decay that ended before the window
+  /// (solver tolerance and rounding), which the whole record's analysis would have cut off: flagged
+  /// (MlceResult::in_decay_floor), since lambda then measures that residue (the ad-hoc run of
+  /// Hammond's isotropic rotor at 200 rpm from 20 s on, about 1e-10 of its start, read +0.3..+0.9
+  /// 1/s, "chaotic"). Empty: the series is the whole record.
+  std::vector<double> record_deviation;
   ProgressCallback progress;
 };
 
@@ -165,8 +174,15 @@ struct MlceResult {
   /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
   /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise),
   /// fewer than two mean periods of a motion that persists (estimated only under a given window).
-  /// Empty otherwise. The reading (reading.hpp) is then undetermined.
+  /// Empty otherwise. The reading (reading.hpp) is then undetermined, except for a window in the
+  /// floor of a decay (floor_window_ratio): stable, the motion decayed to rest before the window.
   std::string unreliable;
+  /// When the series is a window cut from a record (MlceOptions::record_deviation): the largest over
+  /// the channels of the window's RMS deviation over the record's largest deviation; NaN otherwise.
+  /// Below MlceOptions::floor_ratio, with an amplitude that does not decay within the window, the
+  /// window lies in the floor of a decay that ended before it (in_decay_floor), and `unreliable` says so.
+  double floor_window_ratio = std::numeric_limits<double>::quiet_NaN();
+  bool in_decay_floor = false;
   /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
   /// standard deviation, white noise assumed, in units of the signal's standard deviation; when the
   /// curve is noise-compensated, the noise measured from the increments (RMS over the channels);
