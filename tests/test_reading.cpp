@@ -417,3 +417,32 @@ TEST(Reading, AWindowInTheFloorOfADecayIsRestNotChaos) {
   wrong.record_deviation = {0.1, 0.2};
   EXPECT_THROW(estimate_mlce(late, wrong), OptionError);
 }
+
+TEST(Reading, ADecayOntoASteadyCycleIsALimitCycleNotLightDamping) {
+  // Hammond's rotor with nonlinear lag dampers of zero linear slope (C_L = 0, 242.4 rpm; paper 001
+  // Fig. 11, paper 000 Fig. 3a: a limit cycle of small amplitude): from x_h = 0.1 m the motion decays
+  // by three orders of magnitude within ~10 s and then holds. Over the whole 60 s run lambda lies in
+  // the neutral band while the amplitude "decays" (its last third's RMS a tenth of its first's):
+  // "lightly damped" before MlceResult::end_repeat was read. Its second half no longer decays and
+  // its last third repeats itself: a limit cycle.
+  const models::Scene sc = models::load_scene(  // scenes/nonlinear_CL0.scene
+      "", {"--rpm", "242.4", "--damper", "nonlinear", "--CL", "0", "--x0", "0.1", "--t_end", "60", "--dt_out", "0.005",
+           "--rtol", "1e-8"});
+  const std::size_t zeta3 = 2;
+  ASSERT_EQ(models::state_names(sc)[zeta3], "zeta3");
+  std::vector<double> lag;
+  models::simulate(sc, [&lag](std::size_t, double, const Eigen::VectorXd& x) { lag.push_back(x(2)); });
+  const MlceResult m = estimate_mlce(make_series_with_step({lag}, sc.dt_out), {});
+  const Reading r = read_stability(m);
+  std::printf("zeta3 over %.0f s: lambda %+.5f 1/s, envelope rate %.3g (second half %.3g) per sample, last third repeats "
+              "to %.4f: %s\n", sc.t_end, m.lambda, m.envelope_rate, m.end_envelope_rate, m.end_repeat.difference,
+              r.summary.c_str());
+  EXPECT_EQ(r.amplitude, AmplitudeTrend::decays);
+  expect_reading(r, Stability::neutral, "limit cycle", "C_L = 0");
+  EXPECT_NE(r.summary.find("decays onto a steady periodic motion"), std::string::npos) << r.summary;
+  // A linear decay inside the band keeps its rate to the end: lightly damped. zeta = 0.0015 over 200
+  // periods: lambda T = -0.0094, the amplitude down to a third.
+  const Reading light = read(exponential_sine(20000, 0.01, -0.0015 * kTwoPi, kTwoPi), 0.01);
+  expect_reading(light, Stability::neutral, "lightly damped", "zeta = 0.0015");
+  EXPECT_EQ(light.amplitude, AmplitudeTrend::decays);
+}

@@ -69,6 +69,19 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
   return AmplitudeTrend::changes;
 }
 
+/// A decay that stops: the envelope of the signal's second half changes at most kSettledShare of
+/// the whole run's (negative) rate, and its last third repeats itself one period on
+/// (ReadingOptions::periodic_end; flows only). Hammond's rotor with nonlinear dampers of zero slope
+/// (scenes/nonlinear_CL0.scene, 60 s; blade 3's lag): 0.0088 of the run's rate, repeating to 0.5 %,
+/// read "lightly damped" before (test_reading prints it). A linear decay keeps its rate to the end
+/// (share ~1).
+constexpr double kSettledShare = 0.1;
+bool settles_onto_a_cycle(const MlceResult& r, const ReadingOptions& options) {
+  return !r.mean_period.map && r.envelope_rate < 0.0 && std::isfinite(r.end_envelope_rate) &&
+         std::abs(r.end_envelope_rate) <= kSettledShare * std::abs(r.envelope_rate) &&
+         r.end_repeat.difference < options.periodic_end;
+}
+
 /// How far the curve's highest point stays below the attractor scale, natural log (NaN when either
 /// is missing: NaN compares false, and the reading keeps its other rules).
 double below_attractor_scale(const DivergenceCurve& curve) {
@@ -237,6 +250,16 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   out.stability = Stability::neutral;
   switch (a) {
     case AmplitudeTrend::decays:
+      if (settles_onto_a_cycle(r, options)) {
+        out.motion = "limit cycle";
+        out.summary = fmt::format(
+            "neutral: the amplitude decays onto a steady periodic motion (its second half's envelope rate is {:.2g} of "
+            "the run's, and its last third repeats itself every {:.4g} samples to {:.2g} % of its deviation): a limit "
+            "cycle, largest exponent 0 (paper 001 Fig. 4); the decay before it is a transient (--from auto analyses "
+            "the cycle alone); ",
+            r.end_envelope_rate / r.envelope_rate, r.end_repeat.period, 100.0 * r.end_repeat.difference);
+        break;
+      }
       out.motion = "lightly damped";
       out.summary = "neutral within the band, while the amplitude decays: lightly damped; ";
       break;

@@ -23,6 +23,11 @@
 //    changes: diverging, growth and chaos not told apart. A curve that falls while the amplitude is
 //    steady measures the neighbours converging onto a limit cycle, whose largest exponent is 0
 //    (paper 001 Fig. 4): neutral.
+//  - Neutral while the amplitude decays is light damping, unless the decay stops: the second half's
+//    envelope rate at most 0.1 of the run's and the last third repeating itself (periodic_end), a
+//    limit cycle the motion decayed onto.
+//  - A window cut from a record after its decay ended (MlceResult::in_decay_floor) is stable: the
+//    motion decayed to rest before it, and lambda measures the solver's residue.
 //  - A curve the fit rule found bounded or flat (the neighbours never separate to the attractor
 //    scale) on a motion that does not decay is a limit cycle or torus: neutral, whatever residual
 //    slope was fitted.
