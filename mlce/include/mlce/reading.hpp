@@ -77,7 +77,7 @@ struct ReadingOptions {
   /// RMS difference over the RMS deviation) is a limit cycle, and its neighbours separated in a
   /// transient before it settled or are false ones. 0.07: the windows of Hammond's failed-damper
   /// run that start in its growth (8-12 s) and end at 30 s, on its settling limit cycle, repeat to
-  /// 0.003-0.036 and read "chaotic" before this rule (test_mbdyn_vs_adhoc prints them); the chaotic
+  /// 0.0065-0.036, 8 of 12 read "chaotic" before this rule (test_reading prints them); the chaotic
   /// flows of bench/other_flows repeat to 0.14 at the least (Roessler at c = 4.6, near the onset of
   /// chaos). Not for maps: a banded chaotic map repeats its bands to a few per cent (Henon at
   /// a = 1.06: 0.034, scratch).
