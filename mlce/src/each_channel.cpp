@@ -68,12 +68,8 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
     ChannelEstimate ce;
     ce.name = channel_name(series, c);
     MlceOptions o = options.estimate;
-    if (!o.record_deviation.empty()) {  // the record's scale of this channel alone
-      if (o.record_deviation.size() != count)
-        throw OptionError(fmt::format("record_deviation: {} value(s) for {} channel(s); expected one per channel",
-                                      o.record_deviation.size(), count));
-      o.record_deviation = {options.estimate.record_deviation[c]};
-    }
+    validate_record_deviation(options.estimate, count);
+    if (!o.record_deviation.empty()) o.record_deviation = {options.estimate.record_deviation[c]};  // this channel's
     if (options.estimate.progress) {  // each stage as "<channel> (k of K): <stage>", the fraction of the channels done
       o.progress = [&, c](std::string_view stage, double) {
         options.estimate.progress(fmt::format("{} ({} of {}): {}", ce.name, c + 1, count, stage),

@@ -227,6 +227,16 @@ std::string warn_about_series(const Series& series, MlceResult& r) {
   return drift_warning;
 }
 
+}  // namespace
+
+void validate_record_deviation(const MlceOptions& options, std::size_t channels) {
+  if (!options.record_deviation.empty() && options.record_deviation.size() != channels)
+    throw OptionError(fmt::format("record_deviation: {} value(s) for {} channel(s); expected one per channel",
+                                  options.record_deviation.size(), channels));
+}
+
+namespace {
+
 /// A window cut from a longer record (MlceOptions::record_deviation) that lies wholly in the floor
 /// its decay ended in before it: every channel's RMS deviation below floor_ratio of the record's
 /// largest deviation, and the window's own amplitude does not decay (its last third's RMS above half
@@ -235,10 +245,8 @@ std::string warn_about_series(const Series& series, MlceResult& r) {
 /// far below the record's scale: the real MBDyn run of the isotropic rotor at 200 rpm keeps decaying
 /// cleanly to 3e-10 of its start, and `node:2:x` from 8-15 s reads -1.18 1/s, the slowest eigenvalue.
 void warn_about_floor_window(const Series& series, const MlceOptions& options, MlceResult& r) {
+  validate_record_deviation(options, series.channel_count());
   if (options.record_deviation.empty() || !(options.floor_ratio > 0.0)) return;
-  if (options.record_deviation.size() != series.channel_count())
-    throw OptionError(fmt::format("record_deviation: {} value(s) for {} channel(s); expected one per channel",
-                                  options.record_deviation.size(), series.channel_count()));
   const std::vector<double> window = rms_deviations(series);
   double largest = 0.0;  // the largest ratio over the channels
   std::size_t channel = 0;
@@ -248,7 +256,7 @@ void warn_about_floor_window(const Series& series, const MlceOptions& options, M
     if (const double ratio = window[c] / record; !(ratio <= largest)) largest = ratio, channel = c;
   }
   r.floor_window_ratio = largest;
-  if (!(largest < options.floor_ratio) || amplitude_ratio(series) <= 1.0 / kPersistentAmplitude) return;
+  if (!(largest < options.floor_ratio) || r.amplitude_ratio <= 1.0 / kPersistentAmplitude) return;
   r.in_decay_floor = true;
   r.warnings.push_back(fmt::format(
       "the analysed window lies in the floor of a decay that ended before it: {}'s RMS deviation is {:.2g} of its "
@@ -663,6 +671,10 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
   r.n_points = series.size();
   const std::string drift_warning = warn_about_series(series, r);
+  // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
+  // first third's (transient.hpp). Read by the floor-window test, the short-run refusal and the
+  // recurrence test.
+  r.amplitude_ratio = amplitude_ratio(series);
   warn_about_floor_window(series, options, r);
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
@@ -673,9 +685,6 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   append(r.warnings, r.mean_period.warnings);
   const std::size_t period = r.mean_period.mean_period;
   const Span span = span_of(series, r.mean_period);
-  // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
-  // first third's (transient.hpp). Read by the short-run refusal and by the recurrence test.
-  r.amplitude_ratio = amplitude_ratio(series);
   r.end_repeat = end_repeat(series);
   const bool persisting = persists(r.amplitude_ratio);
   check_span(series, options, span, persisting, drift_warning, r);

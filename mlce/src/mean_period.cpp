@@ -19,6 +19,32 @@ std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe; execution i
   return m;
 }
 
+/// An FFTW plan made and destroyed under the planner's lock; executed without it.
+class Plan {
+ public:
+  explicit Plan(fftw_plan plan) : plan_(plan) {}
+  ~Plan() {
+    std::lock_guard lock(planner_mutex());
+    fftw_destroy_plan(plan_);
+  }
+  Plan(const Plan&) = delete;
+  Plan& operator=(const Plan&) = delete;
+  void execute() const { fftw_execute(plan_); }
+
+ private:
+  fftw_plan plan_;
+};
+
+/// Real-to-complex (n reals into n / 2 + 1 complex) and complex-to-real (back) plans.
+Plan forward_plan(std::size_t n, double* in, fftw_complex* out) {
+  std::lock_guard lock(planner_mutex());
+  return Plan(fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE));
+}
+Plan backward_plan(std::size_t n, fftw_complex* in, double* out) {
+  std::lock_guard lock(planner_mutex());
+  return Plan(fftw_plan_dft_c2r_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE));
+}
+
 struct ChannelSpectrum {
   double mean_frequency = 0.0;  ///< power-weighted mean, cycles per sample
   double fast_share = 0.0;      ///< share of the power above a quarter of the sampling rate
@@ -35,22 +61,14 @@ ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow wi
   const std::size_t nc = n / 2 + 1;
   std::unique_ptr<double, decltype(&fftw_free)> in(fftw_alloc_real(n), &fftw_free);
   std::unique_ptr<fftw_complex, decltype(&fftw_free)> out(fftw_alloc_complex(nc), &fftw_free);
-  fftw_plan plan;
-  {
-    std::lock_guard lock(planner_mutex());
-    plan = fftw_plan_dft_r2c_1d(static_cast<int>(n), in.get(), out.get(), FFTW_ESTIMATE);
-  }
+  const Plan plan = forward_plan(n, in.get(), out.get());
   for (std::size_t i = 0; i < n; ++i) {
     double w = 1.0;
     if (window == SpectralWindow::hann)
       w = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n));
     in.get()[i] = w * (x[i] - mean);
   }
-  fftw_execute(plan);
-  {
-    std::lock_guard lock(planner_mutex());
-    fftw_destroy_plan(plan);
-  }
+  plan.execute();
   // One-sided periodogram P_k, k = 1..n/2 (DC excluded); the scale factor cancels in the ratio.
   CompensatedSum power, moment, fast;
   for (std::size_t k = 1; k < nc; ++k) {
@@ -118,12 +136,8 @@ EndRepeat end_repeat(const Series& series) {
   const std::size_t size = 2 * q, nc = size / 2 + 1;
   std::unique_ptr<double, decltype(&fftw_free)> buffer(fftw_alloc_real(size), &fftw_free);
   std::unique_ptr<fftw_complex, decltype(&fftw_free)> spectrum(fftw_alloc_complex(nc), &fftw_free);
-  fftw_plan forward = nullptr, backward = nullptr;
-  {
-    std::lock_guard lock(planner_mutex());
-    forward = fftw_plan_dft_r2c_1d(static_cast<int>(size), buffer.get(), spectrum.get(), FFTW_ESTIMATE);
-    backward = fftw_plan_dft_c2r_1d(static_cast<int>(size), spectrum.get(), buffer.get(), FFTW_ESTIMATE);
-  }
+  const Plan forward = forward_plan(size, buffer.get(), spectrum.get());
+  const Plan backward = backward_plan(size, spectrum.get(), buffer.get());
   std::vector<double> d(max_lag + 1, 0.0), segment(q), prefix(q + 1);
   std::size_t channels = 0;
   for (const auto& x : series.channels) {
@@ -145,23 +159,18 @@ EndRepeat end_repeat(const Series& series) {
     if (!(variance > 0.0)) continue;
     std::copy(segment.begin(), segment.end(), buffer.get());
     std::fill(buffer.get() + q, buffer.get() + size, 0.0);
-    fftw_execute(forward);
+    forward.execute();
     for (std::size_t k = 0; k < nc; ++k) {
       const double re = spectrum.get()[k][0], im = spectrum.get()[k][1];
       spectrum.get()[k][0] = re * re + im * im, spectrum.get()[k][1] = 0.0;
     }
-    fftw_execute(backward);  // buffer[L] = size x sum over t of s[t] s[t + L]
+    backward.execute();  // buffer[L] = size x sum over t of s[t] s[t + L]
     for (std::size_t lag = 1; lag <= max_lag; ++lag) {
       const double cross = buffer.get()[lag] / static_cast<double>(size);
       const double head = prefix[q - lag], rest = prefix[q] - prefix[lag];  // s[0 .. q-L), s[L .. q)
       d[lag] += std::max(0.0, head + rest - 2.0 * cross) / static_cast<double>(q - lag) / variance;
     }
     ++channels;
-  }
-  {
-    std::lock_guard lock(planner_mutex());
-    fftw_destroy_plan(forward);
-    fftw_destroy_plan(backward);
   }
   if (channels == 0) return out;
   for (double& v : d) v /= static_cast<double>(channels);

@@ -186,8 +186,8 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     // (its last third repeats one period on, EndRepeat) is a limit cycle. Hammond's failed-damper run
     // from within its growth (8-12 s) to 30 s read +0.5..+4.2 1/s, "chaotic", before this clause:
     // the neighbours of its growth and settling separate, then come back together.
-    if (a == AmplitudeTrend::persists && !r.mean_period.map &&
-        !(below_attractor_scale(r.curve) > options.chaos_scale_margin) &&
+    const double short_of_scale = below_attractor_scale(r.curve);
+    if (a == AmplitudeTrend::persists && !r.mean_period.map && !(short_of_scale > options.chaos_scale_margin) &&
         r.end_repeat.difference < options.periodic_end) {
       out.stability = Stability::neutral;
       out.motion = "limit cycle";
@@ -207,8 +207,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
       out.motion = "growing oscillation";
       out.summary = "unstable: nearby motions diverge and the amplitude grows: the motion leaves its equilibrium "
                     "(paper 001: an instability, such as ground resonance); ";
-    } else if (const double short_of_scale = below_attractor_scale(r.curve);
-               a == AmplitudeTrend::persists && short_of_scale > options.chaos_scale_margin) {
+    } else if (a == AmplitudeTrend::persists && short_of_scale > options.chaos_scale_margin) {
       // Chaos bounds the divergence by the attractor's size, and the curve shows it getting there; a
       // divergence that stays far below it beneath a steady amplitude may as well be a growth under
       // a steady carrier (a rotating blade's absolute coordinates: the rotation hides the hub's

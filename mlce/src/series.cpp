@@ -276,6 +276,27 @@ std::vector<double> unit_deviation_divisors(const Series& series) {
   return divisors;
 }
 
+std::vector<double> peak_deviations(const Series& series) {
+  std::vector<double> out;
+  for (const auto& x : series.channels) {
+    const auto [peak, mean, sd] = peak_moments(x);
+    double largest = 0.0;
+    if (peak > 0.0)
+      for (double v : x) largest = std::max(largest, std::abs(v / peak - mean));
+    out.push_back(peak * largest);
+  }
+  return out;
+}
+
+std::vector<double> rms_deviations(const Series& series) {
+  std::vector<double> out;
+  for (const auto& x : series.channels) {
+    const auto [peak, mean, sd] = peak_moments(x);
+    out.push_back(peak * sd);
+  }
+  return out;
+}
+
 Series standardized(const Series& series) { return normalised(series, true); }
 
 Series scaled_to_unit_deviation(const Series& series) { return normalised(series, false); }

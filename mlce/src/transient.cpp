@@ -396,41 +396,6 @@ double amplitude_ratio(const Series& s) {
   return sums[0] > 0.0 ? std::sqrt(sums[2] / sums[0]) : std::numeric_limits<double>::quiet_NaN();
 }
 
-namespace {
-/// Per channel: its peak |x|, and the mean of x / peak (compensated).
-std::pair<double, double> peak_and_scaled_mean(const std::vector<double>& x) {
-  const double peak = max_abs(x);
-  if (!(peak > 0.0)) return {0.0, 0.0};
-  CompensatedSum sum;
-  for (double v : x) sum.add(v / peak);
-  return {peak, sum.value() / static_cast<double>(x.size())};
-}
-}  // namespace
-
-std::vector<double> peak_deviations(const Series& series) {
-  std::vector<double> out;
-  for (const auto& x : series.channels) {
-    const auto [peak, mean] = peak_and_scaled_mean(x);
-    double largest = 0.0;
-    if (peak > 0.0)
-      for (double v : x) largest = std::max(largest, std::abs(v / peak - mean));
-    out.push_back(peak * largest);
-  }
-  return out;
-}
-
-std::vector<double> rms_deviations(const Series& series) {
-  std::vector<double> out;
-  for (const auto& x : series.channels) {
-    const auto [peak, mean] = peak_and_scaled_mean(x);
-    CompensatedSum squares;
-    if (peak > 0.0)
-      for (double v : x) squares.add((v / peak - mean) * (v / peak - mean));
-    out.push_back(x.empty() ? 0.0 : peak * std::sqrt(squares.value() / static_cast<double>(x.size())));
-  }
-  return out;
-}
-
 Drift linear_drift(const Series& s) {
   Drift d;
   std::vector<double> scaled;

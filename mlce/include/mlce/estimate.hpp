@@ -129,6 +129,10 @@ struct MlceOptions {
   ProgressCallback progress;
 };
 
+/// The check of MlceOptions::record_deviation against a series of `channels` channels: empty, or one
+/// value per channel; else OptionError.
+void validate_record_deviation(const MlceOptions& options, std::size_t channels);
+
 struct MlceResult {
   double lambda = 0.0;             ///< per time unit (1/s for MBDyn); natural log
   double lambda_per_sample = 0.0;  ///< per sample

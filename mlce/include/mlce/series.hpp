@@ -94,4 +94,12 @@ Series scaled_to_unit_deviation(const Series& series);
 /// all-zero one). A quantity in a channel's units over its divisor is in the curve's units.
 std::vector<double> unit_deviation_divisors(const Series& series);
 
+/// Each channel's largest deviation from its mean, in the channel's units (computed over its largest
+/// magnitude, as standardized): the scale of a record a window is cut from
+/// (MlceOptions::record_deviation). 0 for a constant channel.
+std::vector<double> peak_deviations(const Series& series);
+/// Each channel's RMS deviation about its mean (its standard deviation), in the channel's units;
+/// 0 for a constant channel.
+std::vector<double> rms_deviations(const Series& series);
+
 }  // namespace mlce

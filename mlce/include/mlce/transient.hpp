@@ -150,13 +150,6 @@ EnvelopeRates envelope_rates(const Series& series, std::size_t period);
 /// third has zero RMS or the series has fewer than 3 samples.
 double amplitude_ratio(const Series& series);
 
-/// Each channel's largest deviation from its mean, in the channel's units (each over its peak |x|
-/// first, so that no difference of two huge values overflows): the scale of a record a window is
-/// cut from (MlceOptions::record_deviation). 0 for a constant channel.
-std::vector<double> peak_deviations(const Series& series);
-/// Each channel's RMS deviation about its mean, in the channel's units (over its peak |x| first).
-std::vector<double> rms_deviations(const Series& series);
-
 /// How much of the series a straight line through time explains: the largest share of a channel's
 /// variance (R^2 of its least-squares line, each channel divided by its peak |x| first so that no
 /// square overflows), and that channel. Small for a motion that returns near its past states (a
