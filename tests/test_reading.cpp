@@ -363,20 +363,29 @@ TEST(Reading, AMotionThatEndsPeriodicIsALimitCycleNotChaos) {
   EXPECT_THROW(bad.validate(), OptionError);
 }
 
-TEST(Reading, AWindowInTheFloorOfADecayIsRestNotChaos) {
-  // Hammond's isotropic rotor at 200 rpm decays (all multiblade eigenvalues stable) from x_h = 0.1 m
-  // to the integrator's floor, ~1e-11, by about 20 s; a window of that floor alone has no larger part
-  // to tell it by, and the residue of the solver's error control "diverges": +0.3..+0.9 1/s, read
-  // "chaotic" before MlceOptions::record_deviation. Given the record's scale, the window is the rest
-  // the motion decayed to.
-  const models::Scene sc = models::load_scene("", {"--rpm", "200", "--c", "4067.5", "--cy", "51078.7", "--x0", "0.1",
-                                                   "--t_end", "60", "--dt_out", "0.005", "--rtol", "1e-8"});
+/// Hammond's isotropic rotor at 200 rpm (scenes/isotropic_200rpm.scene; every multiblade eigenvalue
+/// stable) from x_h = 0.1 m over 60 s: x_h decays to the integrator's floor, ~1e-11 m, by about 17 s.
+models::Scene isotropic_200rpm() {
+  return models::load_scene("", {"--rpm", "200", "--c", "4067.5", "--cy", "51078.7", "--x0", "0.1", "--t_end", "60",
+                                 "--dt_out", "0.005", "--rtol", "1e-8"});
+}
+Series isotropic_200rpm_x_h(const models::Scene& sc) {
   const std::size_t x_h = 4;
-  ASSERT_EQ(models::state_names(sc)[x_h], "x_h");
+  EXPECT_EQ(models::state_names(sc)[x_h], "x_h");
   Series record;
   record.dt = sc.dt_out;
   record.channels.emplace_back();
-  models::simulate(sc, [&record](std::size_t, double, const Eigen::VectorXd& x) { record.channels[0].push_back(x(4)); });
+  models::simulate(sc, [&record](std::size_t, double, const Eigen::VectorXd& x) { record.channels[0].push_back(x(x_h)); });
+  return record;
+}
+
+TEST(Reading, AWindowInTheFloorOfADecayIsRestNotChaos) {
+  // The isotropic rotor's decay ends in the integrator's floor; a window of that floor alone has no
+  // larger part to tell it by, and the residue of the solver's error control "diverges": +0.3..+0.9
+  // 1/s, read "chaotic" before MlceOptions::record_deviation. Given the record's scale, the window is
+  // the rest the motion decayed to.
+  const models::Scene sc = isotropic_200rpm();
+  const Series record = isotropic_200rpm_x_h(sc);
   const std::vector<double> scale = peak_deviations(record);
   EXPECT_NEAR(scale[0], 0.1, 0.02);
   const Series late = time_window(record, 30.0, 60.0);
@@ -412,10 +421,66 @@ TEST(Reading, AWindowInTheFloorOfADecayIsRestNotChaos) {
   EXPECT_LT(tail.floor_window_ratio, 1e-6);
   EXPECT_FALSE(tail.in_decay_floor);
   EXPECT_NEAR(tail.lambda, -1.0, 0.01);
+  // Over 20-30 s it falls by 1e-4 only (no floor of its own), but to 1e-13 of the record's scale:
+  // still falling, so nothing is cut.
+  const Series ten = time_window(whole, 20.0, 30.0);
+  const MlceResult tail_ten = estimate_mlce(ten, clean_scale);
+  EXPECT_EQ(tail_ten.n_points, ten.size());
+  EXPECT_NEAR(tail_ten.lambda, -1.0, 0.01);
   // One scale per channel, or none.
   MlceOptions wrong;
   wrong.record_deviation = {0.1, 0.2};
   EXPECT_THROW(estimate_mlce(late, wrong), OptionError);
+}
+
+TEST(Reading, AWindowThatEndsInTheFloorReadsTheDecayBeforeIt) {
+  // A window cut from 8-12 s to the end of the isotropic run holds the last ~5-9 s of the decay and
+  // then ~40 s of floor. Against the window's own start (~1e-5 of the record) that floor is not below
+  // floor_ratio, so it was analysed with the decay: "lightly damped", lambda -0.06..-0.09 1/s
+  // (bench/hammond_windows.sh, 10..60). Judged against the record's scale it is cut off as the whole
+  // record's analysis cuts it, and the window reads the least damped mode: the Floquet exponent of the
+  // linearisation (a second method; -1.1828 1/s, the slowest multiblade eigenvalue).
+  const models::Scene sc = isotropic_200rpm();
+  const Series record = isotropic_200rpm_x_h(sc);
+  const double floquet = spectrum::floquet(models::dynamical_system(sc), {}).exponents(0);
+  EXPECT_NEAR(floquet, -1.1828, 1e-3);
+  MlceOptions given;
+  given.record_deviation = peak_deviations(record);
+  for (const double from : {8.0, 10.0, 12.0}) {
+    const Series window = time_window(record, from, 60.0);
+    const MlceResult m = estimate_mlce(window, given), alone = estimate_mlce(window, {});
+    const Reading r = read_stability(m);
+    std::printf("x_h %.0f..60 s: lambda %+.4f 1/s over %zu samples (%s); alone %+.4f 1/s over %zu samples (%s)\n", from,
+                m.lambda, m.n_points, r.motion.c_str(), alone.lambda, alone.n_points, read_stability(alone).motion.c_str());
+    EXPECT_NEAR(m.lambda, floquet, 0.03 * std::abs(floquet)) << from;
+    EXPECT_LT(m.n_points, window.size() / 2) << from;  // the floor is left out
+    EXPECT_NE(testing::PrintToString(m.warnings).find("of the record it was cut from"), std::string::npos) << from;
+    EXPECT_FALSE(m.in_decay_floor);
+    expect_reading(r, Stability::stable, "decays to rest", "the decay before the floor");
+    EXPECT_EQ(alone.n_points, window.size());  // alone: no floor found, the floor analysed with the decay
+  }
+  // Cut within two mean periods of the floor, too little of the decay is left to measure (a cut would
+  // leave ~90 samples, and the refusal of too short a motion would name them): the window is the floor.
+  // The floor's start: where x_h's RMS over 0.1 s last exceeds 10x its median over the last 20 s.
+  const auto& x = record.channels[0];
+  std::vector<double> rms;
+  for (std::size_t i = 0; i + 20 <= x.size(); i += 20) {
+    double sum = 0.0;
+    for (std::size_t k = i; k < i + 20; ++k) sum += x[k] * x[k];
+    rms.push_back(std::sqrt(sum / 20.0));
+  }
+  std::vector<double> last(rms.end() - 200, rms.end());
+  std::nth_element(last.begin(), last.begin() + 100, last.end());
+  std::size_t floor_start = 0;
+  for (std::size_t k = 0; k < rms.size(); ++k)
+    if (rms[k] > 10.0 * last[100]) floor_start = 20 * (k + 1);
+  const double t_floor = record.time(floor_start);
+  std::printf("x_h's floor %.3g of the record's deviation, from %.2f s\n", last[100] / given.record_deviation[0], t_floor);
+  ASSERT_GT(t_floor, 14.0);
+  ASSERT_LT(t_floor, 20.0);
+  const MlceResult late = estimate_mlce(time_window(record, t_floor - 0.5, 60.0), given);
+  EXPECT_TRUE(late.in_decay_floor);
+  expect_reading(read_stability(late), Stability::stable, "decays to rest", "a window that starts at the floor");
 }
 
 TEST(Reading, ADecayOntoASteadyCycleIsALimitCycleNotLightDamping) {

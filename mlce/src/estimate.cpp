@@ -152,13 +152,20 @@ std::optional<std::size_t> flag_noise(MlceResult& r, std::size_t channels) {
 
 /// The part of the input that is analysed: `raw` dithered (MlceOptions::dither) and cut at the
 /// noise/underflow floor a decay ends in (detect_floor). Held in `storage` when it differs from
-/// `raw`; what was done is said in `warnings` (dither first, then the floor); `floor_cut` tells
-/// whether the floor was cut off (FitOptions::signal_floor).
+/// `raw`; what was done is said in `warnings` (dither first, then the floor); `part` tells whether
+/// the floor was cut off (FitOptions::signal_floor) or holds nearly the whole window.
+struct AnalysedPart {
+  bool floor_cut = false;
+  /// A window cut from a record (MlceOptions::record_deviation) whose part above the record's floor
+  /// spans fewer than kMinMeanPeriods of its own mean periods: too little of the decay to measure,
+  /// so nothing is cut and the window is read as the floor (warn_about_floor_window).
+  bool floor_holds_window = false;
+};
 const Series& analysed_part(const Series& raw, const MlceOptions& options, Series& storage,
-                            std::vector<std::string>& warnings, bool& floor_cut) {
+                            std::vector<std::string>& warnings, AnalysedPart& part) {
   if (!(options.dither >= 0.0) || !std::isfinite(options.dither)) throw OptionError("dither: expected a finite width >= 0");
   if (!(options.floor_ratio >= 0.0 && options.floor_ratio < 1.0)) throw OptionError("floor_ratio: expected [0, 1)");
-  floor_cut = false;
+  part = {};
   if (options.dither > 0.0) {
     storage = raw;
     std::uint64_t state = options.dither_seed;
@@ -171,7 +178,8 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
     warnings.push_back(text);
   }
   const Series& input = options.dither > 0.0 ? storage : raw;
-  const Floor floor = detect_floor(input, options.floor_ratio);
+  validate_record_deviation(options, input.channel_count());
+  const Floor floor = detect_floor(input, options.floor_ratio, options.record_deviation);
   if (floor.index == 0) return input;
   // A decay into the noise/underflow floor is analysed up to the floor only.
   // A noise-free decay has no floor, but past 1e-6 of its largest RMS a solver's tolerance or
@@ -182,6 +190,25 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
   // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
   // 8000 samples: +3.24 1/s uncut, -0.3167 cut; test_estimate_systems prints both).
   const std::size_t f = floor.index;
+  Series cut;
+  cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
+  for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
+  // Cut late in a decay (the ad-hoc isotropic rotor at 200 rpm from 16 s: 88 samples above the
+  // record's floor, 1.2 of their mean periods), the window is its floor but for a start too short
+  // to measure; the refusal of too short a motion would then name those few samples, not the window.
+  if (floor.against_record) {
+    auto periods_above = [&] {  // the mean frequency needs 4 samples
+      if (f < 4) return 0.0;
+      const MeanPeriodResult above = estimate_mean_period(cut, options.mean_period);
+      const double f_per_sample = above.mean_frequency_per_sample;
+      return f_per_sample > 0.0 ? static_cast<double>(f) * f_per_sample
+                                : static_cast<double>(f) / static_cast<double>(above.mean_period);
+    };
+    if (periods_above() < kMinMeanPeriods) {
+      part.floor_holds_window = true;
+      return input;
+    }
+  }
   warnings.push_back(
       floor.white_noise
           ? fmt::format("the signal decays into white measurement noise ({}) from sample {} (t = {:g}): analysed up to "
@@ -190,11 +217,8 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
           : fmt::format("the signal decays into a noise/underflow floor from sample {} (t = {:g}), or so far ({}) that "
                         "solver tolerance and rounding dominate there: analysed up to there ({} floor samples left out)",
                         f, input.time(f), floor_evidence(floor, options.floor_ratio), input.size() - f));
-  Series cut;
-  cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
-  for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
   storage = std::move(cut);  // `input` may be `storage` (dithered): it is not read after this
-  floor_cut = true;
+  part.floor_cut = true;
   return storage;
 }
 
@@ -244,7 +268,10 @@ namespace {
 /// alone has no larger part to tell it by. A window that still decays is the decay itself, however
 /// far below the record's scale: the real MBDyn run of the isotropic rotor at 200 rpm keeps decaying
 /// cleanly to 3e-10 of its start, and `node:2:x` from 8-15 s reads -1.18 1/s, the slowest eigenvalue.
-void warn_about_floor_window(const Series& series, const MlceOptions& options, MlceResult& r) {
+/// `floor_holds_window` (AnalysedPart): the part above the record's floor is too short to measure, and
+/// the window is read as floor though its start still decays.
+void warn_about_floor_window(const Series& series, const MlceOptions& options, bool floor_holds_window,
+                             MlceResult& r) {
   validate_record_deviation(options, series.channel_count());
   if (options.record_deviation.empty() || !(options.floor_ratio > 0.0)) return;
   const std::vector<double> window = rms_deviations(series);
@@ -256,7 +283,8 @@ void warn_about_floor_window(const Series& series, const MlceOptions& options, M
     if (const double ratio = window[c] / record; !(ratio <= largest)) largest = ratio, channel = c;
   }
   r.floor_window_ratio = largest;
-  if (!(largest < options.floor_ratio) || r.amplitude_ratio <= 1.0 / kPersistentAmplitude) return;
+  if (!(largest < options.floor_ratio)) return;
+  if (!floor_holds_window && r.amplitude_ratio <= 1.0 / kPersistentAmplitude) return;
   r.in_decay_floor = true;
   r.warnings.push_back(fmt::format(
       "the analysed window lies in the floor of a decay that ended before it: {}'s RMS deviation is {:.2g} of its "
@@ -663,8 +691,8 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   validate_series(raw);
   MlceResult r;
   Series storage;
-  bool floor_cut = false;
-  const Series& series = analysed_part(raw, options, storage, r.warnings, floor_cut);
+  AnalysedPart part;
+  const Series& series = analysed_part(raw, options, storage, r.warnings, part);
   validate_series(series);
   if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
   if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
@@ -675,7 +703,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   // first third's (transient.hpp). Read by the floor-window test, the short-run refusal and the
   // recurrence test.
   r.amplitude_ratio = amplitude_ratio(series);
-  warn_about_floor_window(series, options, r);
+  warn_about_floor_window(series, options, part.floor_holds_window, r);
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;
@@ -754,7 +782,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   ro.theiler = r.theiler;
   ro.max_references = options.max_references;
   ro.eps = options.eps;
-  const FitOptions fo = fit_options_for(series, options, period, floor_cut, r);
+  const FitOptions fo = fit_options_for(series, options, period, part.floor_cut, r);
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
   NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs

@@ -118,13 +118,17 @@ struct MlceOptions {
   /// paper 001 Fig. 6: otherwise the estimate drifts with the run length). 0 = never cut.
   double floor_ratio = 1e-6;
   /// When the series is a window cut from a longer record (the CLI's --from / --to): each channel's
-  /// largest deviation from its mean over that record (peak_deviations, transient.hpp), one per
+  /// largest deviation from its mean over that record (peak_deviations, series.hpp), one per
   /// channel. A window whose every channel's RMS deviation lies below floor_ratio of it, and whose
   /// amplitude does not itself decay, holds only the floor of a decay that ended before the window
   /// (solver tolerance and rounding), which the whole record's analysis would have cut off: flagged
   /// (MlceResult::in_decay_floor), since lambda then measures that residue (the ad-hoc run of
   /// Hammond's isotropic rotor at 200 rpm from 20 s on, about 1e-10 of its start, read +0.3..+0.9
-  /// 1/s, "chaotic"). Empty: the series is the whole record.
+  /// 1/s, "chaotic"). A window that ends in such a floor is cut at it, the floor judged against this
+  /// scale (detect_floor; it must hold its level), as the whole record's analysis cuts it (the same
+  /// run from 10 to 60 s: -1.179 1/s, Floquet -1.1828, where the floor read with the decay gave
+  /// -0.09, "lightly damped"); with less than two mean periods of decay above it, the window is read
+  /// as the floor. Empty: the series is the whole record.
   std::vector<double> record_deviation;
   ProgressCallback progress;
 };

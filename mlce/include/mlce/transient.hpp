@@ -58,6 +58,7 @@ struct Floor {
   std::size_t index = 0;     ///< first sample of the floor; 0 = no floor
   bool white_noise = false;  ///< found by a white-noise rule (else: below floor_ratio)
   bool from_increments = false;  ///< the noise's level from the last quarter's increments (white_noise too)
+  bool against_record = false;   ///< below floor_ratio of the record's largest deviation, not the series' own
   double level = 0.0;        ///< the noise's (or last quarter's median window) RMS / the largest window RMS
 };
 
@@ -74,7 +75,11 @@ struct Floor {
 /// A white-noise floor needs a motion before it: when the samples kept before the cut are white too
 /// (lags 1-3 as above), the record is noise throughout, only louder in places, and has no floor.
 /// floor_ratio 0: never a floor.
-Floor detect_floor(const Series& series, double floor_ratio);
+/// `record_deviation` (empty, or one per channel): the series is a window cut from a longer record
+/// whose channels deviate by up to these (MlceOptions::record_deviation); the underflow rule then
+/// measures the last quarter against the record's scale when that exceeds the window's own largest
+/// RMS, so that a window cut late in a decay loses the same floor the whole record's analysis would.
+Floor detect_floor(const Series& series, double floor_ratio, const std::vector<double>& record_deviation = {});
 
 /// Variance of the mean of k squared third differences of white Gaussian noise, over the square of
 /// their mean, times k: 2 x (1 + 2 (0.75^2 + 0.3^2 + 0.05^2)) = 4.62 (third differences correlate at
