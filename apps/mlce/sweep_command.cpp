@@ -230,16 +230,24 @@ int cmd_sweep(const std::vector<std::string>& args) {
       s.time_unit = unit;
       s.names = {channel};
       s.channels.emplace_back();
-      // Only the analysed channel is kept, sample by sample (not every state of the run).
-      models::simulate(scene, [&s, t0, &scene, channel_state](std::size_t, double t, const Eigen::VectorXd& x) {
+      // Only the analysed channel is kept, sample by sample (not every state of the run); the samples
+      // before the window only for the record's scale.
+      Series record = s;
+      models::simulate(scene, [&s, &record, t0, &scene, channel_state](std::size_t, double t, const Eigen::VectorXd& x) {
+        const double value = x(static_cast<Eigen::Index>(channel_state));
+        record.channels[0].push_back(value);
         if (t < t0 - 1e-9 * scene.dt_out) return;
         if (s.channels[0].empty()) s.t0 = t;
-        s.channels[0].push_back(x(static_cast<Eigen::Index>(channel_state)));
+        s.channels[0].push_back(value);
       });
       // --from auto: cut the transient as `mlce estimate --from auto` does (a decay or a growth is
       // kept whole; a decay into the noise floor is cut at the floor by the estimator itself).
       if (from < 0) s = skip_transient(s);
       MlceOptions o;
+      // The window is judged against the run it was cut from, as `mlce estimate --from` judges it: a
+      // window that holds only the floor a decay ended in (solver residue, ~1e-11 of the start) reads
+      // stable, decayed to rest, not "unstable" at the residue's +0.7..+1.5 1/s.
+      o.record_deviation = peak_deviations(record);
       o.max_references = preset.max_references;
       o.skip_nonrecurrent_start = from < 0;  // as mlce estimate: a given window is kept
       const MlceResult r = estimate_mlce(s, o);
