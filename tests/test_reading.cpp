@@ -5,6 +5,7 @@
 // (then the nonlinear motion settles on a limit cycle: paper 001 Figs. 4, 8) and which are stable.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -369,15 +370,17 @@ models::Scene isotropic_200rpm() {
   return models::load_scene("", {"--rpm", "200", "--c", "4067.5", "--cy", "51078.7", "--x0", "0.1", "--t_end", "60",
                                  "--dt_out", "0.005", "--rtol", "1e-8"});
 }
-Series isotropic_200rpm_x_h(const models::Scene& sc) {
-  const std::size_t x_h = 4;
-  EXPECT_EQ(models::state_names(sc)[x_h], "x_h");
+Series isotropic_200rpm_state(const models::Scene& sc, const std::string& name) {
+  const auto names = models::state_names(sc);
+  const auto state = static_cast<Eigen::Index>(std::find(names.begin(), names.end(), name) - names.begin());
+  EXPECT_LT(state, static_cast<Eigen::Index>(names.size())) << name;
   Series record;
   record.dt = sc.dt_out;
   record.channels.emplace_back();
-  models::simulate(sc, [&record](std::size_t, double, const Eigen::VectorXd& x) { record.channels[0].push_back(x(x_h)); });
+  models::simulate(sc, [&record, state](std::size_t, double, const Eigen::VectorXd& x) { record.channels[0].push_back(x(state)); });
   return record;
 }
+Series isotropic_200rpm_x_h(const models::Scene& sc) { return isotropic_200rpm_state(sc, "x_h"); }
 
 TEST(Reading, AWindowInTheFloorOfADecayIsRestNotChaos) {
   // The isotropic rotor's decay ends in the integrator's floor; a window of that floor alone has no
@@ -481,6 +484,18 @@ TEST(Reading, AWindowThatEndsInTheFloorReadsTheDecayBeforeIt) {
   const MlceResult late = estimate_mlce(time_window(record, t_floor - 0.5, 60.0), given);
   EXPECT_TRUE(late.in_decay_floor);
   expect_reading(read_stability(late), Stability::stable, "decays to rest", "a window that starts at the floor");
+  // Wholly within 10x of the floor, while its amplitude still falls by more than half within it (the
+  // last of the decay into the floor): the floor as well (Floor::whole), where it read "undetermined"
+  // (lambda > 0 while the amplitude decays; y_h from 15 to 25 s, as in bench/hammond_windows.sh).
+  const Series y_h = isotropic_200rpm_state(sc, "y_h");
+  MlceOptions y_scale;
+  y_scale.record_deviation = peak_deviations(y_h);
+  const MlceResult edge = estimate_mlce(time_window(y_h, 15.0, 25.0), y_scale);
+  std::printf("y_h 15..25 s: amplitude ratio %.3f, lambda %+.3f 1/s: %s\n", edge.amplitude_ratio, edge.lambda,
+              read_stability(edge).summary.c_str());
+  EXPECT_LT(edge.amplitude_ratio, 0.5);
+  EXPECT_TRUE(edge.in_decay_floor);
+  expect_reading(read_stability(edge), Stability::stable, "decays to rest", "a window at the floor's edge");
 }
 
 TEST(Reading, ADecayOntoASteadyCycleIsALimitCycleNotLightDamping) {

@@ -157,8 +157,9 @@ std::optional<std::size_t> flag_noise(MlceResult& r, std::size_t channels) {
 struct AnalysedPart {
   bool floor_cut = false;
   /// A window cut from a record (MlceOptions::record_deviation) whose part above the record's floor
-  /// spans fewer than kMinMeanPeriods of its own mean periods: too little of the decay to measure,
-  /// so nothing is cut and the window is read as the floor (warn_about_floor_window).
+  /// spans fewer than kMinMeanPeriods of its own mean periods, or that lies wholly within 10x of
+  /// that floor (Floor::whole): too little of the decay to measure, so nothing is cut and the window
+  /// is read as the floor (warn_about_floor_window).
   bool floor_holds_window = false;
 };
 const Series& analysed_part(const Series& raw, const MlceOptions& options, Series& storage,
@@ -180,7 +181,10 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
   const Series& input = options.dither > 0.0 ? storage : raw;
   validate_record_deviation(options, input.channel_count());
   const Floor floor = detect_floor(input, options.floor_ratio, options.record_deviation);
-  if (floor.index == 0) return input;
+  if (floor.index == 0) {
+    part.floor_holds_window = floor.whole;  // a window wholly within the record's floor: nothing to cut
+    return input;
+  }
   // A decay into the noise/underflow floor is analysed up to the floor only.
   // A noise-free decay has no floor, but past 1e-6 of its largest RMS a solver's tolerance or
   // rounding may already hold it: a trial rule that kept decays still falling at their end (not

@@ -298,6 +298,7 @@ Floor detect_floor(const Series& s, double floor_ratio, const std::vector<double
   // own checks then say that the curve resolves no divergence.
   if (floor.white_noise && k * w >= kFewestToJudgeWhiteness && white_samples(s, 0, k * w)) return {};
   floor.index = k * w;
+  floor.whole = k == 0;  // only against the record: the series' own largest window is > 10x its level
   return floor;
 }
 

@@ -59,6 +59,9 @@ struct Floor {
   bool white_noise = false;  ///< found by a white-noise rule (else: below floor_ratio)
   bool from_increments = false;  ///< the noise's level from the last quarter's increments (white_noise too)
   bool against_record = false;   ///< below floor_ratio of the record's largest deviation, not the series' own
+  /// Against the record: every window already lies within the floor's 10x (index 0, nothing to cut):
+  /// the series is that floor, whatever its amplitude does within the 10x.
+  bool whole = false;
   double level = 0.0;        ///< the noise's (or last quarter's median window) RMS / the largest window RMS
 };
 
