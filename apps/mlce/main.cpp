@@ -521,8 +521,8 @@ int cmd_simulate(const std::vector<std::string>& args) {
     };
   };
   if (format == "mbdyn") {
+    const cli::ScratchGuard scratch(models::MbdynSetWriter::scratch_files(out_prefix));  // before they exist
     models::MbdynSetWriter writer(scene, out_prefix);
-    const cli::ScratchGuard scratch(writer.scratch_files());
     stats = models::simulate(scene, counted(writer), std::ref(progress));
     writer.commit();
   } else {

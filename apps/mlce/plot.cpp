@@ -53,17 +53,17 @@ void render_png(const std::string& png_path, const std::string& csv,
   const OutputTarget target = output_target(png_path);
   const fs::path tmp_png = target.scratch(".tmp-mlce.png");
   const fs::path data = target.scratch(".tmp-mlce.csv");
-  try {
-    write_file_atomically(data.string(), csv);
-  } catch (const std::runtime_error&) {  // name the file asked for, not the scratch file beside it
-    throw std::runtime_error(png_path + ": cannot write the file");
-  }
   // gnuplot's own output (and the shell's "not found") goes to a log beside the plot, never to
   // stdout (which carries the result only: one JSON object with --json): a plot that is drawn
   // needs no word from gnuplot ("empty x range" for a one-row record), one that is not is one
   // error with gnuplot's first line.
   const fs::path log = target.scratch(".tmp-mlce.log");
-  const ScratchGuard scratch({tmp_png.string(), data.string(), log.string()});
+  const ScratchGuard scratch({tmp_png.string(), data.string(), log.string()});  // before any exists
+  try {
+    write_file_atomically(data.string(), csv);
+  } catch (const std::runtime_error&) {  // name the file asked for, not the scratch file beside it
+    throw std::runtime_error(png_path + ": cannot write the file");
+  }
   std::string shell_log = "'";
   for (char c : log.string()) shell_log += c == '\'' ? std::string("'\\''") : std::string(1, c);
   shell_log += "'";

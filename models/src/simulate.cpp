@@ -8,6 +8,7 @@
 #include <iterator>
 #include <numbers>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "mlce/models/dynamics.hpp"
@@ -17,6 +18,8 @@
 
 namespace mlce::models {
 namespace {
+
+constexpr const char* kScratchSuffix = ".tmp";  // MbdynSetWriter's temporaries: the file's name + this
 
 template <class Model>
 ode::IntegrationStats run(const Model& model, const Scene& s, const SampleObserver& observe,
@@ -99,10 +102,10 @@ MbdynSetWriter::MbdynSetWriter(const Scene& s, const std::string& prefix) : p_(s
   if (s.model != "hammond") throw std::invalid_argument("--format mbdyn needs a hammond scene (model = " + s.model + ")");
   files_.reserve(3);
   try {
-    for (const char* ext : {".log", ".out", ".mov"}) {
+    for (const std::string& tmp : scratch_files(prefix)) {
       File& f = files_.emplace_back();
-      f.name = prefix + ext;
-      f.tmp = f.name + ".tmp";
+      f.tmp = tmp;
+      f.name = tmp.substr(0, tmp.size() - std::string_view(kScratchSuffix).size());
       f.stream.open(f.tmp);
       if (!f.stream) throw std::runtime_error(f.name + ": cannot write");
     }
@@ -168,9 +171,9 @@ void MbdynSetWriter::flush() {
     if (!f.stream) throw std::runtime_error(f.name + ": write failed at t = " + fmt::format("{:g}", previous_t_));
 }
 
-std::vector<std::string> MbdynSetWriter::scratch_files() const {
+std::vector<std::string> MbdynSetWriter::scratch_files(const std::string& prefix) {
   std::vector<std::string> names;
-  for (const File& f : files_) names.push_back(f.tmp);
+  for (const char* ext : {".log", ".out", ".mov"}) names.push_back(prefix + ext + kScratchSuffix);
   return names;
 }
 

@@ -70,8 +70,10 @@ class MbdynSetWriter {
   MbdynSetWriter& operator=(const MbdynSetWriter&) = delete;
   void operator()(std::size_t k, double t, const Eigen::VectorXd& x);
   void commit();
-  /// The temporaries being written (for a caller that removes them if the process is interrupted).
-  std::vector<std::string> scratch_files() const;
+  /// The temporaries the writer for `prefix` writes (.log, .out, .mov, each + ".tmp"), for a caller
+  /// that removes them if the process is interrupted: known before the writer exists, so that they
+  /// can be registered before the constructor creates them (a signal between the two left them behind).
+  static std::vector<std::string> scratch_files(const std::string& prefix);
 
  private:
   struct File;
