@@ -471,6 +471,7 @@ int cmd_convergence(const std::vector<std::string>& args) {
   o.estimate.progress = progress_printer(quiet);
   o.estimate.skip_nonrecurrent_start = in.start_is_automatic();  // as mlce estimate
   const auto loaded = cli::load_series(in);
+  o.estimate.record_deviation = loaded.record_deviation;  // each part is a window of the record, as in estimate
   ConvergenceResult r = cli::on_file(in, [&] { return estimate_convergence(loaded.series, o); });
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
   const std::string unit = loaded.series.time_unit.empty() ? "1/sample" : "1/" + loaded.series.time_unit;
