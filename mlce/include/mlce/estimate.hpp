@@ -187,8 +187,10 @@ struct MlceResult {
   std::string unreliable;
   /// When the series is a window cut from a record (MlceOptions::record_deviation): the largest over
   /// the channels of the window's RMS deviation over the record's largest deviation; NaN otherwise.
-  /// Below MlceOptions::floor_ratio, with an amplitude that does not decay within the window, the
-  /// window lies in the floor of a decay that ended before it (in_decay_floor), and `unreliable` says so.
+  /// Below MlceOptions::floor_ratio, with an amplitude that does not decay within the window (or with
+  /// less than two mean periods of it above the record's floor, or wholly within 10x of that floor:
+  /// Floor::whole), the window lies in the floor of a decay that ended before it (in_decay_floor),
+  /// and `unreliable` says so.
   double floor_window_ratio = std::numeric_limits<double>::quiet_NaN();
   bool in_decay_floor = false;
   /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
