@@ -276,7 +276,7 @@ namespace {
 /// the window is read as floor though its start still decays.
 void warn_about_floor_window(const Series& series, const MlceOptions& options, bool floor_holds_window,
                              MlceResult& r) {
-  validate_record_deviation(options, series.channel_count());
+  // options.record_deviation was validated against the channels by analysed_part.
   if (options.record_deviation.empty() || !(options.floor_ratio > 0.0)) return;
   const std::vector<double> window = rms_deviations(series);
   double largest = 0.0;  // the largest ratio over the channels

@@ -80,8 +80,12 @@ struct Floor {
 /// floor_ratio 0: never a floor.
 /// `record_deviation` (empty, or one per channel): the series is a window cut from a longer record
 /// whose channels deviate by up to these (MlceOptions::record_deviation); the underflow rule then
-/// measures the last quarter against the record's scale when that exceeds the window's own largest
-/// RMS, so that a window cut late in a decay loses the same floor the whole record's analysis would.
+/// measures the last quarter against the largest window RMS times the record's largest deviation
+/// over the series' own (least over the channels, at least 1), so that a window cut late in a decay
+/// loses the same floor the whole record's analysis would. A floor found only against the record
+/// must hold its level (the later half's median window RMS at least half the earlier half's: a
+/// decay that goes on falling is the motion), and when every window lies within its 10x the whole
+/// series is that floor (Floor::whole, index 0).
 Floor detect_floor(const Series& series, double floor_ratio, const std::vector<double>& record_deviation = {});
 
 /// Variance of the mean of k squared third differences of white Gaussian noise, over the square of
