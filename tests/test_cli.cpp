@@ -566,6 +566,30 @@ TEST_F(Cli, EachChannelWithOneThatCannotBeEstimatedIsADataError) {
   EXPECT_NE(r.out.find("could not be estimated: series too short"), std::string::npos) << r.out;
 }
 
+TEST_F(Cli, EachChannelWithAConstantOneEstimatesTheOthers) {
+  // A constrained component is written as zeros throughout (an MBDyn joint's reaction about a free
+  // axis): with --each that column is its own error row, and the others are estimated as without it,
+  // also from the transient --from auto finds on the channels that move. Alone, it stays the file's
+  // error (a constant series has no dynamics to analyse).
+  const double dt = 0.01, zeta = 0.05, w = 2 * M_PI;
+  const auto a = mlce::reference::damped_oscillator(2000, dt, zeta, w);
+  const std::vector<double> zero(a.size(), 0.0);
+  const auto f = columns_file("zero.txt", "# time decay zero", dt, {a, zero});
+  for (const char* from : {"", " --from auto"}) {
+    CliRun r = run("estimate " + f + " --time-column 1 --column 2 --column 3 --each --json --quiet" + from);
+    EXPECT_EQ(r.status, 1) << from << r.err;
+    EXPECT_NE(r.err.find("zero.txt: 1 of 2 channels could not be estimated (zero)"), std::string::npos) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["estimated"], 1);
+    EXPECT_NEAR(j["channels"][0]["lambda"].get<double>(), -zeta * w, 0.03 * zeta * w) << from;  // lambda = -zeta omega
+    EXPECT_NE(j["channels"][1]["error"].get<std::string>().find("zero is constant (all 2000 samples equal 0)"),
+              std::string::npos) << j["channels"][1];
+  }
+  expect_one_line_error(run("estimate " + f + " --time-column 1 --column 2 --column 3"), "zero is constant");
+  expect_one_line_error(run("estimate " + f + " --time-column 1 --column 3 --column 3 --each --from auto"),
+                        "zero is constant");
+}
+
 TEST_F(Cli, MissingFile) {
   expect_one_line_error(run("estimate " + (dir / "nope.txt").string()), "nope.txt: cannot open the file");
 }

@@ -259,6 +259,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
     throw po::error(std::string(param.empty() ? "--csv" : "--param") +
                     ": the table of several runs; give two or more FILEs (one run's curve: --curve)");
 
+  in.constant_channels_allowed = each;
   cli::LoadedSeries loaded = cli::load_series(in);
   o.record_deviation = loaded.record_deviation;
   if (each) return estimate_each(in, loaded, o, json, curve_path, plot_path);

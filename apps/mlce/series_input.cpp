@@ -51,7 +51,7 @@ LoadedSeries load_solver_channels(const SeriesInput& in) {
     so.resample = in.resample;
     out.series = make_series_from_time(cs.time, std::move(cs.values), so, &out.warnings, in.time_unit);
     out.series.names = cs.names;
-    validate_series(out.series);
+    in.constant_channels_allowed ? validate_samples(out.series) : validate_series(out.series);
   } catch (const InputError& e) {
     if (e.index() != InputError::npos && e.index() < cs.time.size())
       throw ReadError(fmt::format("{}: output block {} (t = {}): {}", cs.source, e.index(), cs.time[e.index()], e.what()));
@@ -242,7 +242,7 @@ LoadedSeries load_column_series(const SeriesInput& in) {
         }
     }
     for (std::size_t k : cols) out.series.names.push_back(table.names[k - 1]);
-    validate_series(out.series);
+    in.constant_channels_allowed ? validate_samples(out.series) : validate_series(out.series);
   } catch (const InputError& e) {
     if (e.index() != InputError::npos) throw ReadError(table.where(e.index()) + ": " + e.what());
     throw ReadError(in.file + ": " + e.what());
@@ -250,13 +250,35 @@ LoadedSeries load_column_series(const SeriesInput& in) {
   return out;
 }
 
+namespace {
+/// --from auto: the transient as skip_transient finds it, on the channels that move when a constant
+/// one is allowed (it has no transient, and the rule refuses it); every channel cut at its end.
+Series skip_transient_of_moving_channels(const SeriesInput& in, const Series& series, TransientResult& tr) {
+  Series moving;
+  moving.dt = series.dt, moving.t0 = series.t0, moving.time_unit = series.time_unit;
+  for (std::size_t c = 0; c < series.channel_count(); ++c)
+    if (!in.constant_channels_allowed || !is_constant(series, c)) {
+      moving.channels.push_back(series.channels[c]);
+      moving.names.push_back(channel_name(series, c));
+    }
+  if (moving.channel_count() == series.channel_count()) return skip_transient(series, &tr);
+  try {
+    if (moving.channels.empty()) validate_series(series);  // every channel constant: the file's error
+  } catch (const InputError& e) {
+    throw reader::ReadError(in.file + ": " + e.what());
+  }
+  skip_transient(moving, &tr);
+  return time_window(series, tr.end_time, series.time(series.size() - 1));
+}
+}  // namespace
+
 LoadedSeries apply_window(const SeriesInput& in, LoadedSeries out) {
   using reader::ReadError;
   if (!in.from.empty() || in.to) out.record_deviation = peak_deviations(out.series);
 
   if (in.from == "auto") {
     TransientResult tr;
-    out.series = skip_transient(out.series, &tr);
+    out.series = skip_transient_of_moving_channels(in, out.series, tr);
     out.transient_rule = tr.rule;
     if (in.to) out.series = time_window(out.series, out.series.time(0), *in.to);
   } else if (!in.from.empty() || in.to) {

@@ -22,6 +22,10 @@ struct SeriesInput {
   bool resample = false;
   std::string from;  ///< "", a time, or "auto"
   std::optional<double> to;
+  /// The channels are estimated one by one (--each): a constant channel (a constrained component
+  /// MBDyn writes as zeros) is that channel's error, not the file's; --from auto then finds the
+  /// transient on the channels that move.
+  bool constant_channels_allowed = false;
   /// The user gave no start time (none, or `--from auto`, itself a transient rule): the estimator
   /// may still leave out a start that does not recur (MlceOptions::skip_nonrecurrent_start).
   bool start_is_automatic() const { return from.empty() || from == "auto"; }

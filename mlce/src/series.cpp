@@ -195,20 +195,29 @@ std::string channel_name(const Series& series, std::size_t c) {
   return "channel " + std::to_string(c + 1);
 }
 
-void validate_series(const Series& series) {
+void validate_samples(const Series& series) {
   check_lengths(series.channels, series.size());
   if (!(series.dt > 0.0) || !std::isnormal(series.dt))
     throw InputError("sampling step " + fmt_double(series.dt) + ": expected dt > 0 (a normal double, at least 2.2e-308)");
   check_finite(series.channels);
-  for (std::size_t c = 0; c < series.channels.size(); ++c) {
-    const auto& x = series.channels[c];
+  for (const auto& x : series.channels) {
     if (x.empty()) throw InputError("the series is empty");
     if (x.size() == 1) throw InputError("the series has a single sample: expected a time history");
-    const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
-    if (*lo == *hi)
-      throw InputError(channel_name(series, c) + " is constant (all " + std::to_string(x.size()) +
-                       " samples equal " + fmt_double(*lo) + "): no dynamics to analyse");
   }
+}
+
+bool is_constant(const Series& series, std::size_t c) {
+  const auto& x = series.channels.at(c);
+  const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
+  return lo == x.end() || *lo == *hi;
+}
+
+void validate_series(const Series& series) {
+  validate_samples(series);
+  for (std::size_t c = 0; c < series.channels.size(); ++c)
+    if (is_constant(series, c))
+      throw InputError(channel_name(series, c) + " is constant (all " + std::to_string(series.channels[c].size()) +
+                       " samples equal " + fmt_double(series.channels[c].front()) + "): no dynamics to analyse");
 }
 
 Series time_window(const Series& series, double from, double to) {

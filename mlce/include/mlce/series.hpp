@@ -74,6 +74,14 @@ Series make_series_with_step(std::vector<std::vector<double>> channels, double d
 /// Throws InputError with the index of the first bad sample.
 void validate_series(const Series& series);
 
+/// validate_series but for the constant-channel check: a time history (equal lengths, a normal dt,
+/// finite samples, at least two) in which a channel may hold one value throughout (what a reader
+/// accepts when the channels are estimated one by one: that channel's own error, not the file's).
+void validate_samples(const Series& series);
+
+/// Is channel c constant (every sample equal)?
+bool is_constant(const Series& series, std::size_t c);
+
 /// The samples with t0' = time in [from, to] (inclusive, in time units). Throws InputError when
 /// the window holds fewer than 2 samples.
 Series time_window(const Series& series, double from, double to);
