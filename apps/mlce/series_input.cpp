@@ -254,14 +254,11 @@ namespace {
 /// --from auto: the transient as skip_transient finds it, on the channels that move when a constant
 /// one is allowed (it has no transient, and the rule refuses it); every channel cut at its end.
 Series skip_transient_of_moving_channels(const SeriesInput& in, const Series& series, TransientResult& tr) {
-  Series moving;
-  moving.dt = series.dt, moving.t0 = series.t0, moving.time_unit = series.time_unit;
+  std::vector<std::size_t> moving_channels;
   for (std::size_t c = 0; c < series.channel_count(); ++c)
-    if (!in.constant_channels_allowed || !is_constant(series, c)) {
-      moving.channels.push_back(series.channels[c]);
-      moving.names.push_back(channel_name(series, c));
-    }
-  if (moving.channel_count() == series.channel_count()) return skip_transient(series, &tr);
+    if (!in.constant_channels_allowed || !is_constant(series, c)) moving_channels.push_back(c);
+  if (moving_channels.size() == series.channel_count()) return skip_transient(series, &tr);
+  const Series moving = channel_subset(series, moving_channels);
   try {
     if (moving.channels.empty()) validate_series(series);  // every channel constant: the file's error
   } catch (const InputError& e) {

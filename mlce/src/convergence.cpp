@@ -15,14 +15,6 @@ void ConvergenceOptions::validate() const {
 
 namespace {
 
-/// The first `samples` samples of every channel.
-Series leading_part(const Series& series, std::size_t samples) {
-  Series part;
-  part.dt = series.dt, part.t0 = series.t0, part.time_unit = series.time_unit, part.names = series.names;
-  for (const auto& c : series.channels) part.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(samples));
-  return part;
-}
-
 ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end, const ReadingOptions& reading) {
   ConvergencePoint p;
   p.samples = samples, p.t_end = t_end, p.estimated = true;
@@ -62,7 +54,7 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
     const std::size_t samples = n * k / options.parts;
     const double t_end = series.time(samples > 0 ? samples - 1 : 0);
     try {
-      result.points.push_back(point_of(estimate_mlce(leading_part(series, samples), quiet), samples, t_end, options.reading));
+      result.points.push_back(point_of(estimate_mlce(leading_samples(series, samples), quiet), samples, t_end, options.reading));
     } catch (const InputError& e) {  // too short for the estimator: recorded, the longer parts go on
       ConvergencePoint p;
       p.samples = samples, p.t_end = t_end, p.error = e.what();

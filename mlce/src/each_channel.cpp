@@ -18,18 +18,6 @@ void EachChannelOptions::validate() const {
     throw OptionError("each_channel.frequency_tolerance: expected a finite number >= 0");
 }
 
-namespace {
-
-Series one_channel(const Series& series, std::size_t c, const std::string& name) {
-  Series s;
-  s.dt = series.dt, s.t0 = series.t0, s.time_unit = series.time_unit;
-  s.channels.push_back(series.channels[c]);
-  s.names.push_back(name);
-  return s;
-}
-
-}  // namespace
-
 Agreement judge_agreement(const std::vector<const MlceResult*>& estimates, double relative_tolerance,
                           double frequency_tolerance) {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -77,7 +65,7 @@ EachChannelResult estimate_each_channel(const Series& series, const EachChannelO
       };
     }
     try {
-      ce.result = estimate_mlce(one_channel(series, c, ce.name), o);
+      ce.result = estimate_mlce(channel_subset(series, {c}), o);
       ++result.estimated;
     } catch (const InputError& e) {  // this channel cannot be estimated: recorded, the others go on
       ce.error = e.what();

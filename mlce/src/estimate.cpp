@@ -194,9 +194,7 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
   // distances are the noise's, and the curve flattens (e^{-0.314 t} cos 2 pi t with 0.1 % noise,
   // 8000 samples: +3.24 1/s uncut, -0.3167 cut; test_estimate_systems prints both).
   const std::size_t f = floor.index;
-  Series cut;
-  cut.dt = input.dt, cut.t0 = input.t0, cut.time_unit = input.time_unit, cut.names = input.names;
-  for (const auto& c : input.channels) cut.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(f));
+  Series cut = leading_samples(input, f);
   // Cut late in a decay (the ad-hoc isotropic rotor at 200 rpm from 16 s: 88 samples above the
   // record's floor, 1.2 of their mean periods), the window is its floor but for a start too short
   // to measure; the refusal of too short a motion would then name those few samples, not the window.

@@ -241,6 +241,23 @@ Series time_window(const Series& series, double from, double to) {
   return w;
 }
 
+Series leading_samples(const Series& series, std::size_t count) {
+  Series part;
+  part.dt = series.dt, part.t0 = series.t0, part.time_unit = series.time_unit, part.names = series.names;
+  for (const auto& c : series.channels) part.channels.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(count));
+  return part;
+}
+
+Series channel_subset(const Series& series, const std::vector<std::size_t>& channels) {
+  Series s;
+  s.dt = series.dt, s.t0 = series.t0, s.time_unit = series.time_unit;
+  for (const std::size_t c : channels) {
+    s.channels.push_back(series.channels.at(c));
+    s.names.push_back(channel_name(series, c));
+  }
+  return s;
+}
+
 namespace {
 /// A channel's largest magnitude, and the mean and standard deviation of the channel divided by it
 /// (no square of 1e200 overflows, none of 1e-200 underflows).

@@ -86,6 +86,13 @@ bool is_constant(const Series& series, std::size_t c);
 /// the window holds fewer than 2 samples.
 Series time_window(const Series& series, double from, double to);
 
+/// The first `count` samples of every channel (count <= size()), with the series' step, start,
+/// unit and names.
+Series leading_samples(const Series& series, std::size_t count);
+
+/// The given channels (indices < channel_count()), in that order, each named as channel_name names it.
+Series channel_subset(const Series& series, const std::vector<std::size_t>& channels);
+
 /// Each channel shifted to zero mean and scaled to unit standard deviation, computed without
 /// overflow or underflow for any finite amplitude (1e-300 ... 1e300): the data is first divided
 /// by its largest magnitude. All estimators are scale-invariant through this step.
