@@ -157,7 +157,7 @@ TEST_F(MbdynCli, ARunThatCannotBeEstimatedKeepsItsRowAndIsADataError) {
   EXPECT_EQ(rows[2].rfind("2,\"" + (dir / "miss,ing \"\"run\"\"").string() + "\",,", 0), 0u) << rows[2];
   const CliRun listed = run("channels " + csv.string());
   ASSERT_EQ(listed.status, 0) << listed.err;
-  EXPECT_NE(listed.out.find("2 rows, 17 columns"), std::string::npos) << listed.out;
+  EXPECT_NE(listed.out.find("2 rows, 18 columns"), std::string::npos) << listed.out;
   // None estimated: every row says why, no plot is drawn (there is nothing to draw), one error line.
   const CliRun none = run("estimate " + missing + " " + missing + "2 --channel rel:13:4:z --quiet --plot " + (dir / "n.png").string());
   EXPECT_EQ(none.status, 1);

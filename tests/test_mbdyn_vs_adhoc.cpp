@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "cli_harness.hpp"
@@ -100,6 +101,16 @@ TEST_F(MbdynVsAdHoc, AWindowAfterTheDecayReadsRestNotChaos) {
   EXPECT_EQ(late["reading"]["stability"], "stable");
   EXPECT_EQ(late["reading"]["motion"], "decays to rest");
   EXPECT_NE(late["warnings"].dump().find("floor of a decay that ended before it"), std::string::npos);
+  EXPECT_EQ(late["in_decay_floor"], true);
+  // Several runs: the table flags the row, and the plot draws no lambda for it (the residue, +0.69 1/s).
+  const std::string table = (dir / "floor_runs.csv").string(), png = (dir / "floor_runs.png").string();
+  const CliRun runs = run("estimate " + adhoc + " " + adhoc + " --channel node:2:x --from 30 --quiet --csv " + table +
+                          " --plot " + png);
+  ASSERT_EQ(runs.status, 0) << runs.err;
+  const std::string table_text = mlce::testing::slurp(table);
+  EXPECT_NE(table_text.find(",stability,motion,in_decay_floor,"), std::string::npos) << table_text;
+  EXPECT_NE(table_text.find(",stable,decays to rest,1,"), std::string::npos) << table_text;
+  EXPECT_GT(std::filesystem::file_size(png), 1000u);
   // Every channel of --each, judged against its own record.
   const auto each = json_of("estimate " + adhoc + " --channel node:2:x --channel node:3:y --from 30 --each --quiet");
   ASSERT_EQ(each["channels"].size(), 2u);
@@ -107,6 +118,7 @@ TEST_F(MbdynVsAdHoc, AWindowAfterTheDecayReadsRestNotChaos) {
   // The whole run is no window: nothing to judge it by, and its decay reads as before.
   const auto whole = json_of("estimate " + adhoc + " --channel node:2:x --quiet");
   EXPECT_TRUE(whole["floor_window_ratio"].is_null());
+  EXPECT_EQ(whole["in_decay_floor"], false);
   EXPECT_EQ(whole["reading"]["motion"], "decays to rest");
   // From 10 s the window holds the end of the decay and then the floor: judged against the record, the
   // floor is left out, and every leading part of at least half the window (`mlce convergence`, whose

@@ -99,7 +99,7 @@ TEST_F(SweepCli, AWindowOfTheFloorAfterADecayReadsStable) {
   // --from` judges it.
   const auto e = sweep_json(kIso + " --param rpm=150:300:50 --method eigen --out " + out("e.csv"));
   const auto r = sweep_json(kIso + " --t_end 60 --from 30 --param rpm=150:300:50 --method rosenstein --out " +
-                            out("floor.csv"));
+                            out("floor.csv") + " --plot " + out("floor.png"));
   ASSERT_EQ(r["rows"].size(), 4u);
   for (std::size_t k = 0; k < 4; ++k) {
     const auto& row = r["rows"][k];
@@ -109,8 +109,15 @@ TEST_F(SweepCli, AWindowOfTheFloorAfterADecayReadsStable) {
     ASSERT_LT(e["rows"][k][1].get<double>(), 0.0);
     EXPECT_LT(row[6].get<double>(), 1e-9);  // the floor
     EXPECT_EQ(row[7], "stable");
+    EXPECT_EQ(row[8], "decays to rest");
+    EXPECT_EQ(row[9], 1) << "in_decay_floor: lambda is the residue, and the plot does not draw it";
     EXPECT_NE(row.back().get<std::string>().find("floor of a decay that ended before it"), std::string::npos) << row.dump();
   }
+  EXPECT_GT(fs::file_size(out("floor.png")), 1000u);  // only the floor's marks: no lambda drawn
+  // Two parameters: the colour map, the floor's points at the stable end and circled.
+  sweep_json(kIso + " --t_end 60 --from 30 --param rpm=150:200:50 --param cx=40000:60000:20000 --method rosenstein --out " +
+             out("floor2.csv") + " --plot " + out("floor2.png"));
+  EXPECT_GT(fs::file_size(out("floor2.png")), 1000u);
   // From 10 s the window holds the end of the decay and then the floor: cut at the floor (judged
   // against the run), it reads the least damped eigenvalue, where the floor analysed with the decay
   // read -0.07..+0.02 1/s, neutral.
@@ -124,6 +131,7 @@ TEST_F(SweepCli, AWindowOfTheFloorAfterADecayReadsStable) {
                 row[7].get<std::string>().c_str());
     EXPECT_NEAR(row[1].get<double>(), eigen, 0.05 * std::abs(eigen)) << row.dump();
     EXPECT_EQ(row[7], "stable");
+    EXPECT_EQ(row[9], 0) << "the decay is measured";
   }
 }
 

@@ -91,18 +91,18 @@ std::string run_name(const std::optional<RunParameter>& p, std::size_t k) {
 std::string table_csv(const std::vector<RunRow>& rows, const std::optional<RunParameter>& p) {
   std::string s = "run,file,";
   if (p) s += csv_field(p->name) + ",";
-  s += "lambda,ci95_low,ci95_high,unit,lambda_per_sample,delay,dim,theiler,fit_first,fit_last,from,stability,motion,warnings,error\n";
+  s += "lambda,ci95_low,ci95_high,unit,lambda_per_sample,delay,dim,theiler,fit_first,fit_last,from,stability,motion,in_decay_floor,warnings,error\n";
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const RunRow& row = rows[k];
     s += fmt::format("{},{},", k + 1, csv_field(row.file));
     if (p) s += fmt::format("{:.10g},", p->values[k]);
     if (const auto& r = row.result)
-      s += fmt::format("{:.10g},{:.10g},{:.10g},{},{:.10g},{},{},{},{},{},{:.10g},{},{},{},\n", r->lambda, r->ci95_low,
+      s += fmt::format("{:.10g},{:.10g},{:.10g},{},{:.10g},{},{},{},{},{},{:.10g},{},{},{},{},\n", r->lambda, r->ci95_low,
                        r->ci95_high, r->time_unit.empty() ? "1/sample" : "1/" + r->time_unit, r->lambda_per_sample, r->delay,
                        r->dim, r->theiler, r->fit.first, r->fit.last, row.from, to_string(row.reading.stability),
-                       csv_field(row.reading.motion), r->warnings.size());
+                       csv_field(row.reading.motion), r->in_decay_floor ? 1 : 0, r->warnings.size());
     else
-      s += ",,,,,,,,,,,,,," + csv_field(row.error) + "\n";
+      s += ",,,,,,,,,,,,,,," + csv_field(row.error) + "\n";
   }
   return s;
 }
@@ -153,16 +153,20 @@ int estimate_runs(const std::vector<std::string>& files, const SeriesInput& inpu
   // No estimate, no plot (gnuplot would refuse an empty one): the error line below says why.
   if (!output.plot_path.empty() && failed.size() < rows.size()) {
     std::string unit;
-    std::string data = std::string(parameter ? parameter->name : "run") + ",lambda,low,high\n";
+    std::vector<PlottedReading> points;
     for (std::size_t k = 0; k < rows.size(); ++k)
       if (const auto& r = rows[k].result) {
         if (unit.empty()) unit = r->time_unit.empty() ? "1/sample" : "1/" + r->time_unit;
-        data += fmt::format("{:.10g},{:.10g},{:.10g},{:.10g}\n", parameter ? parameter->values[k] : static_cast<double>(k + 1),
-                            r->lambda, r->ci95_low, r->ci95_high);
+        points.push_back({.x = parameter ? parameter->values[k] : static_cast<double>(k + 1),
+                          .lambda = r->lambda,
+                          .low = r->ci95_low,
+                          .high = r->ci95_high,
+                          .stability = rows[k].reading.stability,
+                          .in_decay_floor = r->in_decay_floor});
       }
-    plot_estimates_png(data, fmt::format("MLCE of {} runs", rows.size()),
-                       parameter ? parameter->name : "run (as numbered in the table)", "lambda (" + unit + ")",
-                       output.plot_path);
+    plot_readings_png(points, fmt::format("MLCE of {} runs", rows.size()),
+                      parameter ? parameter->name : "run (as numbered in the table)", "lambda (" + unit + ")",
+                      output.plot_path, false);
   }
   const auto changes = stability_changes(rows, parameter);
   if (output.json) {

@@ -194,15 +194,103 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
   });
 }
 
-void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
-                        const std::string& ylabel, const std::string& png_path) {
+namespace {
+/// The class a stability plot draws a reading in: the Stability's (0..3), or 4 for the floor of a decay.
+constexpr int kFloorClass = 4;
+int reading_class(const PlottedReading& p) { return p.in_decay_floor ? kFloorClass : static_cast<int>(p.stability); }
+
+/// A value for the plots' data: gnuplot reads "NaN" as undefined (a point not drawn, a gap in a line).
+std::string data_value(double v) { return std::isfinite(v) ? fmt::format("{:.10g}", v) : std::string("NaN"); }
+
+struct ClassStyle {
+  const char* style;
+  const char* title;
+};
+/// By reading_class: the colours of plot_exponents_png (blue decaying, red growing), neutral green.
+constexpr std::array<ClassStyle, 4> kReadingStyles = {{
+    {"pt 7 ps 1 lw 2 lc rgb '#1f77b4'", "stable"},
+    {"pt 7 ps 1 lw 2 lc rgb '#2ca02c'", "neutral (the interval reaches the band around 0)"},
+    {"pt 7 ps 1 lw 2 lc rgb '#d62728'", "unstable"},
+    {"pt 6 ps 1 lw 1 lc rgb 'gray50'", "undetermined (lambda does not measure the divergence)"},
+}};
+constexpr const char* kFloorTitle = "stable: decayed to rest before the window (lambda, the solver's residue, not drawn)";
+}  // namespace
+
+void plot_readings_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
+                       const std::string& ylabel, const std::string& png_path, bool join) {
+  // The y range holds 0 (the stability boundary) and every drawn value and interval; the floor's
+  // marks go below them, where no lambda is.
+  double lo = 0.0, hi = 0.0;
+  bool floor = false, drawn = false;
+  std::array<bool, kReadingStyles.size()> present{};
+  for (const auto& p : points) {
+    const int c = reading_class(p);
+    if (c == kFloorClass) {
+      floor = true;
+      continue;
+    }
+    present[static_cast<std::size_t>(c)] = true;
+    drawn = true;
+    for (const double v : {p.lambda, p.low, p.high})
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  const double span = hi > lo ? hi - lo : 1.0;
+  const double mark = lo - 0.08 * span;
+  std::string csv = "x,lambda,low,high,class,mark\n";
+  for (const auto& p : points)
+    csv += fmt::format("{},{},{},{},{},{}\n", data_value(p.x), data_value(p.lambda), data_value(p.low), data_value(p.high),
+                       reading_class(p), data_value(mark));
   render_png(png_path, csv, [&](const std::string& data) {
+    std::string terms;
+    const auto add = [&](const std::string& term) { terms += (terms.empty() ? "'" + data + "' " : ", '' ") + term; };
+    if (join) add(fmt::format("every ::1 using 1:($5 < 3 ? $2 : 1/0) with lines lw 1 lc rgb 'gray70' notitle"));
+    for (std::size_t c = 0; c < kReadingStyles.size(); ++c)
+      if (present[c])
+        add(fmt::format("every ::1 using 1:($5 == {} ? $2 : 1/0):3:4 with yerrorbars {} title '{}'", c,
+                        kReadingStyles[c].style, quoted(kReadingStyles[c].title)));
+    if (floor)
+      add(fmt::format("every ::1 using 1:($5 == {} ? $6 : 1/0) with points pt 11 ps 1.6 lc rgb '#1f77b4' title '{}'",
+                      kFloorClass, quoted(kFloorTitle)));
     return fmt::format(
         "set key below\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\nset offsets graph 0.05, graph 0.05, 0, 0\n"
-        "set xzeroaxis lt -1 lc 'gray40'\n"
-        "plot '{}' every ::1 using 1:2:3:4 with yerrorbars pt 7 ps 1 lw 2 title 'lambda and its 95 % interval'\n",
-        quoted(xlabel), quoted(ylabel), quoted(title), data);
+        "set yrange [{:.10g}:{:.10g}]\n{}set xzeroaxis lt -1 lc 'gray40'\nplot {}\n",
+        quoted(xlabel), quoted(ylabel), quoted(title), (floor ? mark : lo) - 0.05 * span, hi + 0.05 * span,
+        drawn ? "" : "set ytics ('0' 0)\n",  // only marks: no scale of values that are not there
+        terms);
   });
+}
+
+void plot_reading_map_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
+                          const std::string& ylabel, const std::string& zlabel, const std::string& png_path) {
+  // White is 0: stable blue, unstable red, on a scale symmetric about 0; a point in the floor of a
+  // decay takes the stable end (its lambda is a residue).
+  double m = 0.0;
+  bool floor = false, undetermined = false;
+  for (const auto& p : points) {
+    const int c = reading_class(p);
+    floor = floor || c == kFloorClass;
+    undetermined = undetermined || c == static_cast<int>(Stability::undetermined);
+    if (c != kFloorClass && std::isfinite(p.lambda)) m = std::max(m, std::abs(p.lambda));
+  }
+  if (m == 0.0) m = 1.0;
+  std::string csv = "x,y,lambda,class\n";
+  for (const auto& p : points)
+    csv += fmt::format("{},{},{},{}\n", data_value(p.x), data_value(p.y),
+                       data_value(reading_class(p) == kFloorClass ? -m : p.lambda), reading_class(p));
+  render_png(png_path, csv, [&](const std::string& data) {
+    std::string marks;
+    if (floor)
+      marks += fmt::format(", '' every ::1 using 1:($4 == {} ? $2 : 1/0) with points pt 6 ps 2 lw 2 lc rgb 'black' title '{}'",
+                           kFloorClass, quoted(kFloorTitle));
+    if (undetermined)
+      marks += fmt::format(", '' every ::1 using 1:($4 == {} ? $2 : 1/0) with points pt 2 ps 2 lw 2 lc rgb 'gray30' title '{}'",
+                           static_cast<int>(Stability::undetermined), quoted(kReadingStyles[3].title));
+    return fmt::format(
+        "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
+        "set palette defined (0 'blue', 1 'white', 2 'red')\nset key below\nset cbrange [{:.10g}:{:.10g}]\n"
+        "plot '{}' every ::1 using 1:2:3 with image notitle{}\n",
+        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), -m, m, data, marks);
+  }, 700);
 }
 
 void plot_exponents_png(const std::string& csv, const std::string& title, const std::string& unit,

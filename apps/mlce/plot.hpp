@@ -6,6 +6,7 @@
 
 #include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
+#include "mlce/reading.hpp"
 
 namespace mlce::cli {
 /// Runs gnuplot (Debian gnuplot-nox) on script(csv_tmp) with `csv` as its data and moves the PNG
@@ -22,11 +23,27 @@ void plot_each_channel_png(const EachChannelResult& r, const std::string& png_pa
 void plot_map_png(const std::string& csv, const std::string& title, const std::string& xlabel, const std::string& ylabel,
                   const std::string& zlabel, const std::string& png_path);
 
-/// PNG of estimates with their 95 % intervals as error bars (no line joins them: the runs need not be
-/// given in the parameter's order) and a line at 0: csv "x,lambda,low,high"
-/// with a header line (mlce estimate RUN1 RUN2 ...: lambda against a parameter or the run's number).
-void plot_estimates_png(const std::string& csv, const std::string& title, const std::string& xlabel,
-                        const std::string& ylabel, const std::string& png_path);
+/// One estimate as the stability plots draw it (mlce estimate RUN RUN ..., mlce sweep --method rosenstein).
+struct PlottedReading {
+  double x = 0.0, y = 0.0;  ///< the parameter (y: the second one of a map)
+  double lambda = 0.0, low = 0.0, high = 0.0;  ///< the estimate and its 95 % interval
+  Stability stability = Stability::undetermined;
+  /// The window lies in the floor of a decay that ended before it (MlceResult::in_decay_floor):
+  /// lambda is the solver's residue, not the motion's, and is not drawn as a value.
+  bool in_decay_floor = false;
+};
+
+/// PNG of estimates with their 95 % intervals as error bars, coloured by the reading (stable blue,
+/// neutral green, unstable red, undetermined hollow grey), and a line at 0. A point in the floor of
+/// a decay is a mark below the others (its lambda is a residue). `join`: a thin line through the
+/// drawn values in the given order (a sweep; not for runs given in any order).
+void plot_readings_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
+                       const std::string& ylabel, const std::string& png_path, bool join);
+
+/// Colour map of lambda over a regular (x, y) grid of readings; a point in the floor of a decay is
+/// drawn at the stable end of the scale and circled, an undetermined one crossed.
+void plot_reading_map_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
+                          const std::string& ylabel, const std::string& zlabel, const std::string& png_path);
 
 /// PNG of exponents as points of the complex plane: csv "i,lambda,frequency,..." with a header line
 /// (the first three columns are read), the growth rate across, the frequency up, and the

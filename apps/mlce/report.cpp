@@ -88,6 +88,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["unreliable"] = r.unreliable.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.unreliable);
   // A window cut by --from / --to: its RMS over the record's largest deviation (estimate.hpp).
   j["floor_window_ratio"] = finite_or_null(r.floor_window_ratio);
+  j["in_decay_floor"] = r.in_decay_floor;  // lambda is then the solver's residue, not the motion's
   j["r2"] = finite_or_null(r.r2);
   j["n_points"] = r.n_points;
   j["dt"] = r.dt;

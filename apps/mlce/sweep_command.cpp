@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -60,6 +61,15 @@ std::string describe(const Preset& p) {
 }
 
 std::string cell(double v) { return fmt::format("{:.10g}", v); }
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// The Stability a `stability` cell names (to_string's inverse; a resumed journal's cell too).
+Stability stability_from_string(const std::string& text) {
+  for (const Stability s : {Stability::stable, Stability::neutral, Stability::unstable})
+    if (text == to_string(s)) return s;
+  return Stability::undetermined;
+}
 
 /// The channel a rosenstein sweep estimates on: a state name, by default the lag of the blade
 /// with the weakest damper (the failed one; blade 1 when all are equal) or flapping's beta.
@@ -176,7 +186,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
   std::size_t channel_state = 0;
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
-    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "stability", "note"};
+    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "stability", "motion", "in_decay_floor", "note"};
   } else {
     for (int i = 0; i < exponents; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
     if (!sensitivity.empty() && method == "eigen") throw po::error("--sensitivity: with --method qr or floquet");
@@ -202,6 +212,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
   for (std::string line; std::getline(scene_text, line);) plan.header_comment += "# scene: " + line + "\n";
   std::string signature_text = plan.header_comment;
   for (const auto& p : params) signature_text += p + ";";
+  for (const auto& c : plan.result_columns) signature_text += c + ",";  // a journal of other columns is not resumed
   plan.signature = fmt::format("{:016x}", std::hash<std::string>{}(signature_text));
 
   const auto compute = [&](const std::vector<double>& values) -> std::vector<std::string> {
@@ -255,8 +266,10 @@ int cmd_sweep(const std::vector<std::string>& args) {
       // motion of a long run: limit-cycle amplitude, or what is left of a decay).
       const auto& x = s.channels[0];
       const auto [lo, hi] = std::minmax_element(x.end() - static_cast<std::ptrdiff_t>(std::max<std::size_t>(1, x.size() / 4)), x.end());
+      const Reading reading = read_stability(r);
+      // in_decay_floor 1: lambda is the solver's residue in the floor a decay ended in, not the motion's.
       cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points),
-               cell(0.5 * (*hi - *lo)), to_string(read_stability(r).stability)};
+               cell(0.5 * (*hi - *lo)), to_string(reading.stability), reading.motion, r.in_decay_floor ? "1" : "0"};
       warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;
@@ -310,14 +323,34 @@ int cmd_sweep(const std::vector<std::string>& args) {
 
   if (!plot_path.empty()) {
     const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel : method + " exponents";
-    if (plan.axes.size() == 1) {
+    if (method == "rosenstein") {
+      // Points drawn by their reading; one in the floor of a decay is not drawn at its residue lambda.
+      std::vector<PlottedReading> points;
+      for (std::size_t k = 0; k < outcome.points; ++k) {
+        const auto& cells = outcome.results[k];
+        const auto lambda = parse_finite(cells[0]);
+        if (!lambda) continue;  // a failed point
+        PlottedReading p{.x = outcome.values[k][0],
+                         .y = plan.axes.size() > 1 ? outcome.values[k][1] : 0.0,
+                         .lambda = *lambda,
+                         .low = parse_finite(cells[1]).value_or(kNaN),
+                         .high = parse_finite(cells[2]).value_or(kNaN),
+                         .stability = stability_from_string(cells[6]),
+                         .in_decay_floor = cells[8] == "1"};
+        points.push_back(p);
+      }
+      if (plan.axes.size() == 1)
+        plot_readings_png(points, what + " over " + plan.axes[0].name, plan.axes[0].name, "lambda (1/" + unit + ")",
+                          plot_path, true);
+      else
+        plot_reading_map_png(points, what, plan.axes[0].name, plan.axes[1].name, "lambda (1/" + unit + ")", plot_path);
+    } else if (plan.axes.size() == 1) {
       std::string csv = plan.axes[0].name;
-      const std::size_t shown = method == "rosenstein" ? 3 : static_cast<std::size_t>(exponents);
-      for (std::size_t c = 0; c < shown; ++c) csv += "," + plan.result_columns[c];
+      for (int c = 0; c < exponents; ++c) csv += "," + plan.result_columns[static_cast<std::size_t>(c)];
       csv += "\n";
       for (std::size_t k = 0; k < outcome.points; ++k) {
         csv += cell(outcome.values[k][0]);
-        for (std::size_t c = 0; c < shown; ++c) csv += "," + outcome.results[k][c];
+        for (int c = 0; c < exponents; ++c) csv += "," + outcome.results[k][static_cast<std::size_t>(c)];
         csv += "\n";
       }
       plot_columns_png(csv, what + " over " + plan.axes[0].name, plan.axes[0].name, "lambda (1/" + unit + ")", plot_path);
