@@ -473,6 +473,18 @@ TEST(EstimateSystems, PeriodicSeriesWrittenWithFewDigitsRepeatsStretchesNotAQuan
   const auto quantised = estimate_mlce(make_series_with_step({coarse}, 0.01), {});
   EXPECT_TRUE(said(quantised, "lambda is unreliable"));
   EXPECT_FALSE(said(quantised, "repeats whole stretches"));
+  EXPECT_FALSE(quantised.unreliable.empty()) << "its reading is undetermined";
+  // The logistic map's stable period-3 orbit (r = 3.84, own exponent -0.044 per iteration) repeats to
+  // the rounding (near repeats, 1e-10 of a point's size), and the orbit stretches such a repeat ~10x
+  // within each period before contracting it: whole stretches still, not a quantum (they were read
+  // as one, "lambda is unreliable", before kStretchSpread).
+  const auto orbit = reference::logistic(10000, 0.1234567, 3.84);
+  const double own = reference::logistic_own_exponent(orbit, 3.84);  // the tangent map along it
+  const auto cycle = estimate_mlce(make_series_with_step({orbit}, 1.0), {});
+  EXPECT_TRUE(said(cycle, "repeats whole stretches")) << cycle.warnings.size();
+  EXPECT_FALSE(said(cycle, "lambda is unreliable"));
+  EXPECT_TRUE(cycle.unreliable.empty()) << cycle.unreliable;
+  EXPECT_NEAR(cycle.lambda, own, 0.1 * std::abs(own)) << own;
 }
 
 TEST(EstimateSystems, LimitCycleRunOfLessThanTwoCyclesIsRefused) {

@@ -498,6 +498,35 @@ TEST(Reading, AWindowThatEndsInTheFloorReadsTheDecayBeforeIt) {
   expect_reading(read_stability(edge), Stability::stable, "decays to rest", "a window at the floor's edge");
 }
 
+TEST(Reading, ADecayWhoseCurveLevelsOffBeforeTheSignalHasFallenReadsTheDecay) {
+  // Blade 3 inoperative at 124.2 rpm (scenes/c3zero_124rpm.scene), from x_h = 0.1 m: y_h falls 100x
+  // in its first 5 s (the fast modes) and then decays at the least damped Floquet exponent (a second
+  // method, -0.2285 1/s). Its divergence curve rises over its start-up and levels with the beat of
+  // the modes within the first horizon (8 mean periods, 640 steps, over which the signal falls by
+  // only 0.7 e-folds): read as a saturation plateau reached at step 0, undetermined at -0.75 1/s
+  // (0..60 s) and +1.19 1/s (0..20 s), until the curve of a decay to rest was followed past it.
+  const models::Scene sc = models::load_scene("", {"--c", "4067.5,4067.5,0,4067.5", "--cy", "25539.35", "--rpm", "124.2",
+                                                   "--x0", "0.1", "--t_end", "60", "--dt_out", "0.005", "--rtol", "1e-8"});
+  const double floquet = spectrum::floquet(models::dynamical_system(sc), {}).exponents(0);
+  EXPECT_NEAR(floquet, -0.2285, 1e-3);
+  const auto names = models::state_names(sc);
+  const auto y_h = static_cast<Eigen::Index>(std::find(names.begin(), names.end(), "y_h") - names.begin());
+  ASSERT_LT(y_h, static_cast<Eigen::Index>(names.size()));
+  Series s;
+  s.dt = sc.dt_out;
+  s.time_unit = "s";
+  s.channels.emplace_back();
+  models::simulate(sc, [&s, y_h](std::size_t, double, const Eigen::VectorXd& x) { s.channels[0].push_back(x(y_h)); });
+  for (const double to : {20.0, 60.0}) {
+    const MlceResult m = estimate_mlce(time_window(s, 0.0, to), {});
+    const Reading r = read_stability(m);
+    std::printf("y_h 0..%.0f s: lambda %+.4f 1/s, horizon %zu, fit %zu..%zu (%s)\n", to, m.lambda, m.horizon, m.fit.first,
+                m.fit.last, r.motion.c_str());
+    EXPECT_NEAR(m.lambda, floquet, (to < 30.0 ? 0.1 : 0.03) * std::abs(floquet)) << to;
+    expect_reading(r, Stability::stable, "decays to rest", "blade 3 inoperative at 124 rpm, y_h");
+  }
+}
+
 TEST(Reading, ADecayOntoASteadyCycleIsALimitCycleNotLightDamping) {
   // Hammond's rotor with nonlinear lag dampers of zero linear slope (C_L = 0, 242.4 rpm; paper 001
   // Fig. 11, paper 000 Fig. 3a: a limit cycle of small amplitude): from x_h = 0.1 m the motion decays

@@ -42,6 +42,11 @@ std::optional<std::size_t> plateau_reached(const DivergenceCurve& curve, const F
   return i;
 }
 
+/// A signal whose envelope falls by at least this factor over the series decays to rest (the adaptive
+/// horizon follows its curve past a "saturation" the signal has not fallen through; a stationary
+/// motion's envelope changes by far less).
+constexpr double kRecordDecay = 10.0;
+
 /// Does the analysed signal decay: its last third's RMS at most 1/kPersistentAmplitude of its first's,
 /// or its envelope falling by more than 1 % per mean period (the reading's default neutral band)?
 bool signal_decays(const MlceResult& r) {
@@ -811,6 +816,15 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     std::size_t h = std::clamp<std::size_t>(8 * period, 32, h_max);
     ro.horizon = h;
     const PairFinder finder(series, ro);  // one kd-tree for every doubling
+    // A signal that decays to rest by more than kRecordDecay over the series (and signal_decays): its
+    // pairs converge with it, and a curve that "saturates" within a horizon over which the signal
+    // itself has not fallen by an e-fold shows only its start-up and the beat of its modes, not a
+    // divergence that saturated (Hammond at 124 rpm, blade 3 inoperative, y_h from 0 to 60 s: a plateau
+    // at step 120 of 640, read undetermined at -0.75 1/s; at 1280 steps -0.247, Floquet -0.2285).
+    // Such a curve is followed further, as one that shows no end. A stationary motion's envelope
+    // (chaos, a limit cycle) changes by far less than kRecordDecay over its record.
+    const double record_decay = -fo.signal_rate * static_cast<double>(series.size());
+    const bool decays_to_rest = signal_decays(r) && record_decay >= std::log(kRecordDecay);
     for (int pass = 0;; ++pass) {
       ro.horizon = h;
       report(options, "divergence curve", static_cast<double>(h) / static_cast<double>(h_max));
@@ -819,8 +833,12 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
         if (auto rest = estimate_without_start(pairs)) return std::move(*rest);
       r.curve = follow_pairs(series, ro, pairs);
       r.fit = fit_divergence(r.curve, fo);
+      const bool decay_unresolved = decays_to_rest && r.fit.end == CurveEnd::saturation &&
+                                    -fo.signal_rate * static_cast<double>(h) < 1.0;
       // A bounded curve is read at the longest horizon: its slope tends to 0 as the horizon grows.
-      if (options.fit.range || (r.fit.end != CurveEnd::none && r.fit.end != CurveEnd::bounded) || h >= h_max) break;
+      if (options.fit.range || (r.fit.end != CurveEnd::none && r.fit.end != CurveEnd::bounded && !decay_unresolved) ||
+          h >= h_max)
+        break;
       h = std::min(2 * h, h_max);
     }
     if (r.fit.end == CurveEnd::none && r.fit.slope > 0 && r.fit.last + 1 >= r.curve.mean_log_distance.size())
@@ -860,6 +878,13 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   if (const auto flagged = flag_noise(r, series.channels.size()))
     compensate_noise(options.dither > 0.0 ? series : raw, series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
+  // Distances that jump in steps of the series' quantum measure the quantisation, not a divergence:
+  // the real MBDyn isotropic run's rel:11:4:z from 10 s, a few quanta of its printed 1e-5 deg about
+  // 0 after the decay, read "chaotic" at +201 1/s. Not a curve that falls on a signal that decays:
+  // quanta do not make distances shrink with the amplitude, and the decay is read (a quantised
+  // e^{-t/2} sin 2 pi t a few quanta above 0 still reads -0.495 1/s).
+  if (r.curve.coarse_resolution && r.unreliable.empty() && !(r.fit.slope < 0.0 && signal_decays(r)))
+    r.unreliable = "a resolution (quantum or printed digits) as coarse as the neighbour distances";
   append(r.warnings, r.fit.warnings);
   warn_about_unfolding(r);  // after the curve's own verdicts, which name the cause more closely
   warn_about_rate_beyond_envelope(r);

@@ -247,9 +247,18 @@ NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& 
 }
 
 namespace {
+/// How far a repeated stretch may part within it, as a multiple of the repeat's own tolerance: a
+/// stable periodic orbit of a map stretches a near repeat within each period before it contracts it
+/// (the logistic map's period-3 orbit at r = 3.84 by ~10x: its near repeats, 1e-10 of a point's
+/// size, part to ~1e-9 and were read as a quantum, "lambda unreliable", until this margin). A
+/// quantised series' equal points part by a quantum, orders of magnitude more; a chaotic map's near
+/// repeats part beyond it within tens of its iterations (the stretch runs a horizon, >= 32).
+constexpr double kStretchSpread = 1e3;
+
 /// Share of the references whose repeat (NeighbourResult::repeat_of) stays a repeat for the next
-/// `steps` samples, every channel equal to `resolution` of its size or of its standard deviation (up to 200 references, evenly
-/// taken): ~1 for a periodic series, ~0 for a quantised aperiodic one whose equal points part at once.
+/// `steps` samples, every channel equal to within kStretchSpread x `resolution` of its size or of its
+/// standard deviation (up to 200 references, evenly taken): ~1 for a periodic series, ~0 for a
+/// quantised aperiodic one whose equal points part at once.
 double share_repeating_stretches(const Series& s, const NeighbourResult& nn, const std::vector<std::uint32_t>& refs,
                                  std::size_t steps, double resolution) {
   std::vector<std::size_t> with_repeat;
@@ -268,7 +277,8 @@ double share_repeating_stretches(const Series& s, const NeighbourResult& nn, con
         // Channels are in units of their standard deviation: the 1 is a floor for values that
         // cross 0 (sin(pi) written as 1.2e-16 one period, -2.4e-16 the next).
         // The same ceiling as the neighbour search's (a signal riding far from zero).
-        if (std::abs(a - b) > std::min(resolution * (std::abs(a) + std::abs(b) + 1.0), kRepeatCeilingInDeviations)) {
+        const double repeat = std::min(resolution * (std::abs(a) + std::abs(b) + 1.0), kRepeatCeilingInDeviations);
+        if (std::abs(a - b) > kStretchSpread * repeat) {
           same = false;
           break;
         }
@@ -466,7 +476,8 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
           "periodic at its written digits, not a coarse resolution; the neighbours are the nearest points of the "
           "other phases",
           100.0 * stretches, H));
-    else if (as_many_as_references)
+    curve.coarse_resolution = as_many_as_references && stretches < 0.9;
+    if (curve.coarse_resolution)
       curve.warnings.push_back("the series repeats its points " +
                                std::to_string(nn.zero_distance_candidates / std::max<std::size_t>(refs.size(), 1)) +
                                " times per reference point on average: its resolution (quantum or printed digits) is as "

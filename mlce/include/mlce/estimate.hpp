@@ -181,8 +181,9 @@ struct MlceResult {
   /// Why lambda does not measure the motion's divergence, when one of the warnings says so (the
   /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
   /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise),
-  /// fewer than two mean periods of a motion that persists (estimated only under a given window).
-  /// Empty otherwise. The reading (reading.hpp) is then undetermined, except for a window in the
+  /// fewer than two mean periods of a motion that persists (estimated only under a given window),
+  /// a resolution as coarse as the neighbour distances (DivergenceCurve::coarse_resolution) unless
+  /// the curve falls on a signal that decays. Empty otherwise. The reading (reading.hpp) is then undetermined, except for a window in the
   /// floor of a decay (floor_window_ratio): stable, the motion decayed to rest before the window.
   std::string unreliable;
   /// When the series is a window cut from a record (MlceOptions::record_deviation): the largest over

@@ -38,7 +38,8 @@
 //    (MlceResult::noise_compensated): lambda is then the decay's rate, read as any other.
 //  - Undetermined when a warning says lambda does not measure the motion's divergence
 //    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
-//    mean periods, a plateau within one embedding window as uncorrelated noise gives), when
+//    mean periods, a plateau within one embedding window as uncorrelated noise gives, a resolution
+//    as coarse as the neighbour distances on a curve that does not fall with a decay), when
 //    lambda > 0 while the amplitude decays, or lambda < 0 while it grows. Measurement noise flagged by the curve's first step is named in the summary (it
 //    biases lambda, it does not make a clear sign unclear).
 #include <string>

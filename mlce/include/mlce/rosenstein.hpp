@@ -70,6 +70,10 @@ struct DivergenceCurve {
   std::size_t admissible_points = 0;
   std::size_t zero_distance_terms = 0;  ///< d_j(i) = 0 terms left out of the average (never log 0)
   std::size_t zero_distance_candidates = 0;
+  /// The series repeats its points at least once per reference, not as whole stretches: its
+  /// resolution (quantum or printed digits) is as coarse as the neighbour distances, which jump in
+  /// steps of it (a warning says so; the estimate marks lambda unreliable).
+  bool coarse_resolution = false;
   bool phase_aligned = false;           ///< neighbours were moved along their trajectories (align_phase)
   double mean_phase_shift = 0.0;        ///< mean |shift| of the neighbours, samples (align_phase)
   std::size_t cubic_pairs = 0;          ///< pairs followed on the cubic (Interpolation::cubic)
