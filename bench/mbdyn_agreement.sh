@@ -44,3 +44,15 @@ paste -d, "$work/t.csv" "$work/n.csv" | awk -F, 'NR>1 { for (c = 2; c <= 3; c++)
 "$mlce" extract "$work/iso" --channel rel:13:4:z > "$work/iso_adhoc.csv"
 paste -d, "$work/t.csv" "$work/iso_adhoc.csv" | awk -F, 'NR>1 { d = $2 - $5; d = d < 0 ? -d : d; if (d > m) m = d;
     p = $2 < 0 ? -$2 : $2; if (p > pk) pk = p } END { printf "iso_200rpm, blade 3 lag, ad-hoc vs MBDyn over 20 s: max difference %.3g rad (peak lag %.4f rad)\n", m, pk }'
+
+# The MLCE of every blade's lag over the whole isotropic run, beside the slowest multiblade
+# eigenvalue: the angles from two nodes' orientations (rel:A:B:z, from the .mov's degrees with 7
+# digits) end in a few steps of that resolution, the damper's own angle (joint:L:14) in underflow.
+field() { grep -o "\"$1\":[^,}]*" | head -n 1 | cut -d: -f2- | tr -d '"'; }
+slowest="$("$mlce" eigen "$here/scenes/isotropic_200rpm.scene" --json | grep -o '"exponents":\[[^],]*' | cut -d[ -f2)"
+echo "iso_200rpm, slowest multiblade eigenvalue (mlce eigen): $slowest 1/s; the MLCE of the whole run (mlce estimate --channel C):"
+for ch in rel:11:4:z rel:12:4:z rel:13:4:z rel:14:4:z joint:31:14 joint:32:14 joint:33:14 joint:34:14; do
+  json="$("$mlce" estimate "$iso" --channel "$ch" --json --quiet 2>/dev/null)"
+  printf '  %-12s lambda %+.4f 1/s over %s of 4001 samples: %s, %s\n' "$ch" "$(printf '%s' "$json" | field lambda)" \
+    "$(printf '%s' "$json" | field n_points)" "$(printf '%s' "$json" | field stability)" "$(printf '%s' "$json" | field motion)"
+done

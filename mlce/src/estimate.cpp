@@ -166,6 +166,9 @@ struct AnalysedPart {
   /// that floor (Floor::whole): too little of the decay to measure, so nothing is cut and the window
   /// is read as the floor (warn_about_floor_window).
   bool floor_holds_window = false;
+  /// The floor is the resolution the values were written with (Floor::resolution): a window lies in
+  /// it below kResolutionFloorShare of the record's deviation, not MlceOptions::floor_ratio.
+  bool resolution_floor = false;
 };
 const Series& analysed_part(const Series& raw, const MlceOptions& options, Series& storage,
                             std::vector<std::string>& warnings, AnalysedPart& part) {
@@ -186,6 +189,7 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
   const Series& input = options.dither > 0.0 ? storage : raw;
   validate_record_deviation(options, input.channel_count());
   const Floor floor = detect_floor(input, options.floor_ratio, options.record_deviation);
+  part.resolution_floor = floor.resolution;
   if (floor.index == 0) {
     part.floor_holds_window = floor.whole;  // a window wholly within the record's floor: nothing to cut
     return input;
@@ -217,7 +221,11 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
     }
   }
   warnings.push_back(
-      floor.white_noise
+      floor.resolution
+          ? fmt::format("the signal decays to the resolution it was written with from sample {} (t = {:g}) ({}): analysed "
+                        "up to there ({} floor samples left out)",
+                        f, input.time(f), floor_evidence(floor, options.floor_ratio), input.size() - f)
+      : floor.white_noise
           ? fmt::format("the signal decays into white measurement noise ({}) from sample {} (t = {:g}): analysed up to "
                         "there, where it is still 5x the noise ({} floor samples left out)",
                         floor_evidence(floor, options.floor_ratio), f, input.time(f), input.size() - f)
@@ -277,7 +285,7 @@ namespace {
 /// cleanly to 3e-10 of its start, and `node:2:x` from 8-15 s reads -1.18 1/s, the slowest eigenvalue.
 /// `floor_holds_window` (AnalysedPart): the part above the record's floor is too short to measure, and
 /// the window is read as floor though its start still decays.
-void warn_about_floor_window(const Series& series, const MlceOptions& options, bool floor_holds_window,
+void warn_about_floor_window(const Series& series, const MlceOptions& options, const AnalysedPart& part,
                              MlceResult& r) {
   // options.record_deviation was validated against the channels by analysed_part.
   if (options.record_deviation.empty() || !(options.floor_ratio > 0.0)) return;
@@ -290,15 +298,18 @@ void warn_about_floor_window(const Series& series, const MlceOptions& options, b
     if (const double ratio = window[c] / record; !(ratio <= largest)) largest = ratio, channel = c;
   }
   r.floor_window_ratio = largest;
-  if (!(largest < options.floor_ratio)) return;
-  if (!floor_holds_window && r.amplitude_ratio <= 1.0 / kPersistentAmplitude) return;
+  // A floor of the written resolution lies higher than rounding and tolerance (its quanta).
+  const double limit = part.resolution_floor ? kResolutionFloorShare : options.floor_ratio;
+  if (!(largest < limit)) return;
+  if (!part.floor_holds_window && r.amplitude_ratio <= 1.0 / kPersistentAmplitude) return;
   r.in_decay_floor = true;
   r.warnings.push_back(fmt::format(
       "the analysed window lies in the floor of a decay that ended before it: {}'s RMS deviation is {:.2g} of its "
-      "largest deviation over the record it was cut from (below {:g}: solver tolerance and rounding, paper 001 Fig. "
-      "6); the motion had decayed to rest, and lambda measures that residue, not the motion: analyse the decay (an "
-      "earlier --from)",
-      channel_name(series, channel), largest, options.floor_ratio));
+      "largest deviation over the record it was cut from (below {:g}: {}, paper 001 Fig. 6); the motion had decayed "
+      "to rest, and lambda measures that residue, not the motion: analyse the decay (an earlier --from)",
+      channel_name(series, channel), largest, limit,
+      part.resolution_floor ? "a few repeating values of the resolution it was written with"
+                            : "solver tolerance and rounding"));
   if (r.unreliable.empty()) r.unreliable = "a window in the floor a decay ended in before it";
 }
 
@@ -710,7 +721,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   // first third's (transient.hpp). Read by the floor-window test, the short-run refusal and the
   // recurrence test.
   r.amplitude_ratio = amplitude_ratio(series);
-  warn_about_floor_window(series, options, part.floor_holds_window, r);
+  warn_about_floor_window(series, options, part, r);
   const std::size_t input_warnings = r.warnings.size();  // about the input, before any stage
   r.dt = series.dt;
   r.time_unit = series.time_unit;

@@ -122,8 +122,8 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     out.motion = "decays to rest";
     out.summary = fmt::format(
         "stable: the motion had decayed to rest before the analysed window, which holds only the floor of that "
-        "decay ({:.2g} of the record's largest deviation: solver tolerance and rounding); lambda measures that "
-        "residue, not the motion (analyse the decay: an earlier --from); {}",
+        "decay ({:.2g} of the record's largest deviation: solver tolerance, rounding or the written resolution); "
+        "lambda measures that residue, not the motion (analyse the decay: an earlier --from); {}",
         r.floor_window_ratio, numbers);
     return out;
   }

@@ -112,6 +112,53 @@ bool white_and_level_tail(const Series& s, const std::vector<double>& rms, std::
 
 constexpr double kWhiteIncrementTolerance = 0.2;
 
+/// At most this share of a window's samples distinct: a sampled motion above its resolution changes
+/// its value at nearly every sample (40 of 40 in the lags' windows before ~6 s).
+constexpr double kQuantisedLevelShare = 0.5;
+
+/// Steps of a resolution are as large as what they make: the increments' RMS over the RMS about the
+/// mean, over the last quarter, is ~1.3-1.6 for the real isotropic run's lags at their resolution
+/// and 2 sin(pi / P) for a sine of P samples a period (0.06 for the small limit cycle of
+/// Transient.DecayIntoTheNoiseFloorEndsWhereTheFloorStarts, which repeats its values every period
+/// as exactly as a quantum does, and is no floor).
+constexpr double kQuantisedRoughness = 0.5;
+
+/// Does the last quarter of the 100 windows of w samples step between a few written values: in the
+/// channel that repeats least, the median over the quarter's windows of the number of distinct
+/// values (values within 1e-9 of the channel's largest |x| are one: the rounding of a unit
+/// conversion) at least 2 and at most kQuantisedLevelShare x w, and in every channel increments as
+/// large as the deviations (kQuantisedRoughness)?
+bool quantised_tail(const Series& s, std::size_t w) {
+  std::size_t most = 0;
+  for (const auto& c : s.channels) {
+    CompensatedSum sum, deviation, increment;
+    for (std::size_t i = 75 * w; i < 100 * w; ++i) sum.add(c[i]);
+    const double mean = sum.value() / static_cast<double>(25 * w);
+    for (std::size_t i = 75 * w; i < 100 * w; ++i) {
+      deviation.add((c[i] - mean) * (c[i] - mean));
+      if (i > 75 * w) increment.add((c[i] - c[i - 1]) * (c[i] - c[i - 1]));
+    }
+    // Per sample, as mean squares: 25 w deviations, 25 w - 1 increments.
+    if (!(increment.value() / static_cast<double>(25 * w - 1) >=
+          kQuantisedRoughness * kQuantisedRoughness * deviation.value() / static_cast<double>(25 * w)))
+      return false;
+    double peak = 0.0;
+    for (const double v : c) peak = std::max(peak, std::abs(v));
+    const double same = 1e-9 * peak;
+    std::vector<double> counts, window(w);
+    for (std::size_t k = 75; k < 100; ++k) {
+      std::copy_n(c.begin() + static_cast<std::ptrdiff_t>(k * w), w, window.begin());
+      std::sort(window.begin(), window.end());
+      std::size_t distinct = 1;
+      for (std::size_t i = 1; i < w; ++i) distinct += window[i] - window[i - 1] > same;
+      counts.push_back(static_cast<double>(distinct));
+    }
+    most = std::max(most, static_cast<std::size_t>(upper_median(counts)));
+  }
+  // One value throughout is a constant tail (rounded to 0 or held to the bit): underflow, not steps.
+  return most >= 2 && static_cast<double>(most) <= kQuantisedLevelShare * static_cast<double>(w);
+}
+
 /// Noise under a decay whose last quarter is not all noise: white_increment_noise over windows
 /// 75..99 of w samples, summed in square over the channels each divided by its peak |x|, as
 /// window_square_sums scales them. nullopt: not noise.
@@ -217,12 +264,18 @@ std::size_t steady_noise_start(const Series& s) {
 std::string floor_evidence(const Floor& f, double floor_ratio) {
   if (f.from_increments) return fmt::format("its last quarter's increments white, noise at {:.2g} of its largest RMS", f.level);
   if (f.white_noise) return fmt::format("its last quarter white, at {:.2g} of its largest RMS", f.level);
+  if (f.resolution)
+    return fmt::format("its last quarter repeating the few values of its written resolution, at {:.2g} of the largest RMS{}",
+                       f.level, f.against_record ? " of the record it was cut from" : "");
   return f.against_record ? fmt::format("RMS below {:g} of the largest deviation of the record it was cut from", floor_ratio)
                           : fmt::format("RMS below {:g} of its largest", floor_ratio);
 }
 
 std::string describe(const Floor& f, double floor_ratio) {
-  return (f.white_noise ? "white-noise floor (" : "noise/underflow floor (") + floor_evidence(f, floor_ratio) + ")";
+  return (f.white_noise  ? "white-noise floor ("
+          : f.resolution ? "resolution floor ("
+                         : "noise/underflow floor (") +
+         floor_evidence(f, floor_ratio) + ")";
 }
 
 /// How many times the series' largest deviation the record it was cut from deviates by: per channel
@@ -265,7 +318,16 @@ Floor detect_floor(const Series& s, double floor_ratio, const std::vector<double
   const bool underflow = level < floor_ratio * reference;
   Floor floor;
   double cut_level = 0.0;  // the floor starts where every later window stays at or below this
-  if (underflow) {
+  if (level < kResolutionFloorShare * reference && quantised_tail(s, w)) {
+    // Steps of the resolution come and go (a window of 40 samples holds none, one or a few): the
+    // floor reaches up to the quarter's largest window, and starts where the windows stay within 10x
+    // of that (the real isotropic run's rel:11:4:z: mostly 0 from ~10 s, its last windows 15x its
+    // median, so 10x the median found no floor and the record read -0.89 1/s, not -1.18).
+    cut_level = 10.0 * *std::max_element(rms.begin() + 75, rms.end());
+    floor.resolution = true;
+    floor.level = level / reference;
+    floor.against_record = !(level < kResolutionFloorShare * peak);
+  } else if (underflow) {
     cut_level = 10.0 * level;
     floor.level = level / reference;
     floor.against_record = !(level < floor_ratio * peak);

@@ -54,11 +54,23 @@ struct TransientResult {
 TransientResult detect_transient(const Series& series, const TransientOptions& options);
 
 /// The floor a decay ends in (paper 001 Fig. 6: past it the series carries no dynamics).
+/// The resolution floor (detect_floor): a last quarter below this share of the largest window RMS
+/// whose windows repeat a few values. MBDyn's .mov writes orientations in degrees with 7 digits, so a
+/// blade's lag taken from two nodes' orientations (rel:A:B:AXIS) decays to a few quanta of
+/// 1e-6..1e-4 deg: the real isotropic run's four lags sink to 1e-5..1e-4 of their largest window RMS by
+/// ~10 s, 2-16 distinct values in windows of 40 samples, and the whole record read -0.47..-0.89 1/s
+/// (one undetermined) where its first 10 s read the slowest eigenvalue, -1.18. The damper's own
+/// angle (.jnt, relative precision) decays to underflow instead, and reads -1.18 whole.
+inline constexpr double kResolutionFloorShare = 1e-3;
+
 struct Floor {
   std::size_t index = 0;     ///< first sample of the floor; 0 = no floor
   bool white_noise = false;  ///< found by a white-noise rule (else: below floor_ratio)
   bool from_increments = false;  ///< the noise's level from the last quarter's increments (white_noise too)
   bool against_record = false;   ///< below floor_ratio of the record's largest deviation, not the series' own
+  /// Found by the resolution rule: the last quarter repeats a few written values (quantised_tail)
+  /// below kResolutionFloorShare of the largest window RMS.
+  bool resolution = false;
   /// Against the record: every window already lies within the floor's 10x (index 0, nothing to cut):
   /// the series is that floor, whatever its amplitude does within the 10x.
   bool whole = false;
@@ -75,6 +87,13 @@ struct Floor {
 /// only the end of the last quarter is read from the quarter's increments (white: correlated -1/2,
 /// 0, 0 at lags 1-3 in every channel, at a steady level; RMS from the third differences:
 /// white_increment_noise): a floor when that RMS is below 0.1 x the largest window RMS, cut at 5x it.
+/// Failing the underflow rule, a last quarter below kResolutionFloorShare x the largest window RMS
+/// (of the record, as for underflow) whose windows repeat their values (at most
+/// kQuantisedLevelShare of a window's samples distinct, the median window of the quarter, in the
+/// channel that repeats least; 2 at least: one value is a constant tail) with increments as large
+/// as its deviations (kQuantisedRoughness: no smooth motion) is the resolution the values were
+/// written with (Floor::resolution): a floor that starts where every later window stays within 10x
+/// of the quarter's largest window RMS (its steps come and go).
 /// A white-noise floor needs a motion before it: when the samples kept before the cut are white too
 /// (lags 1-3 as above), the record is noise throughout, only louder in places, and has no floor.
 /// floor_ratio 0: never a floor.
