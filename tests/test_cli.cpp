@@ -456,7 +456,7 @@ TEST_F(Cli, ConvergenceTableInEveryForm) {
   for (const auto& p : j["points"]) EXPECT_EQ(p["stability"], "stable") << p;  // lambda T = -0.314
   EXPECT_TRUE(j["reading_settled"].get<bool>());
   EXPECT_EQ(j["lambda_unit"], "1/s");
-  expect_csv(csv, "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion", 5);
+  expect_csv(csv, "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion,in_decay_floor", 5);
   EXPECT_TRUE(fs::exists(png));
   r = run("convergence " + f + " --time-column 1 --column 2 --parts 2 --quiet");
   ASSERT_EQ(r.status, 0) << r.err;

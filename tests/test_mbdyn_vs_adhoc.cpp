@@ -133,8 +133,17 @@ TEST_F(MbdynVsAdHoc, AWindowAfterTheDecayReadsRestNotChaos) {
                 points[k]["lambda"].get<double>(), points[k]["motion"].get<std::string>().c_str());
     EXPECT_NEAR(points[k]["lambda"].get<double>(), slowest, 0.03 * std::abs(slowest)) << k;
     EXPECT_EQ(points[k]["stability"], "stable") << k;
+    EXPECT_EQ(points[k]["in_decay_floor"], false) << k;  // the decay is measured
   }
   EXPECT_TRUE(conv["converged"].get<bool>());
+  // From 30 s every part is the floor: flagged, and the plot draws none at its residue lambda.
+  const std::string parts_png = (dir / "floor_parts.png").string();
+  const auto floor = json_of("convergence " + adhoc + " --channel node:2:x --from 30 --quiet --plot " + parts_png);
+  for (const auto& p : floor["points"]) {
+    EXPECT_EQ(p["in_decay_floor"], true) << p.dump();
+    EXPECT_EQ(p["stability"], "stable") << p.dump();
+  }
+  EXPECT_GT(std::filesystem::file_size(parts_png), 1000u);
 }
 
 TEST_F(MbdynVsAdHoc, ShortRunsOfSlowDecaysReadTheFloquetExponent) {

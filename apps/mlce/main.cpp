@@ -480,11 +480,19 @@ int cmd_convergence(const std::vector<std::string>& args) {
   if (!plot_path.empty()) {
     const std::string x_label =
         loaded.series.time_unit.empty() ? "end of the part (sample)" : "end of the part (" + loaded.series.time_unit + ")";
-    std::string data = x_label + ",lambda,95 % interval low,95 % interval high\n";
+    // Each part by its reading; a part in the floor a decay ended in is not drawn at its residue.
+    std::vector<cli::PlottedReading> points;
     for (const auto& p : r.points)
-      if (p.estimated) data += fmt::format("{:.10g},{:.10g},{:.10g},{:.10g}\n", p.t_end, p.lambda, p.ci95_low, p.ci95_high);
-    cli::plot_columns_png(data, "MLCE of the leading parts: " + in.file, x_label, "lambda (" + unit + ")", plot_path,
-                          {{loaded.series.time(loaded.series.size() / 2), "half the run"}});
+      if (p.estimated)
+        points.push_back({.x = p.t_end,
+                          .lambda = p.lambda,
+                          .low = p.ci95_low,
+                          .high = p.ci95_high,
+                          .stability = p.stability,
+                          .in_decay_floor = p.in_decay_floor});
+    if (!points.empty())
+      cli::plot_readings_png(points, "MLCE of the leading parts: " + in.file, x_label, "lambda (" + unit + ")",
+                             plot_path, true, {{loaded.series.time(loaded.series.size() / 2), "half the run"}});
   }
   if (json) {
     auto j = cli::to_json(r, unit);

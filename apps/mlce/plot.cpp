@@ -36,6 +36,16 @@ constexpr std::array<const char*, 15> kCurveColours = {"#1f77b4", "#ff7f0e", "#2
                                                         "#8c564b", "#e377c2", "#bcbd22", "#17becf", "#0b3d91",
                                                         "#b35806", "#1b5e20", "#7f0000", "#4a148c", "#4e342e"};
 
+/// gnuplot lines for dashed vertical marks at x, each labelled at the top.
+std::string vertical_marks(const std::vector<std::pair<double, std::string>>& marks) {
+  std::string lines;
+  for (const auto& [x, label] : marks)
+    lines += fmt::format("set arrow from first {0:.10g}, graph 0 to first {0:.10g}, graph 1 nohead dashtype 2 lc 'gray40'\n"
+                         "set label '{1}' at first {0:.10g}, graph 0.97 offset 0.5,0 tc 'gray40'\n",
+                         x, quoted(label));
+  return lines;
+}
+
 std::string curve_linetypes() {
   std::string out;
   for (std::size_t k = 0; k < kCurveColours.size(); ++k)
@@ -181,11 +191,7 @@ void plot_columns_png(const std::string& csv, const std::string& title, const st
                       const std::vector<std::pair<double, std::string>>& marks) {
   const std::string header = csv.substr(0, csv.find('\n'));
   const auto columns = static_cast<int>(std::count(header.begin(), header.end(), ',')) + 1;
-  std::string lines;
-  for (const auto& [x, label] : marks)
-    lines += fmt::format("set arrow from first {0:.10g}, graph 0 to first {0:.10g}, graph 1 nohead dashtype 2 lc 'gray40'\n"
-                         "set label '{1}' at first {0:.10g}, graph 0.97 offset 0.5,0 tc 'gray40'\n",
-                         x, quoted(label));
+  const std::string lines = vertical_marks(marks);
   render_png(png_path, csv, [&](const std::string& data) {
     return fmt::format(
         "set key outside right autotitle columnhead\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n{}"
@@ -217,7 +223,8 @@ constexpr const char* kFloorTitle = "stable: decayed to rest before the window (
 }  // namespace
 
 void plot_readings_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
-                       const std::string& ylabel, const std::string& png_path, bool join) {
+                       const std::string& ylabel, const std::string& png_path, bool join,
+                       const std::vector<std::pair<double, std::string>>& marks) {
   // The y range holds 0 (the stability boundary) and every drawn value and interval; the floor's
   // marks go below them, where no lambda is.
   double lo = 0.0, hi = 0.0;
@@ -253,10 +260,10 @@ void plot_readings_png(const std::vector<PlottedReading>& points, const std::str
                       kFloorClass, quoted(kFloorTitle)));
     return fmt::format(
         "set key below\nset grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\nset offsets graph 0.05, graph 0.05, 0, 0\n"
-        "set yrange [{:.10g}:{:.10g}]\n{}set xzeroaxis lt -1 lc 'gray40'\nplot {}\n",
+        "set yrange [{:.10g}:{:.10g}]\n{}{}set xzeroaxis lt -1 lc 'gray40'\nplot {}\n",
         quoted(xlabel), quoted(ylabel), quoted(title), (floor ? mark : lo) - 0.05 * span, hi + 0.05 * span,
         drawn ? "" : "set ytics ('0' 0)\n",  // only marks: no scale of values that are not there
-        terms);
+        vertical_marks(marks), terms);
   });
 }
 

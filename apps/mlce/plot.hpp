@@ -36,9 +36,11 @@ struct PlottedReading {
 /// PNG of estimates with their 95 % intervals as error bars, coloured by the reading (stable blue,
 /// neutral green, unstable red, undetermined hollow grey), and a line at 0. A point in the floor of
 /// a decay is a mark below the others (its lambda is a residue). `join`: a thin line through the
-/// drawn values in the given order (a sweep; not for runs given in any order).
+/// drawn values in the given order (a sweep; not for runs given in any order); `marks`: dashed
+/// vertical lines at x, each labelled.
 void plot_readings_png(const std::vector<PlottedReading>& points, const std::string& title, const std::string& xlabel,
-                       const std::string& ylabel, const std::string& png_path, bool join);
+                       const std::string& ylabel, const std::string& png_path, bool join,
+                       const std::vector<std::pair<double, std::string>>& marks = {});
 
 /// Colour map of lambda over a regular (x, y) grid of readings; a point in the floor of a decay is
 /// drawn at the stable end of the scale and circled, an undetermined one crossed.

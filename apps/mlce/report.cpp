@@ -316,7 +316,7 @@ nlohmann::json to_json(const ConvergenceResult& r, const std::string& unit) {
       j["lambda"] = finite_or_null(p.lambda);
       j["ci95"] = {finite_or_null(p.ci95_low), finite_or_null(p.ci95_high)};
       j["delay"] = p.delay, j["dim"] = p.dim, j["theiler"] = p.theiler, j["warnings"] = p.warnings;
-      j["stability"] = to_string(p.stability), j["motion"] = p.motion;
+      j["stability"] = to_string(p.stability), j["motion"] = p.motion, j["in_decay_floor"] = p.in_decay_floor;
     } else {
       j["error"] = p.error;
     }
@@ -360,12 +360,13 @@ std::string to_text(const ConvergenceResult& r, const std::string& unit) {
 }
 
 std::string convergence_csv(const ConvergenceResult& r) {
-  std::string s = "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion\n";
+  std::string s = "samples,t_end,lambda,ci95_low,ci95_high,delay,dim,theiler,warnings,stability,motion,in_decay_floor\n";
   for (const auto& p : r.points) {
     s += fmt::format("{},{:.10g}", p.samples, p.t_end);
-    s += p.estimated ? fmt::format(",{:.10g},{:.10g},{:.10g},{},{},{},{},{},{}\n", p.lambda, p.ci95_low, p.ci95_high, p.delay,
-                                   p.dim, p.theiler, p.warnings, to_string(p.stability), p.motion)
-                     : std::string(",,,,,,,,,\n");
+    s += p.estimated ? fmt::format(",{:.10g},{:.10g},{:.10g},{},{},{},{},{},{},{}\n", p.lambda, p.ci95_low, p.ci95_high,
+                                   p.delay, p.dim, p.theiler, p.warnings, to_string(p.stability), p.motion,
+                                   p.in_decay_floor ? 1 : 0)
+                     : std::string(",,,,,,,,,,\n");
   }
   return s;
 }

@@ -23,6 +23,7 @@ ConvergencePoint point_of(const MlceResult& r, std::size_t samples, double t_end
   p.warnings = r.warnings.size();
   const Reading read = read_stability(r, reading);
   p.stability = read.stability, p.motion = read.motion;
+  p.in_decay_floor = r.in_decay_floor;
   return p;
 }
 

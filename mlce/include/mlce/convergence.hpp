@@ -44,6 +44,9 @@ struct ConvergencePoint {
   std::size_t warnings = 0;  ///< how many warnings its estimate carried
   Stability stability = Stability::undetermined;  ///< read_stability of its estimate
   std::string motion;                              ///< and the kind of motion it reads
+  /// The part lies in the floor a decay ended in before it (MlceResult::in_decay_floor): lambda is
+  /// the residue there, not the motion's.
+  bool in_decay_floor = false;
   std::string error;
 };
 
