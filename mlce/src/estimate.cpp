@@ -284,7 +284,9 @@ namespace {
 /// far below the record's scale: the real MBDyn run of the isotropic rotor at 200 rpm keeps decaying
 /// cleanly to 3e-10 of its start, and `node:2:x` from 8-15 s reads -1.18 1/s, the slowest eigenvalue.
 /// `floor_holds_window` (AnalysedPart): the part above the record's floor is too short to measure, and
-/// the window is read as floor though its start still decays.
+/// the window is read as floor though its start still decays. A floor of the resolution the values
+/// were written with (AnalysedPart::resolution_floor) lies higher: below kResolutionFloorShare of the
+/// record's deviation instead of floor_ratio.
 void warn_about_floor_window(const Series& series, const MlceOptions& options, const AnalysedPart& part,
                              MlceResult& r) {
   // options.record_deviation was validated against the channels by analysed_part.
@@ -890,10 +892,11 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     compensate_noise(options.dither > 0.0 ? series : raw, series, options, ro, pairs, fo, *flagged, r);
   append(r.warnings, r.curve.warnings);
   // Distances that jump in steps of the series' quantum measure the quantisation, not a divergence:
-  // the real MBDyn isotropic run's rel:11:4:z from 10 s, a few quanta of its printed 1e-5 deg about
-  // 0 after the decay, read "chaotic" at +201 1/s. Not a curve that falls on a signal that decays:
-  // quanta do not make distances shrink with the amplitude, and the decay is read (a quantised
-  // e^{-t/2} sin 2 pi t a few quanta above 0 still reads -0.495 1/s).
+  // the real MBDyn isotropic run's rel:11:4:z from 10 s, steps of its written 1e-5 deg about 0, read
+  // "chaotic" at +201 1/s before its resolution floor was known; from 8 s, the last of the decay and
+  // then those steps, it reads +214 1/s: undetermined by this rule. Not a curve that falls on a
+  // signal that decays: quanta do not make distances shrink with the amplitude, and the decay is read
+  // (a quantised e^{-t/2} sin 2 pi t a few quanta above 0 still reads -0.495 1/s).
   if (r.curve.coarse_resolution && r.unreliable.empty() && !(r.fit.slope < 0.0 && signal_decays(r)))
     r.unreliable = "a resolution (quantum or printed digits) as coarse as the neighbour distances";
   append(r.warnings, r.fit.warnings);
