@@ -46,6 +46,9 @@ std::string vertical_marks(const std::vector<std::pair<double, std::string>>& ma
   return lines;
 }
 
+/// The colour maps of lambda: blue stable, white 0, red unstable (on a range symmetric about 0).
+constexpr const char* kStabilityPalette = "set palette defined (0 'blue', 1 'white', 2 'red')\n";
+
 std::string curve_linetypes() {
   std::string out;
   for (std::size_t k = 0; k < kCurveColours.size(); ++k)
@@ -294,9 +297,9 @@ void plot_reading_map_png(const std::vector<PlottedReading>& points, const std::
                            static_cast<int>(Stability::undetermined), quoted(kReadingStyles[3].title));
     return fmt::format(
         "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
-        "set palette defined (0 'blue', 1 'white', 2 'red')\nset key below\nset cbrange [{:.10g}:{:.10g}]\n"
+        "{}set key below\nset cbrange [{:.10g}:{:.10g}]\n"
         "plot '{}' every ::1 using 1:2:3 with image notitle{}\n",
-        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), -m, m, data, marks);
+        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), kStabilityPalette, -m, m, data, marks);
   }, 700);
 }
 
@@ -321,11 +324,11 @@ void plot_map_png(const std::string& csv, const std::string& title, const std::s
   render_png(png_path, csv, [&](const std::string& data) {
     return fmt::format(
         "set title '{}'\nset xlabel '{}'\nset ylabel '{}'\nset cblabel '{}'\nset view map\n"
-        "set palette defined (0 'blue', 1 'white', 2 'red')\nset key off\n"
+        "{}set key off\n"
         "stats '{}' every ::1 using 3 nooutput\nm = abs(STATS_min) > abs(STATS_max) ? abs(STATS_min) : abs(STATS_max)\n"
         "if (m > 0) set cbrange [-m:m]\n"  // white is 0: stable blue, unstable red
         "plot '{}' every ::1 using 1:2:3 with image\n",
-        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), data, data);
+        quoted(title), quoted(xlabel), quoted(ylabel), quoted(zlabel), kStabilityPalette, data, data);
   }, 700);
 }
 
