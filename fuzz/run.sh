@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets with clang (ASan + UBSan) and runs each for a bounded time on a
-# seed corpus made from the bundled data.   fuzz/run.sh [SECONDS_PER_TARGET] [BUILD_DIR]
+# Builds the libFuzzer targets (the parsers, the estimator) with clang (ASan + UBSan) and runs each
+# for a bounded time on a seed corpus made from the bundled data.   fuzz/run.sh [SECONDS_PER_TARGET] [BUILD_DIR]
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 secs="${1:-20}"
@@ -8,7 +8,7 @@ build="${2:-$here/build-fuzz}"
 CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMLCE_FUZZ=ON >/dev/null
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)"
 corpus="$build/corpus"
-rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf,gzip}
+rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf,gzip,estimate}
 iso="$here/data/mbdyn/iso_200rpm_1s/iso_200rpm"
 cp "$iso.log" "$corpus/mbdyn_log/"
 head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
@@ -29,7 +29,16 @@ head -n 30 "$iso.mov" | gzip -c -n > "$corpus/gzip/seed.mov.gz"
 head -n 50 "$here/data/lorenz_x.txt" | gzip -c -n > "$corpus/gzip/seed.txt.gz"
 # the NetCDF header and its first records (a file cut short: the reader's truncated-file path)
 head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"
-for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf gzip; do
+# the estimator's series (fuzz_estimate.cpp's layout: 4 bytes of options, then int16 samples; perl is
+# part of every Debian): a decay and a limit cycle sampled as a flow (dt 0.01), the logistic map, and
+# a sine quantised to a few levels, each 500 samples
+perl -e 'print pack("C4", 0, 192, 128, 2), pack("s<*", map { int(20000 * sin(6.2832 * $_ / 25) * exp(-$_ / 1000)) } 0..499)' \
+  > "$corpus/estimate/decay"
+perl -e 'print pack("C4", 0, 128, 128, 2), pack("s<*", map { int(20000 * sin(6.2832 * $_ / 25)) } 0..499)' > "$corpus/estimate/cycle"
+perl -e '$x = 0.3; print pack("C4", 0, 128, 128, 0), pack("s<*", map { $x = 4 * $x * (1 - $x); int(30000 * ($x - 0.5)) } 0..499)' \
+  > "$corpus/estimate/logistic"
+perl -e 'print pack("C4", 0, 128, 128, 2), pack("s<*", map { 3 * int(3 * sin(6.2832 * $_ / 40)) } 0..499)' > "$corpus/estimate/quantised"
+for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf gzip estimate; do
   echo "fuzz_$f: ${secs} s" >&2
   "$build/fuzz_$f" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 \
     "$corpus/$f" 2>"$build/fuzz_$f.log" || { tail -n 40 "$build/fuzz_$f.log" >&2; exit 1; }

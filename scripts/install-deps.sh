@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(build-essential cmake pkg-config libeigen3-dev libboost-program-options-dev libfftw3-dev
           libnanoflann-dev libgtest-dev libgmock-dev googletest libbenchmark-dev nlohmann-json3-dev libfmt-dev
-          libnetcdf-dev netcdf-bin zlib1g-dev gnuplot-nox time clang libclang-rt-dev clang-tidy)
+          libnetcdf-dev netcdf-bin zlib1g-dev gnuplot-nox time clang libclang-rt-dev libomp-dev clang-tidy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,74 @@
+// libFuzzer: the whole automatic estimator (estimate_mlce, then read_stability) on arbitrary short
+// series. The parsers' targets check that no file crashes a reader; this one checks what a series
+// that passed the readers can do to the estimator: quantised, constant stretches, repeated points,
+// amplitudes from subnormal to near DBL_MAX, an offset far above the motion, a window of another
+// record, every parameter automatic or set small by hand. The contract: either InputError /
+// OptionError (one message, no result), or a result whose lambda, per-sample lambda and 95 %
+// interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing.
+//
+// Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
+// byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
+// the samples, int16 little-endian, channel after channel within a row.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+#include "mlce/estimate.hpp"
+#include "mlce/reading.hpp"
+#include "mlce/series.hpp"
+
+namespace {
+
+[[noreturn]] void broken(const char* what) {
+  // A broken contract is a crash for libFuzzer: it keeps the input that did it.
+  (void)std::fprintf(stderr, "fuzz_estimate: %s\n", what);
+  std::abort();
+}
+
+bool number(double x) { return !std::isnan(x); }
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 4) return 0;
+  const std::uint8_t pick = data[0], scale_byte = data[1], offset_byte = data[2], layout = data[3];
+  const std::size_t channels = 1 + (layout & 1u);
+  const double dt = (layout & 2u) ? 0.01 : 1.0;
+  // 2^-1074 (the smallest subnormal) .. 2^1016: samples of |int16| <= 2^15 then stay below DBL_MAX.
+  const double scale = std::ldexp(1.0, -1074 + static_cast<int>(scale_byte) * 2090 / 255);
+  const double offset = scale * 32768.0 * static_cast<double>(static_cast<int>(offset_byte) - 128) / 8.0;
+  const std::size_t rows = std::min<std::size_t>((size - 4) / (2 * channels), 3000);
+  std::vector<std::vector<double>> samples(channels, std::vector<double>(rows));
+  for (std::size_t i = 0; i < rows; ++i)
+    for (std::size_t c = 0; c < channels; ++c) {
+      std::int16_t v = 0;
+      std::memcpy(&v, data + 4 + 2 * (i * channels + c), 2);
+      samples[c][i] = offset + scale * static_cast<double>(v);
+    }
+
+  mlce::MlceOptions o;
+  static constexpr std::size_t kSmall[] = {1, 2, 3, 7};
+  if (pick & 1u) o.delay = kSmall[(pick >> 1) & 3u];
+  if (pick & 8u) o.dim = kSmall[(pick >> 4) & 3u];
+  if (pick & 32u) o.theiler = kSmall[(pick >> 1) & 3u] - 1;
+  if (pick & 64u) o.horizon = 2 + ((pick >> 2) & 15u);
+  if (pick & 128u) o.record_deviation.assign(channels, std::abs(offset) + 1000.0 * scale);  // a window of a larger record
+  o.max_references = 500;  // the fuzzer's time goes to many inputs, not to one long curve
+  try {
+    const auto series = mlce::make_series_with_step(std::move(samples), dt);
+    const auto r = mlce::estimate_mlce(series, o);
+    if (!number(r.lambda) || !number(r.lambda_per_sample)) broken("lambda is NaN");
+    if (!number(r.ci95_low) || !number(r.ci95_high)) broken("the 95 % interval is NaN");
+    for (const double y : r.curve.mean_log_distance)
+      if (!number(y)) broken("the divergence curve holds a NaN");
+    (void)mlce::read_stability(r);
+  } catch (const mlce::InputError&) {
+  } catch (const mlce::OptionError&) {
+  }
+  return 0;
+}
