@@ -15,8 +15,9 @@
 // and the same maps' usual parameters (logistic r = 4, Henon a = 1.4) with white measurement noise
 // of 0.1, 0.3, 1 and 3 % of the series' standard deviation, three orbits each: the estimate over the
 // clean orbit's own exponent, m, the curve's first step over its fitted slope per step, and whether
-// the estimator flagged the noise (noise_level):
-//   build/map_bands noise  (about 1 s)
+// the estimator flagged the noise (kMapNoiseStretchSlope on the closest pairs' stretch; the level it
+// estimates); then other maps (tent, sine, logistic r = 3.9, Lozi, Ikeda) clean and with 0.1 and 1 %:
+//   build/map_bands noise  (about 3 s)
 // and maps whose orbit switches slowly between two lobes, with a flow's mean period but a share of
 // their power at periods below 4 samples (MeanPeriodResult::map, MeanPeriodOptions::map_fast_share):
 // the Duffing (Holmes) map x -> y, y -> -b x + a y - y^3 (b = 0.1: a = 2.62 ... 2.78; b = 0.2:
@@ -35,6 +36,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/reading.hpp"
+#include "mlce/rosenstein.hpp"
 #include "reference_systems.hpp"
 
 namespace {
@@ -80,6 +82,23 @@ void scan(const char* name, const char* parameter, double from, double to, doubl
   std::printf("  periodic windows (own < 0.01):%s\n", periodic.empty() ? " none" : periodic.c_str());
 }
 
+/// The stretch slope of the closest half of the estimate's neighbour pairs (stretch_by_distance; the
+/// pairs found again with the estimate's m, delay, Theiler window and horizon), the statistic that
+/// flags a map's measurement noise.
+double closest_stretch_slope(const mlce::Series& series, const mlce::MlceResult& r) {
+  mlce::RosensteinOptions ro;
+  ro.dim = r.dim, ro.delay = r.delay, ro.theiler = r.theiler, ro.horizon = r.horizon;
+  ro.max_references = mlce::MlceOptions{}.max_references;
+  return mlce::stretch_by_distance(series, ro, mlce::find_pairs(series, ro)).closest_half_slope;
+}
+
+std::string flag(const mlce::MlceResult& r) {
+  if (std::isnan(r.noise_level)) return "";
+  char text[48];
+  std::snprintf(text, sizeof text, ", flagged ~%.2g %%", 100 * r.noise_level);
+  return text;
+}
+
 /// Measurement noise on a map (the mode `noise`): the estimate of each noisy orbit over the clean
 /// orbit's own exponent.
 void noise_study() {
@@ -101,10 +120,51 @@ void noise_study() {
         for (const double v : x) square += (v - mean) * (v - mean);
         const double deviation = std::sqrt(square / static_cast<double>(n));
         const auto noisy = noise > 0 ? mlce::reference::with_white_noise(x, noise * deviation, static_cast<std::uint64_t>(k)) : x;
-        const auto r = mlce::estimate_mlce(mlce::make_series_with_step({noisy}, 1.0), {});
+        const auto series = mlce::make_series_with_step({noisy}, 1.0);
+        const auto r = mlce::estimate_mlce(series, {});
         const auto& y = r.curve.mean_log_distance;
-        std::printf("  %.3f (m %zu, first step %.2f x%s)", r.lambda / own, r.dim, (y[1] - y[0]) / r.lambda_per_sample,
-                    std::isnan(r.noise_level) ? "" : ", flagged");
+        std::printf("  %.3f (m %zu, first step %.2f x, stretch %+.2f%s)", r.lambda / own, r.dim,
+                    (y[1] - y[0]) / r.lambda_per_sample, closest_stretch_slope(series, r), flag(r).c_str());
+      }
+      std::printf("\n");
+    }
+  // Other maps, for the margin of kMapNoiseStretchSlope: clean, their stretch slope must stay above it.
+  struct Map {
+    const char* name;
+    double (*step)(double& x, double& y);  // advances the state, returns the observed value
+  };
+  const Map others[] = {
+      {"tent 1.99", [](double& x, double&) { return x = x < 0.5 ? 1.99 * x : 1.99 * (1 - x); }},
+      {"sine", [](double& x, double&) { return x = std::sin(M_PI * x); }},
+      {"logistic 3.9", [](double& x, double&) { return x = 3.9 * x * (1 - x); }},
+      {"Lozi x", [](double& x, double& y) {
+         const double next = 1 - 1.7 * std::abs(x) + y;
+         y = 0.5 * x;
+         return x = next;
+       }},
+      {"Ikeda x", [](double& x, double& y) {
+         const double t = 0.4 - 6 / (1 + x * x + y * y), next = 1 + 0.9 * (x * std::cos(t) - y * std::sin(t));
+         y = 0.9 * (x * std::sin(t) + y * std::cos(t));
+         return x = next;
+       }},
+  };
+  std::printf("other maps (N = %zu), lambda per iteration (m, stretch, noise flagged):\n", n);
+  for (const Map& map : others)
+    for (const double noise : {0.0, 0.001, 0.01}) {
+      std::printf("  %-12s %4.1f %%:", map.name, 100 * noise);
+      for (int k = 1; k <= 3; ++k) {
+        double x = 0.1 * k + 0.0234567, y = 0.0;
+        for (int i = 0; i < 1000; ++i) map.step(x, y);
+        std::vector<double> v(n);
+        for (double& value : v) value = map.step(x, y);
+        double mean = 0, square = 0;
+        for (const double value : v) mean += value / static_cast<double>(n);
+        for (const double value : v) square += (value - mean) * (value - mean);
+        const double deviation = std::sqrt(square / static_cast<double>(n));
+        if (noise > 0) v = mlce::reference::with_white_noise(v, noise * deviation, static_cast<std::uint64_t>(k));
+        const auto series = mlce::make_series_with_step({v}, 1.0);
+        const auto r = mlce::estimate_mlce(series, {});
+        std::printf("  %.4f (m %zu, %+.2f%s)", r.lambda, r.dim, closest_stretch_slope(series, r), flag(r).c_str());
       }
       std::printf("\n");
     }

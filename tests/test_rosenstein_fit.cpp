@@ -891,6 +891,39 @@ TEST(Rosenstein, CubicPhaseInterpolationReadsACoarselySampledOrbitToItsFourthOrd
   EXPECT_EQ(plain_cubic.cubic_pairs, 0u);
 }
 
+// The tent map x -> 1.99 min(x, 1 - x) stretches every pair on one side of 1/2 by 1.99 exactly: the
+// closest pairs' mean one-step stretch is ln 1.99 whatever their distance (slope 0). With white
+// noise of 1 % of its standard deviation the closest pairs' distance one step on is the noise's,
+// and their stretch climbs as their distance falls (slope towards -1).
+TEST(Rosenstein, ClosestPairsOfAMapStretchByItsDerivativeAndNoisyOnesAsTheInverseDistance) {
+  std::vector<double> x(10000);
+  double t = 0.2345;
+  for (double& v : x) v = t = t < 0.5 ? 1.99 * t : 1.99 * (1 - t);
+  RosensteinOptions o;
+  o.dim = 1, o.delay = 1, o.theiler = 1, o.horizon = 10;
+  const Series clean = make_series_with_step({x}, 1.0);
+  const StretchByDistance s = stretch_by_distance(clean, o, find_pairs(clean, o));
+  ASSERT_EQ(s.log_distance.size(), 8u);
+  EXPECT_GT(s.pairs, 9900u);
+  for (std::size_t g = 0; g < 4; ++g) {
+    EXPECT_NEAR(s.log_next[g] - s.log_distance[g], std::log(1.99), 0.02) << "group " << g;
+    if (g > 0) {
+      EXPECT_GT(s.log_distance[g], s.log_distance[g - 1]);
+    }
+  }
+  EXPECT_NEAR(s.closest_half_slope, 0.0, 0.02);
+
+  double mean = 0.0, square = 0.0;
+  for (const double v : x) mean += v / static_cast<double>(x.size());
+  for (const double v : x) square += (v - mean) * (v - mean) / static_cast<double>(x.size());
+  const Series noisy = make_series_with_step({reference::with_white_noise(x, 0.01 * std::sqrt(square), 3)}, 1.0);
+  o.dim = 3;
+  const StretchByDistance n = stretch_by_distance(noisy, o, find_pairs(noisy, o));
+  std::printf("tent 1.99: closest-half slope %.3f clean, %.3f with 1 %% noise (m = 3)\n", s.closest_half_slope,
+              n.closest_half_slope);
+  EXPECT_LT(n.closest_half_slope, -0.5);
+}
+
 TEST(Rosenstein, PairsOfALongerHorizonFromOneIndexAreThoseFoundForIt) {
   // estimate_mlce's adaptive horizon doubles over one PairFinder (one kd-tree) instead of a new
   // search per horizon: every doubling must give exactly what a fresh find_pairs gives.

@@ -155,6 +155,38 @@ std::optional<std::size_t> flag_noise(MlceResult& r, std::size_t channels) {
   return std::nullopt;
 }
 
+/// Measurement noise on a map (sets r.noise_level, warns): flag_noise's first-step jump never shows
+/// there, since a map's curve rises by about its slope per step from the first step on (logistic
+/// r = 4 with noise of 1 % of its standard deviation read 0.89 of ln 2, Henon 0.84 of its exponent,
+/// neither flagged). What does show is how the pairs' first step depends on their distance
+/// (stretch_by_distance): a map stretches its closest pairs like the others, while noise sets the
+/// distance of a pair one step on, whatever it was chosen at, and the closest pairs' stretch climbs
+/// as 1/d. The closest half of the pairs' stretch falling by kMapNoiseStretchSlope or more per unit
+/// ln d is the flag; the noise's level is then read from the closest group's distance one step on
+/// as flag_noise reads y(1). Not an upper estimate here: with delay 1 all but one coordinate of that
+/// step were compared by the search, which picked them small, while the map's image of the pair's
+/// own separation adds to it; 0.6-1.2 x the noise added on the maps of bench/map_bands noise. Only on a
+/// curve that saturates with lambda > 0, the chaotic map noise biases, and not on an estimate already
+/// unreliable: a map's periodic orbit repeats, its pairs are judged by the repeat tests, and what
+/// neighbours it has left are far apart (Henon at a = 1.24, a period-7 window, read "undetermined"
+/// at +0.44, its closest pairs 0.97 standard deviations apart one step on).
+void flag_map_noise(const Series& series, const RosensteinOptions& ro, const NeighbourPairs& pairs, MlceResult& r) {
+  if (!r.mean_period.map || r.fit.end != CurveEnd::saturation || !(r.fit.slope > 0.0) || std::isfinite(r.noise_level) ||
+      !r.unreliable.empty())
+    return;
+  const StretchByDistance stretch = stretch_by_distance(series, ro, pairs);
+  if (!(stretch.closest_half_slope <= kMapNoiseStretchSlope)) return;
+  // flag_noise's white-noise reading of a distance, on the closest group one step on.
+  const double n = static_cast<double>(r.dim * series.channels.size());
+  r.noise_level = std::exp(stretch.log_next.front() - std::numbers::ln2 - 0.5 * boost::math::digamma(0.5 * n));
+  r.warnings.push_back(fmt::format(
+      "the closest neighbour pairs stretch the more in their first step the closer they start ({:+.2f} of ln stretch per "
+      "unit ln distance over the closest half of {} pairs; a map stretches them alike, measurement noise as 1/d): "
+      "measurement noise of about {:.2g} % of the signal's standard deviation (white-noise estimate, within a factor 2) "
+      "sets their distances, and lambda is biased low (a lower bound)",
+      stretch.closest_half_slope, stretch.pairs, 100.0 * r.noise_level));
+}
+
 /// The part of the input that is analysed: `raw` dithered (MlceOptions::dither) and cut at the
 /// noise/underflow floor a decay ends in (detect_floor). Held in `storage` when it differs from
 /// `raw`; what was done is said in `warnings` (dither first, then the floor); `part` tells whether
@@ -901,6 +933,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     r.unreliable = "a resolution (quantum or printed digits) as coarse as the neighbour distances";
   append(r.warnings, r.fit.warnings);
   warn_about_unfolding(r);  // after the curve's own verdicts, which name the cause more closely
+  flag_map_noise(series, ro, pairs, r);  // after every verdict that makes lambda unreliable
   warn_about_rate_beyond_envelope(r);
   express_per_time(r, series.dt);
   report(options, "done", 1.0);

@@ -233,6 +233,13 @@ NeighbourPhases neighbour_phases(const DelayEmbedding& all, const RosensteinOpti
   return out;
 }
 
+
+/// The delay vectors of every point (eq. 17) of `scaled`, the series in the curve's unit-deviation
+/// coordinates, which must outlive them.
+DelayEmbedding every_point(const Series& scaled, const RosensteinOptions& options) {
+  std::vector<std::span<const double>> channels(scaled.channels.begin(), scaled.channels.end());
+  return {std::move(channels), options.dim, options.delay, DelayEmbedding::max_points(scaled.size(), options.dim, options.delay)};
+}
 }  // namespace
 
 NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
@@ -240,10 +247,7 @@ NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& 
   validate_series(series);
   require_pairs_for("neighbour_phases", options, pairs);
   const Series s = scaled_to_unit_deviation(series);
-  std::vector<std::span<const double>> channels;
-  for (const auto& c : s.channels) channels.emplace_back(c);
-  const std::size_t M = DelayEmbedding::max_points(s.size(), options.dim, options.delay);  // eq. 17
-  return neighbour_phases(DelayEmbedding(channels, options.dim, options.delay, M), options, pairs);
+  return neighbour_phases(every_point(s, options), options, pairs);
 }
 
 namespace {
@@ -295,13 +299,10 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
   if (!options.noise_deviation.empty() && options.noise_deviation.size() != series.channels.size())
     throw std::logic_error("follow_pairs: noise_deviation needs one value per channel");
   require_pairs_for("follow_pairs", options, pairs);
-  const std::size_t n = series.size();
   const Series s = scaled_to_unit_deviation(series);
-  std::vector<std::span<const double>> channels;
-  for (const auto& c : s.channels) channels.emplace_back(c);
   const std::size_t H = options.horizon;
-  const std::size_t M = DelayEmbedding::max_points(n, options.dim, options.delay);  // eq. 17
-  const DelayEmbedding all(channels, options.dim, options.delay, M);
+  const DelayEmbedding all = every_point(s, options);
+  const std::size_t M = all.size();  // eq. 17
   const auto& refs = pairs.references;
   const NeighbourResult& nn = pairs.nearest;
 
@@ -496,6 +497,41 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
 
 DivergenceCurve divergence_curve(const Series& series, const RosensteinOptions& options) {
   return follow_pairs(series, options, find_pairs(series, options));
+}
+
+StretchByDistance stretch_by_distance(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs,
+                                      std::size_t groups) {
+  options.validate();
+  validate_series(series);
+  require_pairs_for("stretch_by_distance", options, pairs);
+  const Series s = scaled_to_unit_deviation(series);
+  const DelayEmbedding all = every_point(s, options);
+  std::vector<std::pair<double, double>> logs;  // (ln d(0), ln d(1)) per pair
+  logs.reserve(pairs.references.size());
+  for (std::size_t k = 0; k < pairs.references.size(); ++k) {
+    const std::uint32_t j = pairs.references[k], nb = pairs.nearest.neighbour[k];
+    if (nb == NeighbourResult::none) continue;
+    const double d0 = all.squared_distance(j, nb), d1 = all.squared_distance(j + 1, nb + 1);
+    if (d0 > 0.0 && d1 > 0.0) logs.emplace_back(0.5 * std::log(d0), 0.5 * std::log(d1));  // never log 0
+  }
+  StretchByDistance out;
+  out.pairs = logs.size();
+  groups = std::min(groups, logs.size() / kMinStretchGroupPairs);
+  if (groups < 2) return out;
+  std::sort(logs.begin(), logs.end());
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::size_t first = g * logs.size() / groups, end = (g + 1) * logs.size() / groups;
+    double sum0 = 0.0, sum1 = 0.0;
+    for (std::size_t k = first; k < end; ++k) sum0 += logs[k].first, sum1 += logs[k].second;
+    out.log_distance.push_back(sum0 / static_cast<double>(end - first));
+    out.log_next.push_back(sum1 / static_cast<double>(end - first));
+  }
+  const std::size_t half = std::max<std::size_t>(2, groups / 2);
+  std::vector<double> stretch(half);
+  for (std::size_t g = 0; g < half; ++g) stretch[g] = out.log_next[g] - out.log_distance[g];
+  if (out.log_distance[half - 1] > out.log_distance.front())  // groups of one distance have no slope
+    out.closest_half_slope = fit_line(out.log_distance.data(), stretch.data(), half).slope;
+  return out;
 }
 
 }  // namespace mlce

@@ -64,6 +64,16 @@ inline constexpr std::size_t kFewPairs = 160;
 /// --gtest_filter='*NeverUnfolds*'` prints them.
 inline constexpr double kStochasticFnnShare = 0.12;
 
+/// A map whose closest neighbour pairs' one-step stretch falls by this much or more per unit ln of
+/// their starting distance (StretchByDistance::closest_half_slope) carries measurement noise at the
+/// scale of those distances (estimate_mlce warns and sets MlceResult::noise_level). Noise alone gives
+/// -1. `build/map_bands noise` (N = 10^4, three orbits each): clean maps -0.12 at most (logistic
+/// r = 4 at m = 1, whose densest points, near 0 and 1, are also its most stretched; Henon, tent,
+/// Lozi about 0); white noise of 0.1 % of the standard deviation, which reads logistic, Henon, tent,
+/// sine, Lozi 4-9 % low, gives -0.55 .. -0.84 at the m FNN chooses; Ikeda x with it (0.6 % low)
+/// -0.06 .. -0.11, with 1 % -0.59 .. -0.67.
+inline constexpr double kMapNoiseStretchSlope = -0.25;
+
 /// A flow whose state has fewer coordinates than this settles on fixed points and limit cycles only
 /// (Poincare-Bendixson), where neighbours do not keep separating up to the attractor's scale:
 /// estimate_mlce widens an automatic embedding whose curve does.
@@ -194,7 +204,8 @@ struct MlceResult {
   /// and `unreliable` says so.
   double floor_window_ratio = std::numeric_limits<double>::quiet_NaN();
   bool in_decay_floor = false;
-  /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
+  /// When the curve's first step flags measurement noise (kNoiseJump), or a map's closest pairs do
+  /// (kMapNoiseStretchSlope, from their distance one step on): an upper estimate of its
   /// standard deviation, white noise assumed, in units of the signal's standard deviation; when the
   /// curve is noise-compensated, the noise measured from the increments (RMS over the channels);
   /// NaN when neither.
