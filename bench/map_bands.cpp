@@ -17,13 +17,14 @@
 // clean orbit's own exponent, m, the curve's first step over its fitted slope per step, and whether
 // the estimator flagged the noise (kMapNoiseStretchSlope on the closest pairs' stretch; the level it
 // estimates); then other maps (tent, sine, logistic r = 3.9, Lozi, Ikeda) clean and with 0.1 and 1 %:
-//   build/map_bands noise  (about 3 s)
+//   build/map_bands noise  (about 6 s)
 // and maps whose orbit switches slowly between two lobes, with a flow's mean period but a share of
 // their power at periods below 4 samples (MeanPeriodResult::map, MeanPeriodOptions::map_fast_share):
 // the Duffing (Holmes) map x -> y, y -> -b x + a y - y^3 (b = 0.1: a = 2.62 ... 2.78; b = 0.2:
 // a = 2.70 ... 2.76, and the textbook a = 2.75), the cubic map x -> a x - x^3 (a = 2.60 ... 2.80) and the Pomeau-Manneville map
 // x -> x + x^z mod 1 (z = 1.5, 1.75), each beside its orbit's own exponent, automatic and treated as
-// a map by its mean period alone (map_fast_share = 1, the rule before); then the fast share of
+// a map by its mean period alone (map_fast_share = 1, the rule before), and a map noise flag where
+// one is raised (none: these orbits are clean); then the fast share of
 // sampled flows (Lorenz x at dt = 0.01 ... 0.15, Roessler x at dt = 0.1 ... 0.8, Lorenz x with white
 // noise of 10 ... 40 % of its standard deviation), for the threshold's margin:
 //   build/map_bands switching  (about 12 s)
@@ -181,9 +182,10 @@ void switching_row(const char* name, const mlce::reference::MapSample& o, int& r
   const auto b = mlce::estimate_mlce(series, by_period);
   const bool ok = std::abs(r.lambda / o.own_exponent - 1.0) <= 0.05, ok_before = std::abs(b.lambda / o.own_exponent - 1.0) <= 0.05;
   ++rows, within += ok, within_before += ok_before;
-  std::printf("  %-32s own %.4f  T %2zu fast %.3f %s | %.4f (%.3f) J %zu m %zu%s || by period: %.4f (%.3f) J %zu m %zu%s\n", name,
+  std::printf("  %-32s own %.4f  T %2zu fast %.3f %s | %.4f (%.3f) J %zu m %zu%s%s || by period: %.4f (%.3f) J %zu m %zu%s\n", name,
               o.own_exponent, r.mean_period.mean_period, r.mean_period.fast_share, r.mean_period.map ? "map " : "flow",
-              r.lambda, r.lambda / o.own_exponent, r.delay, r.dim, r.unreliable.empty() ? "" : " (undetermined)", b.lambda,
+              r.lambda, r.lambda / o.own_exponent, r.delay, r.dim, r.unreliable.empty() ? "" : " (undetermined)",
+              flag(r).c_str(), b.lambda,
               b.lambda / o.own_exponent, b.delay, b.dim, b.unreliable.empty() ? "" : " (undetermined)");
 }
 
