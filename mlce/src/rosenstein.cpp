@@ -233,7 +233,6 @@ NeighbourPhases neighbour_phases(const DelayEmbedding& all, const RosensteinOpti
   return out;
 }
 
-
 /// The delay vectors of every point (eq. 17) of `scaled`, the series in the curve's unit-deviation
 /// coordinates, which must outlive them.
 DelayEmbedding every_point(const Series& scaled, const RosensteinOptions& options) {

@@ -204,9 +204,10 @@ struct MlceResult {
   /// and `unreliable` says so.
   double floor_window_ratio = std::numeric_limits<double>::quiet_NaN();
   bool in_decay_floor = false;
-  /// When the curve's first step flags measurement noise (kNoiseJump), or a map's closest pairs do
-  /// (kMapNoiseStretchSlope, from their distance one step on): an upper estimate of its
-  /// standard deviation, white noise assumed, in units of the signal's standard deviation; when the
+  /// When the curve's first step flags measurement noise (kNoiseJump): an upper estimate of its
+  /// standard deviation, white noise assumed, in units of the signal's standard deviation; when a
+  /// map's closest pairs flag it (kMapNoiseStretchSlope): the same reading of their distance one
+  /// step on, within a factor 2 (0.6-1.2 x the noise added in bench/map_bands noise); when the
   /// curve is noise-compensated, the noise measured from the increments (RMS over the channels);
   /// NaN when neither.
   double noise_level = std::numeric_limits<double>::quiet_NaN();
