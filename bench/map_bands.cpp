@@ -115,11 +115,7 @@ void noise_study() {
                                 : mlce::reference::henon_x(n, 0.1 * k, 0.1);
         const double own = map == 0 ? mlce::reference::logistic_own_exponent(x)
                                     : mlce::reference::henon_own_exponent(n, 0.1 * k, 0.1);
-        double mean = 0, square = 0;
-        for (const double v : x) mean += v;
-        mean /= static_cast<double>(n);
-        for (const double v : x) square += (v - mean) * (v - mean);
-        const double deviation = std::sqrt(square / static_cast<double>(n));
+        const double deviation = mlce::rms_deviations(mlce::make_series_with_step({x}, 1.0)).front();
         const auto noisy = noise > 0 ? mlce::reference::with_white_noise(x, noise * deviation, static_cast<std::uint64_t>(k)) : x;
         const auto series = mlce::make_series_with_step({noisy}, 1.0);
         const auto r = mlce::estimate_mlce(series, {});
@@ -158,10 +154,7 @@ void noise_study() {
         for (int i = 0; i < 1000; ++i) map.step(x, y);
         std::vector<double> v(n);
         for (double& value : v) value = map.step(x, y);
-        double mean = 0, square = 0;
-        for (const double value : v) mean += value / static_cast<double>(n);
-        for (const double value : v) square += (value - mean) * (value - mean);
-        const double deviation = std::sqrt(square / static_cast<double>(n));
+        const double deviation = mlce::rms_deviations(mlce::make_series_with_step({v}, 1.0)).front();
         if (noise > 0) v = mlce::reference::with_white_noise(v, noise * deviation, static_cast<std::uint64_t>(k));
         const auto series = mlce::make_series_with_step({v}, 1.0);
         const auto r = mlce::estimate_mlce(series, {});

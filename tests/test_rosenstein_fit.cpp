@@ -913,10 +913,7 @@ TEST(Rosenstein, ClosestPairsOfAMapStretchByItsDerivativeAndNoisyOnesAsTheInvers
   }
   EXPECT_NEAR(s.closest_half_slope, 0.0, 0.02);
 
-  double mean = 0.0, square = 0.0;
-  for (const double v : x) mean += v / static_cast<double>(x.size());
-  for (const double v : x) square += (v - mean) * (v - mean) / static_cast<double>(x.size());
-  const Series noisy = make_series_with_step({reference::with_white_noise(x, 0.01 * std::sqrt(square), 3)}, 1.0);
+  const Series noisy = make_series_with_step({reference::with_white_noise(x, 0.01 * rms_deviations(clean).front(), 3)}, 1.0);
   o.dim = 3;
   const StretchByDistance n = stretch_by_distance(noisy, o, find_pairs(noisy, o));
   std::printf("tent 1.99: closest-half slope %.3f clean, %.3f with 1 %% noise (m = 3)\n", s.closest_half_slope,
