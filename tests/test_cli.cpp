@@ -413,6 +413,39 @@ TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
   EXPECT_NE(r.out.find("\n# dim = 2\n"), std::string::npos) << r.out;
 }
 
+TEST_F(Cli, FnnByCaosMethodPrintsE1AndE2AsJsonCsvAndPlot) {
+  const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
+  const auto csv = dir / "cao.csv", png = dir / "cao.png";
+  CliRun r = run("fnn " + f + " --column 2 --time-column 1 --method cao --max-dim 5 --json --csv " + csv.string() +
+                 " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["e"].size(), 5u);
+  ASSERT_EQ(j["e1"].size(), 4u);
+  EXPECT_EQ(j["delay"], 1);
+  EXPECT_FALSE(j["looks_stochastic"].get<bool>());  // Henon is deterministic
+  EXPECT_GE(j["dim"].get<int>(), 2);                // its attractor needs two dimensions
+  std::istringstream rows(slurp(csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "d,E,E1,E2,pairs");
+  for (std::size_t d = 1; d <= 4; ++d) {
+    ASSERT_TRUE(std::getline(rows, line)) << d;
+    EXPECT_EQ(std::stoul(line), d);
+    const auto e1_field = line.substr(line.find(',', line.find(',') + 1) + 1);
+    EXPECT_NEAR(std::stod(e1_field), j["e1"][d - 1].get<double>(), 1e-9);
+  }
+  EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
+  r = run("fnn " + f + " --column 2 --time-column 1 --method cao --max-dim 5");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("# d E E1 E2 pairs\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("deterministic"), std::string::npos) << r.out;
+  r = run("fnn " + f + " --column 2 --time-column 1 --method cau");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--method 'cau': expected kennel or cao"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {
   // A sine of period 100 samples: every pair one period apart coincides (the contours fall to 0
   // there); the embedding is the estimator's (AMI delay, FNN dimension) unless given.

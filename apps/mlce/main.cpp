@@ -49,7 +49,7 @@ const char* kUsage =
     "  estimate FILE   maximum Lyapunov exponent (Rosenstein), every parameter automatic;\n"
     "                  of several runs (FILE FILE ...) as a table, against --param NAME=values\n"
     "  ami FILE        average mutual information curve and the chosen delay\n"
-    "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension\n"
+    "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension (--method cao: Cao's E1, E2)\n"
     "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
     "  convergence FILE  MLCE of the run's leading parts: has the estimate settled, is the run long enough?\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
@@ -319,53 +319,78 @@ int cmd_ami(const std::vector<std::string>& args) {
 int cmd_fnn(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   FnnOptions o;
-  std::string delay = "auto", theiler = "auto", csv_path, plot_path;
+  CaoOptions cao;
+  std::string delay = "auto", theiler = "auto", method = "kennel", csv_path, plot_path;
   bool json = false;
   po::options_description d("mlce fnn FILE [options]");
   d.add(series_options(in));
   d.add_options()
+      ("method", po::value(&method), "kennel (false fractions, the estimator's rule) or cao (Cao's E1, E2: a second "
+                                     "estimate of m and a test of determinism)")
       ("delay", po::value(&delay), "delay in samples, or auto (first AMI minimum)")
       ("theiler", po::value(&theiler), "Theiler window, or auto (mean period)")
       ("max-dim", po::value(&o.max_dim), "largest dimension tested")
       ("rtol", po::value(&o.rtol), "Kennel R_tol")
       ("atol", po::value(&o.atol), "Kennel A_tol")
-      ("threshold", po::value(&o.threshold), "false fraction that accepts m")
-      ("csv", po::value(&csv_path), "write the fractions as CSV (m, false_fraction, tested, tree_points)")
-      ("plot", po::value(&plot_path), "write the fractions, the threshold and the chosen m as PNG (gnuplot)")
+      ("threshold", po::value(&o.threshold), "false fraction that accepts m (kennel)")
+      ("saturation", po::value(&cao.saturation), "E1 within this of 1 accepts d (cao)")
+      ("stochastic-tolerance", po::value(&cao.stochastic_tolerance), "every E2 within this of 1: looks stochastic (cao)")
+      ("csv", po::value(&csv_path), "write the fractions as CSV (m, false_fraction, tested, tree_points; "
+                                    "cao: d, E, E1, E2, pairs)")
+      ("plot", po::value(&plot_path), "write the fractions (cao: E1, E2), the threshold and the chosen m as PNG (gnuplot)")
       ("json", po::bool_switch(&json), "print one JSON object");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
+  if (method != "kennel" && method != "cao") throw po::error("--method '" + method + "': expected kennel or cao");
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");
   std::size_t J = 0;
-  const FnnResult r = cli::on_file(in, [&] {
+  // The delay and Theiler window as the estimator chooses them; the dimension is what this command shows.
+  const auto embedding_before_dimension = [&] {
     const MeanPeriodResult mean_period = estimate_mean_period(loaded.series, {});
-    o.theiler = given_theiler ? *given_theiler : mean_period.mean_period;
-    MlceOptions delay_only;  // the estimator's delay rule; the dimension is what this command shows
+    o.theiler = cao.theiler = given_theiler ? *given_theiler : mean_period.mean_period;
+    MlceOptions delay_only;
     delay_only.delay = given_delay, delay_only.dim = 1;
     J = choose_embedding(loaded.series, delay_only, mean_period).delay;
+  };
+  // One way out for either method: CSV, the plotted curves with the chosen m, JSON or text.
+  const auto write = [&](const auto& r, const std::string& csv, const std::string& plotted, const std::string& title,
+                         const char* ylabel) {
+    if (!csv_path.empty()) cli::write_file_atomically(csv_path, csv);
+    if (!plot_path.empty())
+      cli::plot_columns_png(plotted, fmt::format("{} (delay {}, Theiler window {}): {}", title, J, o.theiler, in.file),
+                            "embedding dimension m", ylabel, plot_path,
+                            {{static_cast<double>(r.dim), fmt::format("m = {}", r.dim)}});
+    if (json) {
+      auto j = cli::to_json(r);
+      j["delay"] = J;
+      j["theiler"] = o.theiler;
+      std::cout << j.dump() << "\n";
+    } else {
+      std::cout << fmt::format("# delay {} samples, Theiler window {} samples\n", J, o.theiler) << cli::to_text(r);
+    }
+    print_warnings(loaded.warnings);
+    return 0;
+  };
+  if (method == "cao") {
+    cao.max_dim = o.max_dim;
+    const CaoResult r = cli::on_file(in, [&] {
+      embedding_before_dimension();
+      return estimate_dimension_cao(loaded.series, J, cao);
+    });
+    std::string plotted = "d,E1,E2\n";
+    for (std::size_t k = 0; k < r.e1.size(); ++k) plotted += fmt::format("{},{:.10g},{:.10g}\n", k + 1, r.e1[k], r.e2[k]);
+    return write(r, cli::cao_csv(r), plotted, "Cao's E1 and E2", "E1, E2");
+  }
+  const FnnResult r = cli::on_file(in, [&] {
+    embedding_before_dimension();
     return estimate_dimension_fnn(loaded.series, J, o);
   });
-  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::fnn_csv(r));
-  if (!plot_path.empty()) {
-    std::string data = "m,false fraction,threshold\n";
-    for (std::size_t m = 0; m < r.fraction.size(); ++m) data += fmt::format("{},{:.10g},{:g}\n", m + 1, r.fraction[m], o.threshold);
-    cli::plot_columns_png(data, fmt::format("false nearest neighbours (delay {}, Theiler window {}): {}", J, o.theiler, in.file),
-                          "embedding dimension m", "false fraction", plot_path,
-                          {{static_cast<double>(r.dim), fmt::format("m = {}", r.dim)}});
-  }
-  if (json) {
-    auto j = cli::to_json(r);
-    j["delay"] = J;
-    j["theiler"] = o.theiler;
-    std::cout << j.dump() << "\n";
-  } else {
-    std::cout << fmt::format("# delay {} samples, Theiler window {} samples\n", J, o.theiler) << cli::to_text(r);
-  }
-  print_warnings(loaded.warnings);
-  return 0;
+  std::string plotted = "m,false fraction,threshold\n";
+  for (std::size_t m = 0; m < r.fraction.size(); ++m) plotted += fmt::format("{},{:.10g},{:g}\n", m + 1, r.fraction[m], o.threshold);
+  return write(r, cli::fnn_csv(r), plotted, "false nearest neighbours", "false fraction");
 }
 
 /// "0.01,0.1,0.5" -> fractions (validated by SpaceTimeOptions).

@@ -37,6 +37,17 @@ nlohmann::json to_json(const FnnResult& r) {
           {"warnings", r.warnings}};
 }
 
+nlohmann::json to_json(const CaoResult& r) {
+  return {{"dim", r.dim},
+          {"e", r.e},
+          {"e1", r.e1},
+          {"e2", r.e2},
+          {"pairs", r.queries},
+          {"saturated", r.saturated},
+          {"looks_stochastic", r.looks_stochastic},
+          {"warnings", r.warnings}};
+}
+
 nlohmann::json to_json(const MlceResult& r) {
   nlohmann::json j;
   j["lambda"] = finite_or_null(r.lambda);
@@ -200,6 +211,17 @@ std::string to_text(const FnnResult& r) {
   return s;
 }
 
+std::string to_text(const CaoResult& r) {
+  std::string s = "# Cao's averaged false neighbours (Euclidean norm)\n# d E E1 E2 pairs\n";
+  for (std::size_t d = 0; d < r.e.size(); ++d)
+    s += d < r.e1.size() ? fmt::format("{} {:.6f} {:.6f} {:.6f} {}\n", d + 1, r.e[d], r.e1[d], r.e2[d], r.queries[d])
+                         : fmt::format("{} {:.6f} - - {}\n", d + 1, r.e[d], r.queries[d]);
+  s += fmt::format("# dim = {}{}\n", r.dim, r.saturated ? " (first d with E1 saturated)" : " (E1 never saturated)");
+  s += r.looks_stochastic ? "# E2 = 1 at every d: looks stochastic\n" : "# E2 away from 1 at some d: deterministic\n";
+  for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
+  return s;
+}
+
 std::string ami_csv(const AmiResult& r) {
   std::string s = "tau,ami,smoothed\n";
   for (std::size_t t = 0; t < r.ami.size(); ++t) s += fmt::format("{},{:.10g},{:.10g}\n", t, r.ami[t], r.smoothed[t]);
@@ -210,6 +232,14 @@ std::string fnn_csv(const FnnResult& r) {
   std::string s = "m,false_fraction,tested,tree_points\n";
   for (std::size_t m = 0; m < r.fraction.size(); ++m)
     s += fmt::format("{},{:.10g},{},{}\n", m + 1, r.fraction[m], r.queries[m], r.points[m]);
+  return s;
+}
+
+std::string cao_csv(const CaoResult& r) {
+  std::string s = "d,E,E1,E2,pairs\n";
+  for (std::size_t d = 0; d < r.e.size(); ++d)
+    s += d < r.e1.size() ? fmt::format("{},{:.10g},{:.10g},{:.10g},{}\n", d + 1, r.e[d], r.e1[d], r.e2[d], r.queries[d])
+                         : fmt::format("{},{:.10g},,,{}\n", d + 1, r.e[d], r.queries[d]);
   return s;
 }
 

@@ -19,9 +19,12 @@ nlohmann::json to_json(const MlceResult& r);
 nlohmann::json reading_json(const MlceResult& r);
 nlohmann::json to_json(const AmiResult& r);
 nlohmann::json to_json(const FnnResult& r);
+/// Cao's E, E1, E2 (mlce fnn --method cao --json).
+nlohmann::json to_json(const CaoResult& r);
 std::string to_text(const MlceResult& r);
 std::string to_text(const AmiResult& r);
 std::string to_text(const FnnResult& r);
+std::string to_text(const CaoResult& r);
 /// The divergence curve as a table: step,time,mean_log_distance,terms,in_fit,fit_line, then
 /// plain_mean_log_distance when the curve is phase-aligned, then local_slope (per time unit over
 /// one mean period; empty where no centred window fits). The layout is decided here once, for the
@@ -39,6 +42,8 @@ std::string curve_csv(const MlceResult& r);
 std::string ami_csv(const AmiResult& r);
 /// "m,false_fraction,tested,tree_points" (mlce fnn --csv).
 std::string fnn_csv(const FnnResult& r);
+/// "d,E,E1,E2,pairs" (mlce fnn --method cao --csv; E1, E2 empty at the last d).
+std::string cao_csv(const CaoResult& r);
 /// Space-time separation plot; `dt` and `time_unit` convert separations to time.
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
 std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);
