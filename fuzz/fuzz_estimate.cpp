@@ -4,7 +4,8 @@
 // amplitudes from subnormal to near DBL_MAX, an offset far above the motion, a window of another
 // record, every parameter automatic or set small by hand. The contract: either InputError /
 // OptionError (one message, no result), or a result whose lambda, per-sample lambda and 95 %
-// interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing.
+// interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing;
+// Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error.
 //
 // Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
 // byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "mlce/estimate.hpp"
+#include "mlce/fnn.hpp"
 #include "mlce/reading.hpp"
 #include "mlce/series.hpp"
 
@@ -31,6 +33,19 @@ namespace {
 }
 
 bool number(double x) { return !std::isnan(x); }
+
+/// Cao's E, E1, E2 (mlce fnn --method cao) on the same series: numbers, or one clear error.
+void check_cao(const mlce::Series& series, std::size_t delay, std::size_t theiler) {
+  mlce::CaoOptions c;
+  c.max_dim = 4, c.theiler = theiler, c.max_queries = 500;
+  try {
+    const auto r = mlce::estimate_dimension_cao(series, delay, c);
+    for (const auto* v : {&r.e, &r.e1, &r.e2})
+      if (std::any_of(v->begin(), v->end(), [](double x) { return !number(x); })) broken("Cao's E, E1 or E2 is NaN");
+  } catch (const mlce::InputError&) {
+  } catch (const mlce::OptionError&) {
+  }
+}
 
 }  // namespace
 
@@ -61,6 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.max_references = 500;  // the fuzzer's time goes to many inputs, not to one long curve
   try {
     const auto series = mlce::make_series_with_step(std::move(samples), dt);
+    check_cao(series, o.delay.value_or(1), o.theiler.value_or(0));
     const auto r = mlce::estimate_mlce(series, o);
     if (!number(r.lambda) || !number(r.lambda_per_sample)) broken("lambda is NaN");
     if (!number(r.ci95_low) || !number(r.ci95_high)) broken("the 95 % interval is NaN");
