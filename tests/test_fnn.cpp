@@ -4,6 +4,8 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "mlce/fnn.hpp"
@@ -218,4 +220,22 @@ TEST(Cao, TooShortOrBadOptionsAreClearErrors) {
   o.saturation = 0.0;
   EXPECT_THROW(o.validate(), OptionError);
   EXPECT_THROW((void)estimate_dimension_cao(make_series_with_step({x}, 1.0), 0, {}), OptionError);
+}
+
+TEST(Cao, ProgressIsReportedOncePerDimensionForBothMethods) {
+  // mlce fnn prints these stages on long series (10^6 samples take seconds over m = 1..10).
+  const auto series = make_series_with_step({reference::henon_x(2000)}, 1.0);
+  std::vector<std::pair<std::string, double>> seen;
+  const auto record = [&](std::string_view stage, double fraction) { seen.emplace_back(stage, fraction); };
+  CaoOptions c;
+  c.max_dim = 4, c.progress = record;
+  (void)estimate_dimension_cao(series, 1, c);
+  FnnOptions f;
+  f.max_dim = 3, f.progress = record;
+  (void)estimate_dimension_fnn(series, 1, f);
+  ASSERT_EQ(seen.size(), 7u);
+  EXPECT_EQ(seen[0].first, "Cao's E, d = 1 of 4");
+  EXPECT_DOUBLE_EQ(seen[3].second, 1.0);
+  EXPECT_EQ(seen[6].first, "false nearest neighbours, m = 3 of 3");
+  for (std::size_t k = 1; k < 4; ++k) EXPECT_GT(seen[k].second, seen[k - 1].second);
 }

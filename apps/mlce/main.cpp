@@ -322,6 +322,7 @@ int cmd_fnn(const std::vector<std::string>& args) {
   CaoOptions cao;
   std::string delay = "auto", theiler = "auto", method = "kennel", csv_path, plot_path;
   bool json = false;
+  bool quiet = false;
   po::options_description d("mlce fnn FILE [options]");
   d.add(series_options(in));
   d.add_options()
@@ -335,6 +336,7 @@ int cmd_fnn(const std::vector<std::string>& args) {
       ("threshold", po::value(&o.threshold), "false fraction that accepts m (kennel)")
       ("saturation", po::value(&cao.saturation), "E1 within this of 1 accepts d (cao)")
       ("stochastic-tolerance", po::value(&cao.stochastic_tolerance), "every E2 within this of 1: looks stochastic (cao)")
+      ("quiet", po::bool_switch(&quiet), "no progress messages")
       ("csv", po::value(&csv_path), "write the fractions as CSV (m, false_fraction, tested, tree_points; "
                                     "cao: d, E, E1, E2, pairs)")
       ("plot", po::value(&plot_path), "write the fractions (cao: E1, E2), the threshold and the chosen m as PNG (gnuplot)")
@@ -343,6 +345,7 @@ int cmd_fnn(const std::vector<std::string>& args) {
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
   if (method != "kennel" && method != "cao") throw po::error("--method '" + method + "': expected kennel or cao");
+  o.progress = cao.progress = progress_printer(quiet);
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
   const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");

@@ -133,6 +133,9 @@ FnnResult estimate_dimension_fnn(const Series& series, std::size_t delay, const 
     r.points.push_back(pairs->points);
     r.capped = r.capped || pairs->capped;
     r.fraction.push_back(tested ? static_cast<double>(false_count) / static_cast<double>(tested) : 1.0);
+    if (options.progress)
+      options.progress(fmt::format("false nearest neighbours, m = {} of {}", m, options.max_dim),
+                       static_cast<double>(m) / static_cast<double>(options.max_dim));
     if (options.stop_at_choice && r.fraction.back() < options.threshold) break;
   }
   if (r.fraction.empty())
@@ -186,6 +189,9 @@ CaoResult estimate_dimension_cao(const Series& series, std::size_t delay, const 
                                    "coordinate's difference for their ratio (a(i, d) overflows)", d));
     r.queries.push_back(pairs->distance.size());
     r.zero_distance_pairs += pairs->repeats;
+    if (options.progress)
+      options.progress(fmt::format("Cao's E, d = {} of {}", d, options.max_dim),
+                       static_cast<double>(d) / static_cast<double>(options.max_dim));
   }
   if (r.e.size() < 2)
     throw InputError("series too short for Cao's method: " + std::to_string(s.size()) + " samples, but delay " +

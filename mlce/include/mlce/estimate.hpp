@@ -13,13 +13,11 @@
 #include "mlce/fit.hpp"
 #include "mlce/fnn.hpp"
 #include "mlce/mean_period.hpp"
+#include "mlce/progress.hpp"
 #include "mlce/recurrence.hpp"
 #include "mlce/rosenstein.hpp"
 
 namespace mlce {
-
-/// Called with the stage name and the fraction of the stage done.
-using ProgressCallback = std::function<void(std::string_view stage, double fraction)>;
 
 /// Whether neighbours are moved along their own trajectories to the reference's phase
 /// (RosensteinOptions::align_phase). automatic: for sampled flows (not MeanPeriodResult::map: a mean
