@@ -5,7 +5,8 @@
 // record, every parameter automatic or set small by hand. The contract: either InputError /
 // OptionError (one message, no result), or a result whose lambda, per-sample lambda and 95 %
 // interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing;
-// Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error.
+// Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error, and so
+// Kantz's curves with the estimate's parameters (mlce kantz).
 //
 // Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
 // byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
@@ -21,6 +22,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/fnn.hpp"
+#include "mlce/kantz.hpp"
 #include "mlce/reading.hpp"
 #include "mlce/series.hpp"
 
@@ -44,6 +46,22 @@ void check_cao(const mlce::Series& series, std::size_t delay, std::size_t theile
       if (std::any_of(v->begin(), v->end(), [](double x) { return !number(x); })) broken("Cao's E, E1 or E2 is NaN");
   } catch (const mlce::InputError&) {
   } catch (const mlce::OptionError&) {
+  }
+}
+
+/// Kantz's curves (mlce kantz) with the estimate's parameters: numbers, or one clear error.
+void check_kantz(const mlce::Series& series, const mlce::MlceResult& estimate) {
+  mlce::KantzOptions k;
+  k.max_references = 200, k.max_neighbours = 16;
+  try {
+    const auto r = mlce::estimate_kantz(series, estimate, k);
+    if (!number(r.lambda) || !number(r.lambda_low) || !number(r.lambda_high)) broken("Kantz's lambda is NaN");
+    for (const auto& radius : r.radii) {
+      if (!number(radius.ci95_low) || !number(radius.ci95_high)) broken("a Kantz interval is NaN");
+      for (const double y : radius.kantz.curve.mean_log_distance)
+        if (!number(y)) broken("a Kantz curve holds a NaN");
+    }
+  } catch (const mlce::InputError&) {
   }
 }
 
@@ -83,6 +101,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const double y : r.curve.mean_log_distance)
       if (!number(y)) broken("the divergence curve holds a NaN");
     (void)mlce::read_stability(r);
+    check_kantz(series, r);
   } catch (const mlce::InputError&) {
   } catch (const mlce::OptionError&) {
   }

@@ -446,6 +446,47 @@ TEST_F(Cli, FnnByCaosMethodPrintsE1AndE2AsJsonCsvAndPlot) {
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+TEST_F(Cli, KantzPrintsEachRadiusBesideRosensteinAsJsonCsvAndPlot) {
+  // Henon x: every radius' curve grows at 0.4189 per iteration (within 4 %), as Rosenstein's does.
+  const auto f = series_file(mlce::reference::henon_x(5000), 1.0);
+  const auto csv = dir / "kantz.csv", png = dir / "kantz.png";
+  CliRun r = run("kantz " + f + " --column 2 --json --radii 0.005,0.01,0.02 --csv " + csv.string() + " --plot " +
+                 png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["method"], "kantz");
+  EXPECT_EQ(j["lambda_unit"], "1/sample");
+  ASSERT_EQ(j["radii"].size(), 3u);
+  for (const auto& k : j["radii"]) EXPECT_NEAR(k["lambda"].get<double>() / 0.4189, 1.0, 0.04) << k.dump();
+  EXPECT_EQ(j["radii"][1]["radius"].get<double>(), 0.01);
+  EXPECT_TRUE(j["agrees"].get<bool>());
+  EXPECT_EQ(j["reported_curve"], "plain");  // a map: no phase alignment
+  EXPECT_NEAR(j["rosenstein_lambda"].get<double>() / 0.4189, 1.0, 0.03);
+  std::istringstream rows(slurp(csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "step,time,S_radius_0.005,S_radius_0.01,S_radius_0.02");
+  std::size_t steps = 0;
+  while (std::getline(rows, line)) ++steps;
+  EXPECT_EQ(steps, j["horizon"].get<std::size_t>() + 1);
+  EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
+  r = run("kantz " + f + " --column 2");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("lambda (Kantz)  "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("agree           yes"), std::string::npos) << r.out;
+  for (const std::string bad : {"0.02,0.01", "0.01,-1", "0.01,x"}) {
+    r = run("kantz " + f + " --column 2 --radii " + bad);
+    EXPECT_EQ(r.status, 2) << bad;
+    EXPECT_NE(r.err.find("--radii '" + bad + "': expected 'auto' or increasing comma-separated radii > 0"),
+              std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+  r = run("kantz " + f + " --column 2 --radii 1e-9 --csv " + csv.string() + ".new");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("no radius up to 1e-09 gives any reference point a neighbourhood"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(csv.string() + ".new"));  // no partial output
+}
+
 TEST_F(Cli, SpaceTimeSeparationPlotInEveryForm) {
   // A sine of period 100 samples: every pair one period apart coincides (the contours fall to 0
   // there); the embedding is the estimator's (AMI delay, FNN dimension) unless given.

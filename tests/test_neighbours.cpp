@@ -264,3 +264,41 @@ TEST(Neighbours, DistancesToARangeMatchBruteForce) {
   EXPECT_THROW(RangeIndex(emb, M - 10, 11), OptionError);
   EXPECT_THROW(RangeIndex(emb, 0, 0), OptionError);
 }
+
+TEST(Neighbours, BallSearchMatchesBruteForceWithTheilerWindowLimitAndRepeats) {
+  // Kantz's neighbourhoods (NeighbourIndex::within) against every pair checked by hand: Lorenz x
+  // embedded in m = 3, with a periodic stretch copied in so that some points repeat exactly; one
+  // tree and two halves, a limit below the embedding's size.
+  std::vector<double> x = reference::lorenz_x(3000, 0.01);
+  std::copy(x.begin() + 100, x.begin() + 300, x.begin() + 2000);  // exact repeats of 200 samples
+  const std::size_t dim = 3, delay = 12, theiler = 40;
+  const std::size_t M = DelayEmbedding::max_points(x.size(), dim, delay), limit = M - 50;
+  const DelayEmbedding emb({std::span<const double>(x)}, dim, delay, M);
+  NeighbourOptions o;
+  o.theiler = theiler;
+  std::size_t compared = 0, repeats_seen = 0;
+  for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
+    o.split_tree_points = split;
+    const NeighbourIndex index(emb, o);
+    std::vector<std::uint32_t> fast;
+    for (std::size_t q = 0; q < limit; q += 37) {
+      for (const double radius : {0.5, 2.0, 6.0}) {
+        const std::size_t repeats = index.within(static_cast<std::uint32_t>(q), radius, limit, fast);
+        std::vector<std::uint32_t> slow;
+        std::size_t zeros = 0;
+        for (std::size_t j = 0; j < limit; ++j) {
+          if ((j > q ? j - q : q - j) <= theiler) continue;
+          const double d2 = emb.squared_distance(q, j);
+          if (d2 == 0.0) ++zeros;
+          else if (d2 < radius * radius) slow.push_back(static_cast<std::uint32_t>(j));
+        }
+        EXPECT_EQ(fast, slow) << "query " << q << ", radius " << radius << ", split " << split;
+        EXPECT_EQ(repeats, zeros) << "query " << q << ", radius " << radius;
+        compared += slow.size();
+        repeats_seen += zeros;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10000u);  // the balls are not empty
+  EXPECT_GT(repeats_seen, 0u);  // and the copied stretch was met
+}

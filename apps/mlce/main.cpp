@@ -19,6 +19,7 @@
 
 #include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
+#include "mlce/kantz.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
 #include "mlce/models/scene.hpp"
@@ -50,6 +51,7 @@ const char* kUsage =
     "                  of several runs (FILE FILE ...) as a table, against --param NAME=values\n"
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension (--method cao: Cao's E1, E2)\n"
+    "  kantz FILE      Kantz's divergence curves over several radii: a second estimate beside Rosenstein's\n"
     "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
     "  convergence FILE  MLCE of the run's leading parts: has the estimate settled, is the run long enough?\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
@@ -396,19 +398,32 @@ int cmd_fnn(const std::vector<std::string>& args) {
   return write(r, cli::fnn_csv(r), plotted, "false nearest neighbours", "false fraction");
 }
 
-/// "0.01,0.1,0.5" -> fractions (validated by SpaceTimeOptions).
-std::vector<double> fraction_list(const std::string& text) {
+/// "a,b,c" -> the numbers, each accepted by `valid` (given the numbers before it), else one usage error
+/// naming --`option` and what it expects.
+template <class Valid>
+std::vector<double> number_list(const std::string& text, const char* option, const char* expected, Valid valid) {
   std::vector<double> v;
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const auto value = cli::parse_finite(text.substr(start, comma - start));
-    if (!value || !(*value > 0.0 && *value < 1.0))
-      throw po::error("--fractions '" + text + "': expected comma-separated fractions in (0, 1)");
+    if (!value || !valid(*value, v)) throw po::error(fmt::format("--{} '{}': expected {}", option, text, expected));
     v.push_back(*value);
     start = comma + 1;
   }
   return v;
+}
+
+/// "0.01,0.1,0.5" -> fractions (validated by SpaceTimeOptions).
+std::vector<double> fraction_list(const std::string& text) {
+  return number_list(text, "fractions", "comma-separated fractions in (0, 1)",
+                     [](double f, const std::vector<double>&) { return f > 0.0 && f < 1.0; });
+}
+
+/// "0.01,0.02,0.05" -> increasing radii (validated by KantzOptions).
+std::vector<double> radius_list(const std::string& text) {
+  return number_list(text, "radii", "'auto' or increasing comma-separated radii > 0",
+                     [](double r, const std::vector<double>& before) { return r > 0.0 && (before.empty() || r > before.back()); });
 }
 
 int cmd_stsp(const std::vector<std::string>& args) {
@@ -471,6 +486,69 @@ int cmd_stsp(const std::vector<std::string>& args) {
     std::cout << cli::to_text(r, dt, unit);
   }
   print_warnings(loaded.warnings);
+  return 0;
+}
+
+int cmd_kantz(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  KantzOptions ko;
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", radii = "auto", csv_path, plot_path;
+  bool json = false, quiet = false, keep_start = false;
+  po::options_description d("mlce kantz FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("delay", po::value(&delay), "delay in samples, or auto (as estimate)")
+      ("dim", po::value(&dim), "embedding dimension, or auto (as estimate)")
+      ("theiler", po::value(&theiler), "Theiler window in samples, or auto (as estimate)")
+      ("horizon", po::value(&horizon), "curve length in samples, or auto (the estimate's adaptive horizon)")
+      ("radii", po::value(&radii), "neighbourhood radii, comma-separated and increasing, in standard deviations of the "
+                                   "channels (Euclidean distance of delay vectors), or auto: 4 radii doubling from the "
+                                   "median nearest-neighbour distance")
+      ("refs", po::value(&ko.max_references), "reference points, evenly strided (0 = all; default 4000)")
+      ("neighbours", po::value(&ko.max_neighbours), "neighbours averaged per reference at most, evenly strided in time "
+                                                    "(0 = all; default 64)")
+      ("keep-start", po::bool_switch(&keep_start), "analyse from the first sample even when the start does not recur (as estimate)")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("csv", po::value(&csv_path), "write the curves S(radius, step) as CSV")
+      ("plot", po::value(&plot_path), "write the curves, with the median radius' fit region, as PNG (gnuplot)")
+      ("quiet", po::bool_switch(&quiet), "no progress messages");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  finish_series_options(vm, in);
+  MlceOptions o;
+  o.delay = auto_or_count(delay, "delay");
+  o.dim = auto_or_count(dim, "dim");
+  o.theiler = auto_or_count(theiler, "theiler");
+  o.horizon = auto_or_count(horizon, "horizon");
+  if (radii != "auto") ko.radii = radius_list(radii);
+  o.progress = ko.progress = progress_printer(quiet);
+  o.skip_nonrecurrent_start = !keep_start && in.start_is_automatic();
+  const cli::LoadedSeries loaded = cli::load_series(in);
+  o.record_deviation = loaded.record_deviation;
+  // The estimate chooses the embedding, the Theiler window and the horizon, and its fit options read
+  // the series (its period, its own decay); Kantz's curves are fitted alike and set beside it.
+  KantzResult r = cli::on_file(in, [&] { return estimate_kantz(loaded.series, estimate_mlce(loaded.series, o), ko); });
+  r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  const std::string csv = cli::kantz_csv(r);
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, csv);
+  if (!plot_path.empty()) {
+    const KantzRadius& middle = r.radii[r.radii.size() / 2];
+    const std::string plotted = cli::kantz_csv(r, /*with_step=*/false);  // time against the curves
+    const std::string x_label = r.time_unit.empty() ? "step (samples)" : "time (" + r.time_unit + ")";
+    cli::plot_columns_png(plotted, "Kantz's curves S(radius, t): " + in.file, x_label, "S = <ln <distance>> (natural log)",
+                          plot_path,
+                          {{r.dt * static_cast<double>(middle.fit.first), "fit (median radius)"},
+                           {r.dt * static_cast<double>(middle.fit.last), ""}});
+  }
+  if (json) {
+    auto j = cli::to_json(r);
+    j["file"] = in.file;
+    j["from"] = loaded.series.time(r.first_sample);
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << input_lines(in, loaded) << cli::to_text(r);
+  }
   return 0;
 }
 
@@ -716,6 +794,7 @@ int run_command(const std::string& cmd, const std::vector<std::string>& args) {
     if (cmd == "estimate") return cmd_estimate(args);
     if (cmd == "ami") return cmd_ami(args);
     if (cmd == "fnn") return cmd_fnn(args);
+    if (cmd == "kantz") return cmd_kantz(args);
     if (cmd == "stsp") return cmd_stsp(args);
     if (cmd == "convergence") return cmd_convergence(args);
     if (cmd == "channels") return cmd_channels(args);

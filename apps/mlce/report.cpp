@@ -546,4 +546,78 @@ std::string each_channel_curves_csv(const EachChannelResult& r) {
   return s;
 }
 
+namespace {
+std::string rate_unit(const KantzResult& r) { return r.time_unit.empty() ? "1/sample" : "1/" + r.time_unit; }
+}  // namespace
+
+nlohmann::json to_json(const KantzResult& r) {
+  nlohmann::json j;
+  j["method"] = "kantz";
+  j["lambda"] = finite_or_null(r.lambda);
+  j["lambda_unit"] = rate_unit(r);
+  j["lambda_per_sample"] = finite_or_null(r.lambda_per_sample);
+  j["lambda_range"] = {finite_or_null(r.lambda_low), finite_or_null(r.lambda_high)};
+  j["log_base"] = "e";
+  j["rosenstein_lambda"] = finite_or_null(r.rosenstein_lambda);
+  j["reported_curve"] = r.reported_curve;
+  j["reported_lambda"] = finite_or_null(r.reported_lambda);
+  j["agrees"] = r.agrees;
+  j["neutral_band"] = finite_or_null(r.neutral_band);
+  j["delay"] = r.delay;
+  j["dim"] = r.dim;
+  j["theiler"] = r.theiler;
+  j["horizon"] = r.horizon;
+  j["nearest_distance"] = finite_or_null(r.nearest_distance);
+  j["n_points"] = r.n_points;
+  j["first_sample"] = r.first_sample;
+  j["dt"] = r.dt;
+  nlohmann::json radii = nlohmann::json::array();
+  for (const auto& k : r.radii)
+    radii.push_back({{"radius", k.kantz.radius},
+                     {"references", k.kantz.curve.pairs},
+                     {"mean_neighbours", k.kantz.mean_neighbours},
+                     {"thinned", k.kantz.thinned},
+                     {"lambda", finite_or_null(k.lambda)},
+                     {"ci95", {finite_or_null(k.ci95_low), finite_or_null(k.ci95_high)}},
+                     {"fit", {k.fit.first, k.fit.last}},
+                     {"fit_rule", k.fit.rule},
+                     {"curve_end", to_string(k.fit.end)}});
+  j["radii"] = std::move(radii);
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+std::string to_text(const KantzResult& r) {
+  const std::string unit = rate_unit(r);
+  std::string s = fmt::format(
+      "Kantz's curves   m = {}, delay {}, Theiler window {}, horizon {} samples; median nearest-neighbour distance {:.4g}\n"
+      "# radius refs neighbours fit lambda({}) ci95_low ci95_high end\n",
+      r.dim, r.delay, r.theiler, r.horizon, r.nearest_distance, unit);
+  for (const auto& k : r.radii)
+    s += fmt::format("{:.4g} {} {:.1f} {}..{} {:.6g} {:.6g} {:.6g} {}\n", k.kantz.radius, k.kantz.curve.pairs,
+                     k.kantz.mean_neighbours, k.fit.first, k.fit.last, k.lambda, k.ci95_low, k.ci95_high, to_string(k.fit.end));
+  s += fmt::format("lambda (Kantz)  {:.6g} {} (median over {} radii; {:.6g} .. {:.6g})\n", r.lambda, unit, r.radii.size(),
+                   r.lambda_low, r.lambda_high);
+  s += fmt::format("Rosenstein      {:.6g} {} (plain curve{})\n", r.rosenstein_lambda, unit,
+                   r.reported_curve != "plain"
+                       ? fmt::format("; the estimate reports {:.6g} from the {} curve", r.reported_lambda, r.reported_curve)
+                       : "");
+  s += fmt::format("agree           {}\n", r.agrees ? "yes" : "NO: Kantz's neighbourhoods and Rosenstein's nearest pairs read differently");
+  for (const auto& w : r.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+std::string kantz_csv(const KantzResult& r, bool with_step) {
+  std::string s = with_step ? "step,time" : "time";
+  for (const auto& k : r.radii) s += fmt::format(",S_radius_{:.4g}", k.kantz.radius);
+  s += "\n";
+  const std::size_t steps = r.radii.empty() ? 0 : r.radii.front().kantz.curve.mean_log_distance.size();
+  for (std::size_t i = 0; i < steps; ++i) {
+    s += with_step ? fmt::format("{},{:.10g}", i, r.dt * static_cast<double>(i)) : fmt::format("{:.10g}", r.dt * static_cast<double>(i));
+    for (const auto& k : r.radii) s += fmt::format(",{:.10g}", k.kantz.curve.mean_log_distance[i]);
+    s += "\n";
+  }
+  return s;
+}
+
 }  // namespace mlce::cli

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mlce/estimate.hpp"
+#include "mlce/kantz.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
 #include "mlce/each_channel.hpp"
@@ -44,6 +45,12 @@ std::string ami_csv(const AmiResult& r);
 std::string fnn_csv(const FnnResult& r);
 /// "d,E,E1,E2,pairs" (mlce fnn --method cao --csv; E1, E2 empty at the last d).
 std::string cao_csv(const CaoResult& r);
+/// Kantz's curves (mlce kantz): each radius' fit, the median, and the comparison with the estimate.
+nlohmann::json to_json(const KantzResult& r);
+std::string to_text(const KantzResult& r);
+/// "step,time,S_radius_<eps>...": S(eps, i) of every radius (natural log, the curves' units); without the
+/// step column for a plot against time.
+std::string kantz_csv(const KantzResult& r, bool with_step = true);
 /// Space-time separation plot; `dt` and `time_unit` convert separations to time.
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
 std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);

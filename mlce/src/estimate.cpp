@@ -835,6 +835,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   ro.max_references = options.max_references;
   ro.eps = options.eps;
   const FitOptions fo = fit_options_for(series, options, period, part.floor_cut, r);
+  r.fit_options = fo;
 
   const std::size_t M = DelayEmbedding::max_points(series.size(), r.dim, r.delay);
   NeighbourPairs pairs;  // of the last curve: the phase-aligned curve follows the same pairs

@@ -174,6 +174,42 @@ class TheilerNearestResultSet {
   std::uint32_t repeat_ = NeighbourResult::none;
 };
 
+/// nanoflann result set for every point within a radius outside the Theiler window (Kantz's
+/// neighbourhoods): the exclusion and the repeats are applied inside the search, as for the nearest
+/// neighbour. worstDist() is the squared radius, so the search prunes at the ball.
+class TheilerBallResultSet {
+ public:
+  using DistanceType = double;
+  using IndexType = std::uint32_t;
+
+  TheilerBallResultSet(std::size_t query, std::size_t theiler, std::size_t limit, double radius_squared,
+                       double repeat_squared, std::vector<std::uint32_t>& out)
+      : query_(query), theiler_(theiler), limit_(limit), radius_squared_(radius_squared),
+        repeat_squared_(repeat_squared), out_(&out) {}
+  void set_offset(std::size_t first) { offset_ = first; }
+  void init() {}
+  std::size_t size() const { return out_->size(); }
+  bool full() const { return true; }
+  bool addPoint(double squared_distance, std::uint32_t local_index) {
+    const std::size_t index = offset_ + local_index;
+    if (index >= limit_ || separation(index, query_) <= theiler_ || !(squared_distance < radius_squared_)) return true;
+    if (squared_distance <= repeat_squared_) {
+      ++repeats_;  // a repeat of the query (zero or within the resolution): not a neighbour
+      return true;
+    }
+    out_->push_back(static_cast<std::uint32_t>(index));
+    return true;
+  }
+  double worstDist() const { return radius_squared_; }
+  std::size_t repeats() const { return repeats_; }
+
+ private:
+  std::size_t query_, theiler_, limit_, offset_ = 0;
+  double radius_squared_, repeat_squared_;
+  std::vector<std::uint32_t>* out_;
+  std::size_t repeats_ = 0;
+};
+
 NeighbourResult make_result(std::size_t queries) {
   NeighbourResult r;
   r.neighbour.assign(queries, NeighbourResult::none);
@@ -318,6 +354,25 @@ NeighbourResult NeighbourIndex::nearest(const std::vector<std::uint32_t>& querie
     build_trees(*grouped_, *embedding_, grouped_->classes.first.size(), grouped_->classes.first.data(), options_);
   }
   return *search(*grouped_, *embedding_, options_, queries, limit, false);
+}
+
+std::size_t NeighbourIndex::within(std::uint32_t query, double radius, std::size_t limit,
+                                   std::vector<std::uint32_t>& out) const {
+  out.clear();
+  limit = std::min(limit, embedding_->size());
+  if (trees_->trees.empty() || !(radius > 0.0)) return 0;
+  const std::size_t D = embedding_->dimension();
+  std::vector<double> q(D);
+  embedding_->point(query, q.data());
+  TheilerBallResultSet set(query, options_.theiler, limit, radius * radius, repeat_squared(q.data(), D, options_), out);
+  const nanoflann::SearchParams params(32, static_cast<float>(options_.eps));
+  for (std::size_t p = 0; p < trees_->trees.size(); ++p) {
+    if (trees_->ranges[p].first_point() >= limit) break;
+    set.set_offset(trees_->ranges[p].first());
+    trees_->trees[p]->findNeighbors(set, q.data(), params);
+  }
+  std::sort(out.begin(), out.end());  // the trees' visiting order is theirs, not time's
+  return set.repeats();
 }
 
 NeighbourResult find_nearest_neighbours(const DelayEmbedding& embedding, const std::vector<std::uint32_t>& queries,

@@ -30,10 +30,6 @@ void RosensteinOptions::validate() const {
     if (!(v >= 0.0 && std::isfinite(v))) throw OptionError("rosenstein.noise_deviation: expected finite values >= 0");
 }
 
-namespace {
-
-/// Mean ln distance between unrelated embedded points: up to 20000 pseudo-random pairs more than
-/// `theiler` samples apart. NaN when no such pair has a positive distance.
 double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler) {
   const std::size_t M = points.size();
   if (M < theiler + 2) return std::numeric_limits<double>::quiet_NaN();
@@ -49,6 +45,8 @@ double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler)
   }
   return n ? sum.value() / static_cast<double>(n) : std::numeric_limits<double>::quiet_NaN();
 }
+
+namespace {
 
 /// Squared distance from embedded point j to the cubic through the embedded points around the
 /// continuous index u (floor(u) - 1 .. floor(u) + 2, all of them points of `points`).
@@ -292,6 +290,26 @@ double share_repeating_stretches(const Series& s, const NeighbourResult& nn, con
 }
 }  // namespace
 
+std::optional<std::size_t> mean_over_batches(const std::vector<std::vector<double>>& batch_sum,
+                                             const std::vector<std::vector<std::size_t>>& batch_terms,
+                                             DivergenceCurve& curve) {
+  const std::size_t B = batch_sum.size(), steps = B > 0 ? batch_sum.front().size() : 0;
+  curve.mean_log_distance.assign(steps, 0.0);
+  curve.terms.assign(steps, 0);
+  curve.batch_mean.assign(B, std::vector<double>(steps, std::nan("")));
+  for (std::size_t i = 0; i < steps; ++i) {
+    CompensatedSum total;
+    for (std::size_t b = 0; b < B; ++b) {
+      total.add(batch_sum[b][i]);
+      curve.terms[i] += batch_terms[b][i];
+      if (batch_terms[b][i] > 0) curve.batch_mean[b][i] = batch_sum[b][i] / static_cast<double>(batch_terms[b][i]);
+    }
+    if (curve.terms[i] == 0) return i;
+    curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
+  }
+  return std::nullopt;
+}
+
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs) {
   options.validate();
   validate_series(series);
@@ -435,21 +453,9 @@ DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& opti
   }
   curve.zero_distance_terms = zero_terms;
   curve.attractor_log_distance = attractor_log_distance(all, options.theiler);
-  curve.mean_log_distance.assign(H + 1, 0.0);
-  curve.terms.assign(H + 1, 0);
-  curve.batch_mean.assign(B, std::vector<double>(H + 1, std::nan("")));
-  for (std::size_t i = 0; i <= H; ++i) {
-    CompensatedSum total;
-    for (std::size_t b = 0; b < B; ++b) {
-      total.add(batch_sum[b][i]);
-      curve.terms[i] += batch_terms[b][i];
-      if (batch_terms[b][i] > 0) curve.batch_mean[b][i] = batch_sum[b][i] / static_cast<double>(batch_terms[b][i]);
-    }
-    if (curve.terms[i] == 0)
-      throw InputError("every neighbour pair is at zero distance " + std::to_string(i) +
-                       " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
-    curve.mean_log_distance[i] = total.value() / static_cast<double>(curve.terms[i]);
-  }
+  if (const auto empty = mean_over_batches(batch_sum, batch_terms, curve))
+    throw InputError("every neighbour pair is at zero distance " + std::to_string(*empty) +
+                     " steps ahead: the series repeats itself exactly (periodic or quantised); no divergence to measure");
   if (compensate) compensated_curve_from_sums(curve, batch_square, batch_noise, batch_pairs);
   if (nn.near_repeat_candidates > 0)
     curve.warnings.push_back(fmt::format(

@@ -164,6 +164,9 @@ struct MlceResult {
   DimensionWidening dim_widened_because = DimensionWidening::none;
   DivergenceCurve curve;  ///< the curve fitted (phase-aligned when curve.phase_aligned)
   FitResult fit;
+  /// The options the fit rule read the curve with (the fit period, the signal's own rates, whether a
+  /// floor was cut): a second curve of the same analysed samples (Kantz's, kantz.hpp) is fitted alike.
+  FitOptions fit_options;
   /// lambda of the plain curve when the reported one comes from the phase-aligned curve; NaN otherwise
   double unaligned_lambda = std::numeric_limits<double>::quiet_NaN();
   /// lambda of the plain curve (eq. 23) when the reported one comes from the noise-compensated

@@ -88,6 +88,13 @@ class NeighbourIndex {
   /// index regroup its points by equal delay vectors, once, and search one point per group.
   NeighbourResult nearest(const std::vector<std::uint32_t>& queries, std::size_t limit) const;
 
+  /// Every point among [0, limit) closer than `radius` (Euclidean, strictly) to point `query` and
+  /// more than the Theiler window from it, at a positive distance beyond the repeat resolution (a
+  /// repeat of the query would enter a neighbourhood's mean at zero), ascending by index, into `out`
+  /// (cleared first). Returns the repeats passed over. Kantz's neighbourhoods (kantz.hpp). Searches
+  /// the index's own trees, never the regrouped ones, so it may run from several threads at once.
+  std::size_t within(std::uint32_t query, double radius, std::size_t limit, std::vector<std::uint32_t>& out) const;
+
   static constexpr std::size_t kCrowdedRepeats = 64;
 
   struct Trees;  ///< kd-trees and the points they hold (neighbours.cpp)

@@ -128,6 +128,11 @@ struct NeighbourPairs {
 
 NeighbourPairs find_pairs(const Series& series, const RosensteinOptions& options);
 
+/// Mean ln distance between unrelated embedded points (DivergenceCurve::attractor_log_distance): up to
+/// 20000 deterministic pseudo-random pairs more than `theiler` samples apart. NaN when no such pair
+/// has a positive distance.
+double attractor_log_distance(const DelayEmbedding& points, std::size_t theiler);
+
 /// find_pairs for several horizons over one neighbour index: built for options.horizon, whose
 /// admissible points include those of every longer horizon (the adaptive horizon's doublings
 /// rebuilt the kd-trees at every pass). find(H) gives what find_pairs with horizon H gives.
@@ -161,6 +166,14 @@ struct NeighbourPhases {
 };
 
 NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
+
+/// A curve's mean_log_distance, terms and batch_mean from its batches of references: per batch and
+/// step the sum of the log distances and its count of terms. The curve at a step is the batches' sums
+/// added (compensated) over their terms, each batch's own mean NaN where it has no term. Returns the
+/// first step where no batch has a term (the curve is then incomplete), nullopt when none.
+std::optional<std::size_t> mean_over_batches(const std::vector<std::vector<double>>& batch_sum,
+                                             const std::vector<std::vector<std::size_t>>& batch_terms,
+                                             DivergenceCurve& curve);
 
 /// The curve of given pairs (e.g. the same pairs with and without align_phase, one search).
 DivergenceCurve follow_pairs(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
