@@ -460,7 +460,9 @@ TEST_F(Cli, KantzPrintsEachRadiusBesideRosensteinAsJsonCsvAndPlot) {
   for (const auto& k : j["radii"]) EXPECT_NEAR(k["lambda"].get<double>() / 0.4189, 1.0, 0.04) << k.dump();
   EXPECT_EQ(j["radii"][1]["radius"].get<double>(), 0.01);
   EXPECT_TRUE(j["agrees"].get<bool>());
-  EXPECT_EQ(j["reported_curve"], "plain");  // a map: no phase alignment
+  EXPECT_EQ(j["reported_curve"], "plain");  // a map: no phase alignment, for the estimate
+  EXPECT_EQ(j["rosenstein_curve"], "plain");
+  EXPECT_FALSE(j["phase_aligned"].get<bool>());  // nor for the neighbourhoods
   EXPECT_NEAR(j["rosenstein_lambda"].get<double>() / 0.4189, 1.0, 0.03);
   std::istringstream rows(slurp(csv));
   std::string line;
@@ -481,6 +483,9 @@ TEST_F(Cli, KantzPrintsEachRadiusBesideRosensteinAsJsonCsvAndPlot) {
               std::string::npos) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
   }
+  r = run("kantz " + f + " --column 2 --align-phase maybe");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("--align-phase 'maybe': expected auto, on or off"), std::string::npos) << r.err;
   r = run("kantz " + f + " --column 2 --radii 1e-9 --csv " + csv.string() + ".new");
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("no radius up to 1e-09 gives any reference point a neighbourhood"), std::string::npos) << r.err;

@@ -3,12 +3,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "mlce/estimate.hpp"
 #include "mlce/kantz.hpp"
+#include "mlce/numerics.hpp"
 #include "reference_systems.hpp"
 
 using namespace mlce;
@@ -76,24 +79,65 @@ TEST(Kantz, MapsGrowAtTheirExponentAtEveryRadius) {
 }
 
 TEST(Kantz, FlowsAndADecayReadTheirExponent) {
-  // Lorenz x (0.9056) within 10 % (the median radius), the damped oscillator (lambda = -zeta omega
-  // exactly) within 3 %, van der Pol's limit cycle neutral.
+  // Lorenz x (0.9056): one series scatters (build/kantz_vs_rosenstein: 123 of 128 within 10 %, range
+  // 0.887 .. 1.162, mean 1.011), so 8 series from random starts (mt19937 seed 11, as the bench draws
+  // its own): at least 7 within 10 %, their median within 5 %. The neighbourhoods are phase-aligned
+  // as the estimate's curve is, and Kantz is compared with that curve. The damped oscillator
+  // (lambda = -zeta omega exactly) within 3 %, van der Pol's limit cycle neutral, neither aligned.
   {
-    const Series s = make_series_with_step({reference::lorenz_x(10000, 0.01)}, 0.01);
-    const KantzResult k = kantz_after_estimate(s, estimate_mlce(s, {}));
-    EXPECT_NEAR(k.lambda / 0.9056, 1.0, 0.10);
+    std::mt19937 gen(11);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    std::vector<double> ratios;
+    for (int k = 0; k < 8; ++k) {
+      const std::array<double, 3> x0{u(gen), u(gen), std::abs(u(gen)) / 3};
+      const Series s = make_series_with_step({reference::sample_flow<3>(reference::lorenz_rhs, x0, 0.01, 10000, 50.0, 10)}, 0.01);
+      const MlceResult e = estimate_mlce(s, {});
+      const KantzResult r = kantz_after_estimate(s, e);
+      EXPECT_TRUE(r.phase_aligned);
+      EXPECT_EQ(r.rosenstein_curve, "phase-aligned");
+      EXPECT_EQ(r.rosenstein_lambda, e.lambda);
+      ratios.push_back(r.lambda / 0.9056);
+    }
+    const auto within = std::count_if(ratios.begin(), ratios.end(), [](double q) { return std::abs(q - 1.0) <= 0.10; });
+    EXPECT_GE(within, 7) << ::testing::PrintToString(ratios);
+    std::printf("Lorenz x, Kantz / 0.9056 on 8 series:%s\n", ::testing::PrintToString(ratios).c_str());
+    EXPECT_NEAR(median(ratios), 1.0, 0.05) << ::testing::PrintToString(ratios);
   }
   {
     const double rate = -0.05 * 2.0 * std::numbers::pi;
     const Series s = make_series_with_step({reference::damped_oscillator(2000, 0.01, 0.05, 2.0 * std::numbers::pi)}, 0.01);
     const KantzResult k = kantz_after_estimate(s, estimate_mlce(s, {}));
     EXPECT_NEAR(k.lambda / rate, 1.0, 0.03);
+    EXPECT_FALSE(k.phase_aligned);
   }
   {
     const Series s = make_series_with_step({reference::van_der_pol_x(10000, 0.01)}, 0.01);
     const KantzResult k = kantz_after_estimate(s, estimate_mlce(s, {}));
     EXPECT_LT(std::abs(k.lambda), 0.01);
+    EXPECT_FALSE(k.phase_aligned);
   }
+}
+
+TEST(Kantz, NeighbourhoodsAlignedToTheirReferencesPhaseReadRoessler) {
+  // Roessler x (0.0714, dt 0.1): the part of a neighbour's separation along the flow neither grows nor
+  // decays, and holds Kantz's plain neighbourhoods low as it holds Rosenstein's plain pairs
+  // (build/kantz_vs_rosenstein: plain mean 0.83 lambda_1, aligned 1.055). On the canonical series
+  // the aligned median within 10 %, and alignment forced off reads lower, compared with the
+  // estimate's plain curve.
+  const Series s = make_series_with_step({reference::roessler_x(10000)}, 0.1);
+  const MlceResult e = estimate_mlce(s, {});
+  ASSERT_TRUE(e.curve.phase_aligned);
+  const KantzResult aligned = kantz_after_estimate(s, e);
+  EXPECT_TRUE(aligned.phase_aligned);
+  EXPECT_NEAR(aligned.lambda / 0.0714, 1.0, 0.10);
+  KantzOptions off;
+  off.phase_alignment = PhaseAlignment::off;
+  const KantzResult plain = estimate_kantz(s, e, off);
+  EXPECT_FALSE(plain.phase_aligned);
+  EXPECT_EQ(plain.rosenstein_curve, "plain");
+  EXPECT_EQ(plain.rosenstein_lambda, e.unaligned_lambda);
+  EXPECT_EQ(plain.reported_curve, "phase-aligned");
+  EXPECT_LT(plain.lambda, aligned.lambda);
 }
 
 TEST(Kantz, ScaleOfTheSeriesAndTheThreadCountDoNotMatter) {

@@ -79,6 +79,14 @@ std::optional<std::size_t> auto_or_count(const std::string& value, const char* o
   throw po::error(fmt::format("--{} '{}': expected 'auto' or a non-negative integer", option, value));
 }
 
+/// --align-phase auto|on|off.
+PhaseAlignment phase_alignment_option(const std::string& value) {
+  if (value == "auto") return PhaseAlignment::automatic;
+  if (value == "on") return PhaseAlignment::on;
+  if (value == "off") return PhaseAlignment::off;
+  throw po::error("--align-phase '" + value + "': expected auto, on or off");
+}
+
 po::options_description series_options(cli::SeriesInput& in) {
   po::options_description d("series");
   d.add_options()
@@ -219,10 +227,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
     if (ec != std::errc() || end != seed.data() + seed.size())
       throw po::error("--seed '" + seed + "': expected an integer 0 .. 2^64-1");
   }
-  if (align == "auto") o.phase_alignment = PhaseAlignment::automatic;
-  else if (align == "on") o.phase_alignment = PhaseAlignment::on;
-  else if (align == "off") o.phase_alignment = PhaseAlignment::off;
-  else throw po::error("--align-phase '" + align + "': expected auto, on or off");
+  o.phase_alignment = phase_alignment_option(align);
   if (compensation == "auto") o.noise_compensation = NoiseCompensation::automatic;
   else if (compensation == "off") o.noise_compensation = NoiseCompensation::off;
   else throw po::error("--noise-compensation '" + compensation + "': expected auto or off");
@@ -492,7 +497,8 @@ int cmd_stsp(const std::vector<std::string>& args) {
 int cmd_kantz(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   KantzOptions ko;
-  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", radii = "auto", csv_path, plot_path;
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", radii = "auto", align = "auto", csv_path,
+      plot_path;
   bool json = false, quiet = false, keep_start = false;
   po::options_description d("mlce kantz FILE [options]");
   d.add(series_options(in));
@@ -507,6 +513,8 @@ int cmd_kantz(const std::vector<std::string>& args) {
       ("refs", po::value(&ko.max_references), "reference points, evenly strided (0 = all; default 4000)")
       ("neighbours", po::value(&ko.max_neighbours), "neighbours averaged per reference at most, evenly strided in time "
                                                     "(0 = all; default 64)")
+      ("align-phase", po::value(&align), "move each neighbour along its trajectory to the reference's sub-sample phase: "
+                                         "auto (as the estimate's reported curve), on, off")
       ("keep-start", po::bool_switch(&keep_start), "analyse from the first sample even when the start does not recur (as estimate)")
       ("json", po::bool_switch(&json), "print one JSON object")
       ("csv", po::value(&csv_path), "write the curves S(radius, step) as CSV")
@@ -522,6 +530,7 @@ int cmd_kantz(const std::vector<std::string>& args) {
   o.theiler = auto_or_count(theiler, "theiler");
   o.horizon = auto_or_count(horizon, "horizon");
   if (radii != "auto") ko.radii = radius_list(radii);
+  ko.phase_alignment = phase_alignment_option(align);
   o.progress = ko.progress = progress_printer(quiet);
   o.skip_nonrecurrent_start = !keep_start && in.start_is_automatic();
   const cli::LoadedSeries loaded = cli::load_series(in);

@@ -560,6 +560,8 @@ nlohmann::json to_json(const KantzResult& r) {
   j["log_base"] = "e";
   j["rosenstein_lambda"] = finite_or_null(r.rosenstein_lambda);
   j["reported_curve"] = r.reported_curve;
+  j["rosenstein_curve"] = r.rosenstein_curve;
+  j["phase_aligned"] = r.phase_aligned;
   j["reported_lambda"] = finite_or_null(r.reported_lambda);
   j["agrees"] = r.agrees;
   j["neutral_band"] = finite_or_null(r.neutral_band);
@@ -590,16 +592,17 @@ nlohmann::json to_json(const KantzResult& r) {
 std::string to_text(const KantzResult& r) {
   const std::string unit = rate_unit(r);
   std::string s = fmt::format(
-      "Kantz's curves   m = {}, delay {}, Theiler window {}, horizon {} samples; median nearest-neighbour distance {:.4g}\n"
+      "Kantz's curves   m = {}, delay {}, Theiler window {}, horizon {} samples; median nearest-neighbour distance {:.4g}{}\n"
       "# radius refs neighbours fit lambda({}) ci95_low ci95_high end\n",
-      r.dim, r.delay, r.theiler, r.horizon, r.nearest_distance, unit);
+      r.dim, r.delay, r.theiler, r.horizon, r.nearest_distance, r.phase_aligned ? "; neighbours phase-aligned" : "", unit);
   for (const auto& k : r.radii)
     s += fmt::format("{:.4g} {} {:.1f} {}..{} {:.6g} {:.6g} {:.6g} {}\n", k.kantz.radius, k.kantz.curve.pairs,
                      k.kantz.mean_neighbours, k.fit.first, k.fit.last, k.lambda, k.ci95_low, k.ci95_high, to_string(k.fit.end));
   s += fmt::format("lambda (Kantz)  {:.6g} {} (median over {} radii; {:.6g} .. {:.6g})\n", r.lambda, unit, r.radii.size(),
                    r.lambda_low, r.lambda_high);
-  s += fmt::format("Rosenstein      {:.6g} {} (plain curve{})\n", r.rosenstein_lambda, unit,
-                   r.reported_curve != "plain"
+  s += fmt::format("Rosenstein      {:.6g} {} ({} curve, as the neighbourhoods{})\n", r.rosenstein_lambda, unit,
+                   r.rosenstein_curve,
+                   r.reported_curve != r.rosenstein_curve
                        ? fmt::format("; the estimate reports {:.6g} from the {} curve", r.reported_lambda, r.reported_curve)
                        : "");
   s += fmt::format("agree           {}\n", r.agrees ? "yes" : "NO: Kantz's neighbourhoods and Rosenstein's nearest pairs read differently");

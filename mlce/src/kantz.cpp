@@ -41,11 +41,13 @@ namespace {
 /// neighbourhood's mean distance i steps on, computed batch by batch (the result does not depend on
 /// the thread count).
 KantzCurve follow_neighbourhoods(const Series& s, const KantzOptions& o, const NeighbourIndex& index,
-                                 const std::vector<std::uint32_t>& refs, std::size_t admissible, double radius) {
+                                 const DelayEmbedding& every, const std::vector<std::uint32_t>& refs,
+                                 std::size_t admissible, double radius) {
   const std::size_t H = o.horizon, m = o.dim, J = o.delay, span = H + (m - 1) * J;
   const std::size_t B = std::min(o.batches, refs.size());
   std::vector<std::vector<double>> batch_sum(B, std::vector<double>(H + 1, 0.0));
   std::vector<std::vector<std::size_t>> batch_terms(B, std::vector<std::size_t>(H + 1, 0));
+  const bool align = o.phase_alignment == PhaseAlignment::on;
   std::size_t with_neighbourhood = 0, neighbours = 0, thinned = 0, zero_terms = 0, repeats = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : with_neighbourhood, neighbours, thinned, zero_terms, repeats)
   for (std::ptrdiff_t bb = 0; bb < static_cast<std::ptrdiff_t>(B); ++bb) {
@@ -71,9 +73,12 @@ KantzCurve follow_neighbourhoods(const Series& s, const KantzOptions& o, const N
       std::fill(distance_sum.begin(), distance_sum.end(), 0.0);
       for (const std::uint32_t j : *members) {
         std::fill(e2.begin(), e2.end(), 0.0);
+        // The neighbour moved along its own trajectory to the reference's phase (phase_alignment on).
+        const SegmentPhase p = align ? closest_phase_on_segments(every, n, j, H) : SegmentPhase{j, 0.0};
+        const double f = p.fraction;
         for (const auto& x : s.channels)
           for (std::size_t t = 0; t <= span; ++t) {
-            const double e = x[n + t] - x[j + t];
+            const double e = x[n + t] - (f > 0.0 ? (1.0 - f) * x[p.base + t] + f * x[p.base + 1 + t] : x[p.base + t]);
             e2[t] += e * e;
           }
         for (std::size_t i = 0; i <= H; ++i) {
@@ -166,7 +171,7 @@ KantzCurves kantz_curves(const Series& series, const KantzOptions& options) {
   const DelayEmbedding every(channels, options.dim, options.delay, M);
   const double attractor = attractor_log_distance(every, options.theiler);
   for (std::size_t k = 0; k < radii.size(); ++k) {
-    KantzCurve c = follow_neighbourhoods(s, options, index, refs, admissible, radii[k]);
+    KantzCurve c = follow_neighbourhoods(s, options, index, every, refs, admissible, radii[k]);
     if (options.progress)
       options.progress(fmt::format("Kantz radius {} of {}", k + 1, radii.size()),
                        static_cast<double>(k + 1) / static_cast<double>(radii.size()));
@@ -191,6 +196,8 @@ KantzResult estimate_kantz(const Series& series, const MlceResult& estimate, Kan
     throw std::logic_error("estimate_kantz: the estimate analysed samples beyond the series");
   options.dim = estimate.dim, options.delay = estimate.delay, options.theiler = estimate.theiler;
   options.horizon = estimate.horizon;
+  if (options.phase_alignment == PhaseAlignment::automatic)
+    options.phase_alignment = estimate.curve.phase_aligned ? PhaseAlignment::on : PhaseAlignment::off;
   Series analysed = leading_samples(series, estimate.skipped_start + estimate.n_points);
   if (estimate.skipped_start > 0) {
     analysed.t0 = series.time(estimate.skipped_start);
@@ -203,6 +210,7 @@ KantzResult estimate_kantz(const Series& series, const MlceResult& estimate, Kan
   r.first_sample = estimate.skipped_start, r.n_points = estimate.n_points;
   r.dt = series.dt, r.time_unit = series.time_unit;
   r.nearest_distance = curves.nearest_distance;
+  r.phase_aligned = options.phase_alignment == PhaseAlignment::on;
   r.warnings = std::move(curves.warnings);
   std::vector<double> lambdas;
   for (auto& c : curves.curves) {
@@ -223,18 +231,18 @@ KantzResult estimate_kantz(const Series& series, const MlceResult& estimate, Kan
   r.lambda_per_sample = r.lambda * series.dt;
   r.lambda_low = *std::min_element(lambdas.begin(), lambdas.end());
   r.lambda_high = *std::max_element(lambdas.begin(), lambdas.end());
-  // Kantz's counterpart is eq. 23's plain curve: the estimate's reported lambda may come from the
-  // phase-aligned or the noise-compensated curve, whose interval is not the plain curve's.
+  // Rosenstein's curve treated as the neighbourhoods were: phase-aligned or plain, never
+  // noise-compensated (Kantz's mean distances carry the noise as eq. 23's do). Its interval is known
+  // only when it is the reported curve.
   r.reported_lambda = estimate.lambda;
+  r.reported_curve = estimate.curve.phase_aligned ? "phase-aligned" : estimate.noise_compensated ? "noise-compensated" : "plain";
   r.rosenstein_lambda = estimate.lambda;
-  r.reported_curve = "plain";
+  r.rosenstein_curve = estimate.curve.phase_aligned ? "phase-aligned" : "plain";
   double estimate_half_width = 0.5 * (estimate.ci95_high - estimate.ci95_low);
-  if (estimate.curve.phase_aligned && std::isfinite(estimate.unaligned_lambda)) {
-    r.rosenstein_lambda = estimate.unaligned_lambda, estimate_half_width = 0.0;
-    r.reported_curve = "phase-aligned";
+  if (estimate.curve.phase_aligned && !r.phase_aligned && std::isfinite(estimate.unaligned_lambda)) {
+    r.rosenstein_lambda = estimate.unaligned_lambda, estimate_half_width = 0.0, r.rosenstein_curve = "plain";
   } else if (estimate.noise_compensated && std::isfinite(estimate.uncompensated_lambda)) {
     r.rosenstein_lambda = estimate.uncompensated_lambda, estimate_half_width = 0.0;
-    r.reported_curve = "noise-compensated";
   }
   // The median radius' interval (of the middle two, the upper), beside the estimate's; two rates
   // within the reading's neutral band of 0 (ReadingOptions::neutral_per_period per mean period) both

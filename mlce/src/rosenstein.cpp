@@ -177,6 +177,27 @@ void require_pairs_for(const char* who, const RosensteinOptions& options, const 
     throw std::logic_error(std::string(who) + ": the pairs were found for other options (m, delay, horizon)");
 }
 
+}  // namespace
+
+SegmentPhase closest_phase_on_segments(const DelayEmbedding& all, std::size_t j, std::size_t jn, std::size_t horizon) {
+  const std::size_t M = all.size();
+  SegmentPhase out{jn, 0.0};
+  double best = all.squared_distance(j, jn);
+  for (const std::size_t a : {jn - 1, jn}) {
+    if ((a == jn - 1 && jn == 0) || a + 1 + horizon >= M) continue;  // both ends followed for the horizon
+    const double d00 = all.squared_distance(a, a + 1);
+    if (!(d00 > 0.0)) continue;
+    // |p_j - p_a - f (p_{a+1} - p_a)|^2 is least at f = (p_j - p_a).(p_{a+1} - p_a) / |p_{a+1} - p_a|^2.
+    const double dot = 0.5 * (all.squared_distance(j, a) + d00 - all.squared_distance(j, a + 1));
+    const double f = std::clamp(dot / d00, 0.0, 1.0);
+    const double d2 = all.squared_distance_between(j, a, f);
+    if (d2 < best) best = d2, out = {a, f};
+  }
+  return out;
+}
+
+namespace {
+
 /// neighbour_phases over the embedding of the series in unit-deviation coordinates (follow_pairs has
 /// built it already).
 NeighbourPhases neighbour_phases(const DelayEmbedding& all, const RosensteinOptions& options, const NeighbourPairs& pairs) {
@@ -198,17 +219,8 @@ NeighbourPhases neighbour_phases(const DelayEmbedding& all, const RosensteinOpti
     base[k] = nn.neighbour[k];
     if (!options.align_phase) continue;
     const std::size_t j = refs[k], jn = nn.neighbour[k];
-    double best = all.squared_distance(j, jn);
-    for (const std::size_t a : {jn - 1, jn}) {
-      if ((a == jn - 1 && jn == 0) || a + 1 + H >= M) continue;  // both ends followed for H steps
-      const double d00 = all.squared_distance(a, a + 1);
-      if (!(d00 > 0.0)) continue;
-      // |p_j - p_a - f (p_{a+1} - p_a)|^2 is least at f = (p_j - p_a).(p_{a+1} - p_a) / |p_{a+1} - p_a|^2.
-      const double dot = 0.5 * (all.squared_distance(j, a) + d00 - all.squared_distance(j, a + 1));
-      const double f = std::clamp(dot / d00, 0.0, 1.0);
-      const double d2 = all.squared_distance_between(j, a, f);
-      if (d2 < best) best = d2, base[k] = a, fraction[k] = f;
-    }
+    const SegmentPhase phase = closest_phase_on_segments(all, j, jn, H);
+    base[k] = phase.base, fraction[k] = phase.fraction;
     if (options.interpolation == RosensteinOptions::Interpolation::cubic && jn >= 2 && jn + H + 3 <= M) {
       // On the cubic through the samples around it the neighbour's closest phase differs from the
       // segment's: searched over [jn - 1, jn + 1), and compared with the segment's choice, which

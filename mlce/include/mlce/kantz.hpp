@@ -55,6 +55,12 @@ struct KantzOptions {
   /// Candidates within this share of the reference point's size repeat it and are no neighbours
   /// (RosensteinOptions::repeat_resolution).
   double repeat_resolution = 1e-10;
+  /// Move each neighbour along its own sampled trajectory to the sub-sample phase closest to its
+  /// reference before following it (RosensteinOptions::align_phase, linear: closest_phase_on_segments).
+  /// automatic: as the estimate's reported curve in estimate_kantz (its phase alignment is for sampled
+  /// flows whose curve saturates, and there Kantz's plain neighbourhoods read Roessler x at ~0.83 lambda_1,
+  /// aligned ~1.04: bench/kantz_vs_rosenstein); kantz_curves alone aligns only when `on`.
+  PhaseAlignment phase_alignment = PhaseAlignment::automatic;
   ProgressCallback progress;  ///< after each radius
   void validate() const;
 };
@@ -100,11 +106,13 @@ struct KantzResult {
   std::size_t first_sample = 0, n_points = 0;  ///< the samples analysed: those of the estimate
   double dt = 1.0;
   std::string time_unit;
-  /// The estimate's lambda from eq. 23's plain curve, Kantz's counterpart, per time unit:
-  /// MlceResult::lambda, or its unaligned_lambda / uncompensated_lambda when the estimate reports the
-  /// phase-aligned or the noise-compensated curve (reported_lambda then differs; Kantz's neighbourhoods
-  /// are neither aligned nor compensated, and Roessler x's plain curves both read ~0.75 lambda_1).
+  bool phase_aligned = false;  ///< the neighbourhoods were moved to their references' phase
+  /// The estimate's lambda from Rosenstein's curve treated as the neighbourhoods were (per time unit):
+  /// phase-aligned or plain as they, never noise-compensated (Kantz's mean distances carry measurement
+  /// noise as eq. 23's do): MlceResult::lambda, or its unaligned_lambda / uncompensated_lambda when the
+  /// reported curve was treated otherwise. rosenstein_curve names it: "phase-aligned" or "plain".
   double rosenstein_lambda = 0.0;
+  std::string rosenstein_curve;
   double reported_lambda = 0.0;  ///< MlceResult::lambda
   /// Which curve the estimate reports (reported_lambda): "plain", "phase-aligned" or "noise-compensated".
   std::string reported_curve;
@@ -120,8 +128,10 @@ struct KantzResult {
 
 /// Kantz's curves over the samples `estimate` analysed (MlceResult::skipped_start on, n_points of
 /// them), with its embedding, Theiler window and horizon (options' own are replaced), each fitted by
-/// the estimate's rule with the estimate's fit options (MlceResult::fit_options). The estimate's
-/// phase alignment and noise compensation are not applied: Kantz's curve is eq. 23's counterpart.
+/// the estimate's rule with the estimate's fit options (MlceResult::fit_options). The neighbourhoods are
+/// phase-aligned as the estimate's reported curve is (KantzOptions::phase_alignment automatic); noise
+/// is never compensated, and the samples are read as given (an estimate's MlceOptions::dither is not
+/// repeated).
 KantzResult estimate_kantz(const Series& series, const MlceResult& estimate, KantzOptions options);
 
 }  // namespace mlce

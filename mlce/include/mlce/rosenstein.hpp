@@ -167,6 +167,16 @@ struct NeighbourPhases {
 
 NeighbourPhases neighbour_phases(const Series& series, const RosensteinOptions& options, const NeighbourPairs& pairs);
 
+/// Where along its own sampled trajectory neighbour `jn` comes closest to point `j` (align_phase,
+/// linear): on the segments [jn - 1, jn] and [jn, jn + 1] by least squares, f = (p_j - p_a).(p_{a+1} -
+/// p_a) / |p_{a+1} - p_a|^2 clamped to [0, 1]; a segment whose end cannot be followed for `horizon`
+/// more steps within the embedding `all` is not tried. {jn, 0} when neither segment comes closer.
+struct SegmentPhase {
+  std::size_t base = 0;   ///< the sample the phase lies after
+  double fraction = 0.0;  ///< of the way to the next sample, [0, 1]
+};
+SegmentPhase closest_phase_on_segments(const DelayEmbedding& all, std::size_t j, std::size_t jn, std::size_t horizon);
+
 /// A curve's mean_log_distance, terms and batch_mean from its batches of references: per batch and
 /// step the sum of the log distances and its count of terms. The curve at a step is the batches' sums
 /// added (compensated) over their terms, each batch's own mean NaN where it has no term. Returns the
