@@ -14,6 +14,7 @@
 #include <iostream>
 #include <iterator>
 #include <optional>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,32 @@ std::optional<std::size_t> auto_or_count(const std::string& value, const char* o
   }
   throw po::error(fmt::format("--{} '{}': expected 'auto' or a non-negative integer", option, value));
 }
+
+/// --delay, --dim, --theiler and --horizon of the commands that embed a series as mlce estimate does,
+/// each 'auto' or a count. A command offers those it uses, each with its own help (nullptr: not offered).
+struct EmbeddingArgs {
+  struct Help {
+    const char* delay = nullptr;
+    const char* dim = nullptr;
+    const char* theiler = nullptr;
+    const char* horizon = nullptr;
+  };
+  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto";
+
+  void add_to(po::options_description& d, const Help& help) {
+    const std::tuple<const char*, std::string*, const char*> offered[] = {
+        {"delay", &delay, help.delay}, {"dim", &dim, help.dim}, {"theiler", &theiler, help.theiler}, {"horizon", &horizon, help.horizon}};
+    for (const auto& [name, value, text] : offered)
+      if (text) d.add_options()(name, po::value(value), text);
+  }
+  /// Into the estimator's options: nullopt where 'auto'; anything else than a count is a usage error naming the option.
+  void apply(MlceOptions& o) const {
+    o.delay = auto_or_count(delay, "delay");
+    o.dim = auto_or_count(dim, "dim");
+    o.theiler = auto_or_count(theiler, "theiler");
+    o.horizon = auto_or_count(horizon, "horizon");
+  }
+};
 
 /// --align-phase auto|on|off.
 PhaseAlignment phase_alignment_option(const std::string& value) {
@@ -168,18 +195,18 @@ int estimate_each(const cli::SeriesInput& in, const cli::LoadedSeries& loaded, c
 
 int cmd_estimate(const std::vector<std::string>& args) {
   cli::SeriesInput in;
-  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", fit = "auto", refs = "20000",
-              align = "auto", interpolation = "linear", compensation = "auto";
+  EmbeddingArgs embedding;
+  std::string fit = "auto", refs = "20000", align = "auto", interpolation = "linear", compensation = "auto";
   std::string curve_path, plot_path, csv_path, param;
   bool json = false, quiet = false, keep_start = false, each = false;
   po::options_description d("mlce estimate FILE [FILE ...] [options]");
   d.add(series_options(in));
   po::options_description e("estimator");
+  embedding.add_to(e, {.delay = "reconstruction delay J in samples, or auto (first AMI minimum)",
+                       .dim = "embedding dimension m, or auto (false nearest neighbours)",
+                       .theiler = "Theiler window in samples, or auto (mean period, eq. 19)",
+                       .horizon = "divergence curve length in samples, or auto (adaptive)"});
   e.add_options()
-      ("delay", po::value(&delay), "reconstruction delay J in samples, or auto (first AMI minimum)")
-      ("dim", po::value(&dim), "embedding dimension m, or auto (false nearest neighbours)")
-      ("theiler", po::value(&theiler), "Theiler window in samples, or auto (mean period, eq. 19)")
-      ("horizon", po::value(&horizon), "divergence curve length in samples, or auto (adaptive)")
       ("fit", po::value(&fit), "fit region A:B in curve steps, or auto")
       ("refs", po::value(&refs), "reference points of the curve (evenly strided, >= 1), or 'all'; default (and auto) 20000")
       ("eps", po::value<double>(), "approximate neighbour search: neighbours within (1+eps) x the nearest distance are accepted (nanoflann eps; default 0 = exact)")
@@ -206,10 +233,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   MlceOptions o;
-  o.delay = auto_or_count(delay, "delay");
-  o.dim = auto_or_count(dim, "dim");
-  o.theiler = auto_or_count(theiler, "theiler");
-  o.horizon = auto_or_count(horizon, "horizon");
+  embedding.apply(o);
   if (refs == "all") o.max_references = 0;  // the estimator's 0 means every admissible point
   else o.max_references = auto_or_count(refs, "refs").value_or(20000);
   if (refs != "all" && o.max_references == 0) throw po::error("--refs '0': expected 'all', 'auto' or a count >= 1");
@@ -327,16 +351,18 @@ int cmd_fnn(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   FnnOptions o;
   CaoOptions cao;
-  std::string delay = "auto", theiler = "auto", method = "kennel", csv_path, plot_path;
+  EmbeddingArgs embedding;
+  std::string method = "kennel", csv_path, plot_path;
   bool json = false;
   bool quiet = false;
   po::options_description d("mlce fnn FILE [options]");
   d.add(series_options(in));
   d.add_options()
       ("method", po::value(&method), "kennel (false fractions, the estimator's rule) or cao (Cao's E1, E2: a second "
-                                     "estimate of m and a test of determinism)")
-      ("delay", po::value(&delay), "delay in samples, or auto (first AMI minimum)")
-      ("theiler", po::value(&theiler), "Theiler window, or auto (mean period)")
+                                     "estimate of m and a test of determinism)");
+  embedding.add_to(d, {.delay = "delay in samples, or auto (first AMI minimum)",
+                       .theiler = "Theiler window, or auto (mean period)"});
+  d.add_options()
       ("max-dim", po::value(&o.max_dim), "largest dimension tested")
       ("rtol", po::value(&o.rtol), "Kennel R_tol")
       ("atol", po::value(&o.atol), "Kennel A_tol")
@@ -355,14 +381,13 @@ int cmd_fnn(const std::vector<std::string>& args) {
   o.progress = cao.progress = progress_printer(quiet);
   finish_series_options(vm, in);
   const auto loaded = cli::load_series(in);
-  const auto given_theiler = auto_or_count(theiler, "theiler"), given_delay = auto_or_count(delay, "delay");
+  MlceOptions delay_only;  // the delay and Theiler window given, else as the estimator chooses them
+  embedding.apply(delay_only);
+  delay_only.dim = 1;  // the dimension is what this command shows
   std::size_t J = 0;
-  // The delay and Theiler window as the estimator chooses them; the dimension is what this command shows.
   const auto embedding_before_dimension = [&] {
     const MeanPeriodResult mean_period = estimate_mean_period(loaded.series, {});
-    o.theiler = cao.theiler = given_theiler ? *given_theiler : mean_period.mean_period;
-    MlceOptions delay_only;
-    delay_only.delay = given_delay, delay_only.dim = 1;
+    o.theiler = cao.theiler = delay_only.theiler.value_or(mean_period.mean_period);
     J = choose_embedding(loaded.series, delay_only, mean_period).delay;
   };
   // One way out for either method: CSV, the plotted curves with the chosen m, JSON or text.
@@ -434,13 +459,14 @@ std::vector<double> radius_list(const std::string& text) {
 int cmd_stsp(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   SpaceTimeOptions o;
-  std::string delay = "auto", dim = "auto", fractions, csv_path, plot_path;
+  EmbeddingArgs embedding;
+  std::string fractions, csv_path, plot_path;
   bool json = false;
   po::options_description d("mlce stsp FILE [options]");
   d.add(series_options(in));
+  embedding.add_to(d, {.delay = "delay in samples, or auto (first AMI minimum, as estimate)",
+                       .dim = "embedding dimension, or auto (false nearest neighbours, as estimate)"});
   d.add_options()
-      ("delay", po::value(&delay), "delay in samples, or auto (first AMI minimum, as estimate)")
-      ("dim", po::value(&dim), "embedding dimension, or auto (false nearest neighbours, as estimate)")
       ("max-separation", po::value(&o.max_separation), "largest separation in samples (0 = 4 mean periods)")
       ("step", po::value(&o.step), "spacing of the separations in samples (0 = about 200 rows)")
       ("fractions", po::value(&fractions), "contour levels, comma-separated (default 0.01,0.1,0.5)")
@@ -453,13 +479,11 @@ int cmd_stsp(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   if (!fractions.empty()) o.fractions = fraction_list(fractions);
-  const auto given_delay = auto_or_count(delay, "delay"), given_dim = auto_or_count(dim, "dim");
-  if (given_delay == 0u || given_dim == 0u) throw po::error("--delay and --dim: expected 'auto' or at least 1");
+  MlceOptions eo;  // the embedding given, else the estimator's: AMI delay, then FNN with the mean-period Theiler window
+  embedding.apply(eo);
+  if (eo.delay == 0u || eo.dim == 0u) throw po::error("--delay and --dim: expected 'auto' or at least 1");
   const auto loaded = cli::load_series(in);
   const SpaceTimeResult r = cli::on_file(in, [&] {
-    // The estimator's embedding: AMI delay, then FNN with the mean-period Theiler window.
-    MlceOptions eo;
-    eo.delay = given_delay, eo.dim = given_dim;
     const MeanPeriodResult mp = estimate_mean_period(loaded.series, {});
     o.mean_period = mp.mean_period;
     const Embedding e = choose_embedding(loaded.series, eo, mp);
@@ -497,16 +521,16 @@ int cmd_stsp(const std::vector<std::string>& args) {
 int cmd_kantz(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   KantzOptions ko;
-  std::string delay = "auto", dim = "auto", theiler = "auto", horizon = "auto", radii = "auto", align = "auto", csv_path,
-      plot_path;
+  EmbeddingArgs embedding;
+  std::string radii = "auto", align = "auto", csv_path, plot_path;
   bool json = false, quiet = false, keep_start = false;
   po::options_description d("mlce kantz FILE [options]");
   d.add(series_options(in));
+  embedding.add_to(d, {.delay = "delay in samples, or auto (as estimate)",
+                       .dim = "embedding dimension, or auto (as estimate)",
+                       .theiler = "Theiler window in samples, or auto (as estimate)",
+                       .horizon = "curve length in samples, or auto (the estimate's adaptive horizon)"});
   d.add_options()
-      ("delay", po::value(&delay), "delay in samples, or auto (as estimate)")
-      ("dim", po::value(&dim), "embedding dimension, or auto (as estimate)")
-      ("theiler", po::value(&theiler), "Theiler window in samples, or auto (as estimate)")
-      ("horizon", po::value(&horizon), "curve length in samples, or auto (the estimate's adaptive horizon)")
       ("radii", po::value(&radii), "neighbourhood radii, comma-separated and increasing, in standard deviations of the "
                                    "channels (Euclidean distance of delay vectors), or auto: 4 radii doubling from the "
                                    "median nearest-neighbour distance")
@@ -525,10 +549,7 @@ int cmd_kantz(const std::vector<std::string>& args) {
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
   MlceOptions o;
-  o.delay = auto_or_count(delay, "delay");
-  o.dim = auto_or_count(dim, "dim");
-  o.theiler = auto_or_count(theiler, "theiler");
-  o.horizon = auto_or_count(horizon, "horizon");
+  embedding.apply(o);
   if (radii != "auto") ko.radii = radius_list(radii);
   ko.phase_alignment = phase_alignment_option(align);
   o.progress = ko.progress = progress_printer(quiet);
@@ -564,15 +585,16 @@ int cmd_kantz(const std::vector<std::string>& args) {
 int cmd_convergence(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   ConvergenceOptions o;
-  std::string delay = "auto", dim = "auto", theiler = "auto", csv_path, plot_path;
+  EmbeddingArgs embedding;
+  std::string csv_path, plot_path;
   bool json = false, quiet = false;
   po::options_description d("mlce convergence FILE [options]");
   d.add(series_options(in));
+  d.add_options()("parts", po::value(&o.parts), "estimate the first k/parts of the run, k = 1..parts (default 8)");
+  embedding.add_to(d, {.delay = "delay in samples for every part, or auto (re-estimated per part)",
+                       .dim = "embedding dimension for every part, or auto",
+                       .theiler = "Theiler window for every part, or auto (each part's mean period)"});
   d.add_options()
-      ("parts", po::value(&o.parts), "estimate the first k/parts of the run, k = 1..parts (default 8)")
-      ("delay", po::value(&delay), "delay in samples for every part, or auto (re-estimated per part)")
-      ("dim", po::value(&dim), "embedding dimension for every part, or auto")
-      ("theiler", po::value(&theiler), "Theiler window for every part, or auto (each part's mean period)")
       ("json", po::bool_switch(&json), "print one JSON object")
       ("csv", po::value(&csv_path), "write the table as CSV")
       ("plot", po::value(&plot_path), "write lambda and its interval against the run length as PNG (gnuplot)")
@@ -581,9 +603,7 @@ int cmd_convergence(const std::vector<std::string>& args) {
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
   finish_series_options(vm, in);
-  o.estimate.delay = auto_or_count(delay, "delay");
-  o.estimate.dim = auto_or_count(dim, "dim");
-  o.estimate.theiler = auto_or_count(theiler, "theiler");
+  embedding.apply(o.estimate);
   o.estimate.progress = progress_printer(quiet);
   o.estimate.skip_nonrecurrent_start = in.start_is_automatic();  // as mlce estimate
   const auto loaded = cli::load_series(in);
