@@ -276,6 +276,34 @@ TEST(Fit, RegionOfASaturatingCurveSpansOneAndAHalfPeriodsButNotTheBend) {
   EXPECT_EQ(lifted.rule.find("extended"), std::string::npos) << lifted.rule;
 }
 
+TEST(Fit, ExtensionToOneAndAHalfPeriodsStopsBeforeTheRegionBends) {
+  // A curve whose mean period is long against its rise (Chua's x: periods of 114 samples set by the
+  // slow switching between the scrolls): start-up 0..56, a straight stretch of 72 steps (0.63
+  // periods) at 0.0100, then a flattening at 0.0055 (not a bend by bend_ratio) and 0.0030 into the
+  // plateau. 1.5 periods from the start-up's end reach into the flattening, and the region's second
+  // half would rise at ~0.6 x its first; the extension stops where it rises at 0.75 x
+  // (FitOptions::extension_straightness).
+  const auto y = piecewise(-4.0, {{57, 0.030}, {72, 0.0100}, {60, 0.0055}, {60, 0.0030}, {800, 0.0}});
+  FitOptions o;
+  o.period = 114;
+  const FitResult r = fit_divergence(synthetic(y), o);
+  EXPECT_EQ(r.end, CurveEnd::saturation) << r.rule;
+  EXPECT_NE(r.rule.find("stopped before the region bends"), std::string::npos) << r.rule;
+  EXPECT_GT(r.last, 129u) << r.rule;  // extended beyond the straight stretch ...
+  const std::size_t mid = r.first + (r.last - r.first) / 2;  // ... as far as its halves' slopes allow
+  const double first_half = (y[mid] - y[r.first]) / static_cast<double>(mid - r.first);
+  const double second_half = (y[r.last] - y[mid]) / static_cast<double>(r.last - mid);
+  EXPECT_GE(second_half, 0.70 * first_half) << r.rule;
+  EXPECT_GT(r.slope, 0.0088) << r.rule;
+  o.extension_straightness = 0.0;  // the rule before: 1.5 periods into the flattening
+  const FitResult before = fit_divergence(synthetic(y), o);
+  EXPECT_GT(before.last, r.last) << before.rule;
+  EXPECT_LT(before.slope, r.slope - 0.0005) << before.rule;
+  EXPECT_NE(before.rule.find("extended to 1.5 periods"), std::string::npos) << before.rule;
+  o.extension_straightness = 1.0;
+  EXPECT_THROW(fit_divergence(synthetic(y), o), OptionError);
+}
+
 TEST(Fit, ConcaveGrowthIsFittedFromTheStartUpNotOnItsFlattestPiece) {
   // The curve of a Lorenz x series of N = 10^4 (period 172 samples; lambda_1 = 0.009056 per sample)
   // that flattens from its start-up to the plateau with no straight stretch: start-up 0..86 at
@@ -321,10 +349,13 @@ TEST(Fit, RegionThatBendsIsSaidToBendAndNothingElseChanges) {
   // per step into the plateau, no straight stretch. Its mean period (114 samples, the slow
   // switching between the scrolls) makes the region span 171 steps, into the flattening, and the
   // batch-means interval does not know it. The warning says how the halves differ
-  // (FitOptions::bend_warning).
+  // (FitOptions::bend_warning). The rule now stops such an extension before it bends the region
+  // (FitOptions::extension_straightness: test ExtensionToOneAndAHalfPeriodsStopsBeforeTheRegionBends);
+  // off here, the region of the rule before, which bends.
   const auto y = piecewise(-5.5, {{58, 0.040}, {80, 0.0255}, {90, 0.0145}, {100, 0.0060}, {600, 0.0}});
   FitOptions o;
   o.period = 114;
+  o.extension_straightness = 0.0;
   const FitResult r = fit_divergence(synthetic(y), o);
   ASSERT_EQ(r.end, CurveEnd::saturation) << r.rule;
   const std::size_t mid = (r.first + r.last) / 2;

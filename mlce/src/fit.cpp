@@ -282,10 +282,26 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
   // curve lifted by measurement noise: a shorter region's slope is the phase of the curve's
   // oscillation as much as growth (FitOptions::min_periods).
   std::size_t extended = 0;
+  bool cut_back = false;
   if (r.end == CurveEnd::saturation && options.min_periods > 0.0 &&
       !first_step_jumps(y, fit_line(y.data(), r.first, r.last).slope)) {
     const auto span = static_cast<std::size_t>(std::ceil(options.min_periods * static_cast<double>(options.period)));
-    const std::size_t last = std::min(bend_start - 1, r.first + span);
+    std::size_t last = std::min(bend_start - 1, r.first + span);
+    // ... and not into a bend the region did not have: cut back while the extended region's second
+    // half rises at less than extension_straightness x its first half's slope. Chua's mean period,
+    // set by the slow switching between its scrolls, is long against its curve's rise, and 1.5 of
+    // them carried the region into the flattening (FitOptions::extension_straightness).
+    if (options.extension_straightness > 0.0 && last > r.last) {
+      const auto bends = [&](std::size_t end) {
+        const HalfSlopes h = half_slopes(y, r.first, end);
+        return h.first > 0.0 && h.second < options.extension_straightness * h.first;
+      };
+      if (!bends(r.last))
+        while (last > r.last && bends(last)) {
+          --last;
+          cut_back = true;
+        }
+    }
     if (last > r.last) r.last = extended = last;
   }
   rule << "; ";
@@ -295,7 +311,9 @@ void choose_linear_region(const std::vector<double>& y, std::size_t stop, std::s
                            : "; fitted the piece of largest |slope| x length");
   if (joined) rule << ", joined with the steeper pieces after the start-up (concave growth)";
   if (trimmed) rule << "; its end trimmed " << trimmed << "x (second half flatter than " << straightness << " x the first)";
-  if (extended) rule << "; extended to " << options.min_periods << " periods";
+  if (extended)
+    rule << "; extended " << (cut_back ? "toward " : "to ") << options.min_periods << " periods"
+         << (cut_back ? " (stopped before the region bends)" : "");
   if (trimmed || extended) rule << ": fitted to step " << r.last;
   if (r.end != CurveEnd::none) rule << "; " << to_string(r.end) << " from step " << r.end_index;
 }
@@ -648,6 +666,8 @@ void FitOptions::validate() const {
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");
   if (!(min_periods >= 0.0 && min_periods <= 100.0)) throw OptionError("fit.min_periods: expected [0, 100] (0 = off)");
   if (!(bend_warning >= 0.0 && bend_warning < 1.0)) throw OptionError("fit.bend_warning: expected [0, 1) (0 = never warn)");
+  if (!(extension_straightness >= 0.0 && extension_straightness < 1.0))
+    throw OptionError("fit.extension_straightness: expected [0, 1) (0 = always extend to min_periods)");
   if (std::isinf(signal_rate)) throw OptionError("fit.signal_rate: expected a finite rate or NaN (unknown)");
   if (std::isinf(signal_end_rate)) throw OptionError("fit.signal_end_rate: expected a finite rate or NaN (unknown)");
   if (!(persist_share > 0.0 && persist_share < 1.0)) throw OptionError("fit.persist_share: expected (0, 1)");
