@@ -213,9 +213,16 @@ KantzResult estimate_kantz(const Series& series, const MlceResult& estimate, Kan
   r.phase_aligned = options.phase_alignment == PhaseAlignment::on;
   r.warnings = std::move(curves.warnings);
   std::vector<double> lambdas;
+  // The estimate's fit options, but the region extended to the whole min_periods: the stop before a
+  // bend (FitOptions::extension_straightness) was measured on Rosenstein's curve of one neighbour, and
+  // the log of a neighbourhood's mean distance bends otherwise: with it, Kantz's median radius read
+  // Lorenz x within 5 % on 69 of 128 series (mean 1.050) where it reads 101 (mean 1.011) without
+  // (`build/kantz_vs_rosenstein`).
+  FitOptions fit_options = estimate.fit_options;
+  fit_options.extension_straightness = 0.0;
   for (auto& c : curves.curves) {
     KantzRadius k;
-    k.fit = fit_divergence(c.curve, estimate.fit_options);
+    k.fit = fit_divergence(c.curve, fit_options);
     k.lambda = k.fit.slope / series.dt;
     k.ci95_low = k.fit.ci_low / series.dt, k.ci95_high = k.fit.ci_high / series.dt;
     for (const auto& w : c.curve.warnings) r.warnings.push_back(fmt::format("radius {:.4g}: {}", c.radius, w));

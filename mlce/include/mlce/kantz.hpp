@@ -128,7 +128,8 @@ struct KantzResult {
 
 /// Kantz's curves over the samples `estimate` analysed (MlceResult::skipped_start on, n_points of
 /// them), with its embedding, Theiler window and horizon (options' own are replaced), each fitted by
-/// the estimate's rule with the estimate's fit options (MlceResult::fit_options). The neighbourhoods are
+/// the estimate's rule with the estimate's fit options (MlceResult::fit_options), the region extended to
+/// the whole FitOptions::min_periods (extension_straightness 0: see kantz.cpp). The neighbourhoods are
 /// phase-aligned as the estimate's reported curve is (KantzOptions::phase_alignment automatic); noise
 /// is never compensated, and the samples are read as given (an estimate's MlceOptions::dither is not
 /// repeated).
