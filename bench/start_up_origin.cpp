@@ -37,6 +37,9 @@
 //                                  attractor's scale and carried on at the slope being fitted (the
 //                                  early splitters no longer bend the mean): the slope of the pairs'
 //                                  growth below the saturation, without the saturation's pull
+//   build/start_up_origin strands  k = 1, 2, 3, 5, 8 neighbours per reference, each on its own pass of
+//                                  the trajectory (brute force), fitted by the estimator's rule and over
+//                                  the fixed steps 75..325: does the scatter come from the pairs sampled?
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -637,6 +640,101 @@ void censored() {
     }
 }
 
+
+/// k neighbours per reference, each on its own pass of the trajectory: the nearest outside the
+/// Theiler window of the reference and of every neighbour already taken (brute force over the
+/// admissible points, unit-deviation coordinates, the estimator's m and delay). The k pairs of a
+/// reference sample k different passes (strands) of the trajectory near it.
+mlce::NeighbourPairs strand_pairs(const mlce::Series& series, const mlce::RosensteinOptions& o, std::size_t k) {
+  const auto base = mlce::find_pairs(series, o);
+  const mlce::Series s = mlce::scaled_to_unit_deviation(series);
+  std::vector<std::span<const double>> channels;
+  for (const auto& c : s.channels) channels.emplace_back(c);
+  const std::size_t L = mlce::DelayEmbedding::max_points(s.size(), o.dim, o.delay) - o.horizon;
+  const mlce::DelayEmbedding points(channels, o.dim, o.delay, L);
+  mlce::NeighbourPairs out = base;
+  out.references.clear();
+  out.nearest = mlce::NeighbourResult{};
+  std::vector<std::vector<std::uint32_t>> chosen(base.references.size());
+  std::vector<std::vector<double>> dist(base.references.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(base.references.size()); ++q) {
+    const std::size_t i = base.references[static_cast<std::size_t>(q)];
+    std::vector<double> d2(L);
+    for (std::size_t j = 0; j < L; ++j) d2[j] = points.squared_distance(i, j);
+    auto& taken = chosen[static_cast<std::size_t>(q)];
+    for (std::size_t n = 0; n < k; ++n) {
+      double best = INFINITY;
+      std::size_t arg = L;
+      for (std::size_t j = 0; j < L; ++j) {
+        if ((j > i ? j - i : i - j) <= o.theiler || !(d2[j] > 0.0) || d2[j] >= best) continue;
+        bool near = false;
+        for (auto t : taken) near = near || (j > t ? j - t : t - j) <= o.theiler;
+        if (!near) best = d2[j], arg = j;
+      }
+      if (arg == L) break;
+      taken.push_back(static_cast<std::uint32_t>(arg));
+      dist[static_cast<std::size_t>(q)].push_back(std::sqrt(best));
+    }
+  }
+  for (std::size_t q = 0; q < base.references.size(); ++q)
+    for (std::size_t n = 0; n < chosen[q].size(); ++n) {
+      out.references.push_back(base.references[q]);
+      out.nearest.neighbour.push_back(chosen[q][n]);
+      out.nearest.distance.push_back(dist[q][n]);
+      out.nearest.repeated.push_back(0);
+      out.nearest.repeat_of.push_back(mlce::NeighbourResult::none);
+    }
+  return out;
+}
+
+void strands() {
+  const std::size_t ks[] = {1, 2, 3, 5, 8};
+  std::vector<mlce::bench::Tally> tally(std::size(ks)), fixed(std::size(ks));
+  mlce::bench::Tally automatic;
+  for_each_series([&](int n, const mlce::Series& series, const mlce::MlceResult& r) {
+    automatic.add(r.lambda / kLambda);
+    mlce::FitOptions fit;
+    fit.period = r.mean_period.mean_period, fit.signal_rate = r.envelope_rate, fit.signal_end_rate = r.end_envelope_rate;
+    const mlce::RosensteinOptions o = curve_options(r);
+    const auto all = strand_pairs(series, o, ks[std::size(ks) - 1]);
+    for (std::size_t v = 0; v < std::size(ks); ++v) {
+      mlce::NeighbourPairs p = all;
+      p.references.clear();
+      p.nearest = mlce::NeighbourResult{};
+      std::size_t slot = 0;
+      for (std::size_t e = 0; e < all.references.size(); ++e) {
+        slot = (e > 0 && all.references[e] == all.references[e - 1]) ? slot + 1 : 0;
+        if (slot >= ks[v]) continue;
+        p.references.push_back(all.references[e]);
+        p.nearest.neighbour.push_back(all.nearest.neighbour[e]);
+        p.nearest.distance.push_back(all.nearest.distance[e]);
+        p.nearest.repeated.push_back(0);
+        p.nearest.repeat_of.push_back(mlce::NeighbourResult::none);
+      }
+      const auto curve = mlce::follow_pairs(series, o, p);
+      tally[v].add(mlce::fit_divergence(curve, fit).slope / kDt / kLambda);
+      mlce::FitOptions window;  // the best fixed window of `windows`: the pairs' scatter, the rule's choice aside
+      window.range = {75, 325};
+      fixed[v].add(mlce::fit_divergence(curve, window).slope / kDt / kLambda);
+    }
+    std::fprintf(stderr, "\rseries %d of 32", n);
+  });
+  std::fprintf(stderr, "\n");
+  std::printf("Lorenz x, 32 series: k neighbours per reference on k distinct passes, / lambda_1\n");
+  automatic.print("automatic");
+  for (std::size_t v = 0; v < std::size(ks); ++v) {
+    char label[64];
+    std::snprintf(label, sizeof label, "k = %zu distinct passes", ks[v]);
+    tally[v].print(label);
+  }
+  for (std::size_t v = 0; v < std::size(ks); ++v) {
+    char label[64];
+    std::snprintf(label, sizeof label, "k = %zu, steps 75..325", ks[v]);
+    fixed[v].print(label);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -650,8 +748,9 @@ int main(int argc, char** argv) {
   else if (what == "along") along();
   else if (what == "distance") distance();
   else if (what == "censored") censored();
+  else if (what == "strands") strands();
   else {
-    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust|windows|along|distance|censored\n");
+    std::fprintf(stderr, "usage: start_up_origin groups|scales|past|replacement|robust|windows|along|distance|censored|strands\n");
     return 2;
   }
   return 0;
