@@ -641,51 +641,66 @@ void censored() {
 }
 
 
-/// k neighbours per reference, each on its own pass of the trajectory: the nearest outside the
+/// Up to k neighbours per reference, each on its own pass of the trajectory: the nearest outside the
 /// Theiler window of the reference and of every neighbour already taken (brute force over the
-/// admissible points, unit-deviation coordinates, the estimator's m and delay). The k pairs of a
-/// reference sample k different passes (strands) of the trajectory near it.
-mlce::NeighbourPairs strand_pairs(const mlce::Series& series, const mlce::RosensteinOptions& o, std::size_t k) {
-  const auto base = mlce::find_pairs(series, o);
+/// admissible points, unit-deviation coordinates, the estimator's m and delay), nearest first. The
+/// pairs of a reference then sample different passes (strands) of the trajectory near it.
+struct StrandNeighbours {
+  std::vector<std::uint32_t> references;
+  std::vector<std::vector<std::uint32_t>> neighbours;  ///< per reference
+  std::vector<std::vector<double>> distances;          ///< per reference, Euclidean
+};
+
+StrandNeighbours strand_neighbours(const mlce::Series& series, const mlce::RosensteinOptions& o, std::size_t k) {
   const mlce::Series s = mlce::scaled_to_unit_deviation(series);
   std::vector<std::span<const double>> channels;
   for (const auto& c : s.channels) channels.emplace_back(c);
   const std::size_t L = mlce::DelayEmbedding::max_points(s.size(), o.dim, o.delay) - o.horizon;
   const mlce::DelayEmbedding points(channels, o.dim, o.delay, L);
-  mlce::NeighbourPairs out = base;
-  out.references.clear();
-  out.nearest = mlce::NeighbourResult{};
-  std::vector<std::vector<std::uint32_t>> chosen(base.references.size());
-  std::vector<std::vector<double>> dist(base.references.size());
-#pragma omp parallel for schedule(dynamic, 64)
-  for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(base.references.size()); ++q) {
-    const std::size_t i = base.references[static_cast<std::size_t>(q)];
+  StrandNeighbours out;
+  out.references = mlce::find_pairs(series, o).references;  // the estimator's references
+  const std::size_t R = out.references.size();
+  out.neighbours.resize(R);
+  out.distances.resize(R);
+  const auto apart = [&](std::size_t a, std::size_t b) { return (a > b ? a - b : b - a) > o.theiler; };
+#pragma omp parallel
+  {
     std::vector<double> d2(L);
-    for (std::size_t j = 0; j < L; ++j) d2[j] = points.squared_distance(i, j);
-    auto& taken = chosen[static_cast<std::size_t>(q)];
-    for (std::size_t n = 0; n < k; ++n) {
-      double best = INFINITY;
-      std::size_t arg = L;
-      for (std::size_t j = 0; j < L; ++j) {
-        if ((j > i ? j - i : i - j) <= o.theiler || !(d2[j] > 0.0) || d2[j] >= best) continue;
-        bool near = false;
-        for (auto t : taken) near = near || (j > t ? j - t : t - j) <= o.theiler;
-        if (!near) best = d2[j], arg = j;
+#pragma omp for schedule(dynamic, 64)
+    for (std::ptrdiff_t q = 0; q < static_cast<std::ptrdiff_t>(R); ++q) {
+      const std::size_t i = out.references[static_cast<std::size_t>(q)];
+      for (std::size_t j = 0; j < L; ++j) d2[j] = points.squared_distance(i, j);
+      auto& taken = out.neighbours[static_cast<std::size_t>(q)];
+      for (std::size_t n = 0; n < k; ++n) {
+        double best = INFINITY;
+        std::size_t arg = L;
+        for (std::size_t j = 0; j < L; ++j)
+          if (d2[j] > 0.0 && d2[j] < best && apart(i, j) &&
+              std::all_of(taken.begin(), taken.end(), [&](std::uint32_t t) { return apart(j, t); }))
+            best = d2[j], arg = j;
+        if (arg == L) break;
+        taken.push_back(static_cast<std::uint32_t>(arg));
+        out.distances[static_cast<std::size_t>(q)].push_back(std::sqrt(best));
       }
-      if (arg == L) break;
-      taken.push_back(static_cast<std::uint32_t>(arg));
-      dist[static_cast<std::size_t>(q)].push_back(std::sqrt(best));
     }
   }
-  for (std::size_t q = 0; q < base.references.size(); ++q)
-    for (std::size_t n = 0; n < chosen[q].size(); ++n) {
-      out.references.push_back(base.references[q]);
-      out.nearest.neighbour.push_back(chosen[q][n]);
-      out.nearest.distance.push_back(dist[q][n]);
-      out.nearest.repeated.push_back(0);
-      out.nearest.repeat_of.push_back(mlce::NeighbourResult::none);
-    }
   return out;
+}
+
+/// The pairs of the first k strand neighbours of each reference, as follow_pairs takes them
+/// (a reference repeated once per neighbour, in time order, so its batches stay contiguous).
+mlce::NeighbourPairs first_strands(const StrandNeighbours& strands, const mlce::RosensteinOptions& o, std::size_t k) {
+  mlce::NeighbourPairs p;
+  p.dim = o.dim, p.delay = o.delay, p.horizon = o.horizon, p.theiler = o.theiler;
+  for (std::size_t q = 0; q < strands.references.size(); ++q)
+    for (std::size_t n = 0; n < std::min(k, strands.neighbours[q].size()); ++n) {
+      p.references.push_back(strands.references[q]);
+      p.nearest.neighbour.push_back(strands.neighbours[q][n]);
+      p.nearest.distance.push_back(strands.distances[q][n]);
+      p.nearest.repeated.push_back(0);
+      p.nearest.repeat_of.push_back(mlce::NeighbourResult::none);
+    }
+  return p;
 }
 
 void strands() {
@@ -696,26 +711,13 @@ void strands() {
     automatic.add(r.lambda / kLambda);
     mlce::FitOptions fit;
     fit.period = r.mean_period.mean_period, fit.signal_rate = r.envelope_rate, fit.signal_end_rate = r.end_envelope_rate;
+    mlce::FitOptions window;  // the best fixed window of `windows`: the pairs' scatter, the rule's choice aside
+    window.range = {75, 325};
     const mlce::RosensteinOptions o = curve_options(r);
-    const auto all = strand_pairs(series, o, ks[std::size(ks) - 1]);
+    const StrandNeighbours all = strand_neighbours(series, o, ks[std::size(ks) - 1]);
     for (std::size_t v = 0; v < std::size(ks); ++v) {
-      mlce::NeighbourPairs p = all;
-      p.references.clear();
-      p.nearest = mlce::NeighbourResult{};
-      std::size_t slot = 0;
-      for (std::size_t e = 0; e < all.references.size(); ++e) {
-        slot = (e > 0 && all.references[e] == all.references[e - 1]) ? slot + 1 : 0;
-        if (slot >= ks[v]) continue;
-        p.references.push_back(all.references[e]);
-        p.nearest.neighbour.push_back(all.nearest.neighbour[e]);
-        p.nearest.distance.push_back(all.nearest.distance[e]);
-        p.nearest.repeated.push_back(0);
-        p.nearest.repeat_of.push_back(mlce::NeighbourResult::none);
-      }
-      const auto curve = mlce::follow_pairs(series, o, p);
+      const auto curve = mlce::follow_pairs(series, o, first_strands(all, o, ks[v]));
       tally[v].add(mlce::fit_divergence(curve, fit).slope / kDt / kLambda);
-      mlce::FitOptions window;  // the best fixed window of `windows`: the pairs' scatter, the rule's choice aside
-      window.range = {75, 325};
       fixed[v].add(mlce::fit_divergence(curve, window).slope / kDt / kLambda);
     }
     std::fprintf(stderr, "\rseries %d of 32", n);
@@ -723,16 +725,12 @@ void strands() {
   std::fprintf(stderr, "\n");
   std::printf("Lorenz x, 32 series: k neighbours per reference on k distinct passes, / lambda_1\n");
   automatic.print("automatic");
-  for (std::size_t v = 0; v < std::size(ks); ++v) {
-    char label[64];
-    std::snprintf(label, sizeof label, "k = %zu distinct passes", ks[v]);
-    tally[v].print(label);
-  }
-  for (std::size_t v = 0; v < std::size(ks); ++v) {
-    char label[64];
-    std::snprintf(label, sizeof label, "k = %zu, steps 75..325", ks[v]);
-    fixed[v].print(label);
-  }
+  for (const bool window : {false, true})
+    for (std::size_t v = 0; v < std::size(ks); ++v) {
+      char label[64];
+      std::snprintf(label, sizeof label, window ? "k = %zu, steps 75..325" : "k = %zu distinct passes", ks[v]);
+      (window ? fixed : tally)[v].print(label);
+    }
 }
 
 }  // namespace
