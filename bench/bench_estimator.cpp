@@ -4,6 +4,7 @@
 #include <map>
 
 #include "mlce/estimate.hpp"
+#include "mlce/neighbours.hpp"
 #include "reference_systems.hpp"
 
 namespace {
@@ -59,6 +60,45 @@ void BM_CurveReferences(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(mlce::divergence_curve(s, o));
 }
 BENCHMARK(BM_CurveReferences)->Arg(5000)->Arg(20000)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// The kd-tree's leaf size (NeighbourOptions::leaf_size) trades the depth of the tree (its build and
+// memory) against the points scanned per leaf. Lorenz x in unit deviations, delay 17, Theiler window
+// 170: the nearest neighbour of 20000 evenly spread points among N (the divergence curve's and FNN's
+// search), at m = 3 and m = 8, and the balls of Kantz's method (radius 0.05, m = 3).
+// Args: N, leaf size, m, 0 = nearest / 1 = balls.
+void BM_NeighbourLeafSize(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  const auto scaled = mlce::scaled_to_unit_deviation(lorenz(n));
+  const std::size_t dim = static_cast<std::size_t>(state.range(2)), delay = 17;
+  const std::span<const double> x(scaled.channels[0]);
+  const mlce::DelayEmbedding embedding({x}, dim, delay, mlce::DelayEmbedding::max_points(n, dim, delay));
+  mlce::NeighbourOptions o;
+  o.theiler = 170;
+  o.leaf_size = static_cast<std::size_t>(state.range(1));
+  const auto queries = mlce::strided_indices(embedding.size(), 20000);
+  const bool balls = state.range(3) == 1;
+  std::size_t found = 0;
+  for (auto _ : state) {
+    const mlce::NeighbourIndex index(embedding, o);  // the build counts: each estimate builds its trees
+    found = 0;
+    if (balls) {
+      std::vector<std::uint32_t> out;
+      for (std::size_t q = 0; q < queries.size(); q += 10) {
+        index.within(queries[q], 0.05, embedding.size(), out);
+        found += out.size();
+      }
+    } else {
+      const auto nearest = index.nearest(queries, embedding.size());
+      for (const auto j : nearest.neighbour) found += j != mlce::NeighbourResult::none;
+    }
+    benchmark::DoNotOptimize(found);
+  }
+  state.counters["found"] = static_cast<double>(found);
+}
+BENCHMARK(BM_NeighbourLeafSize)
+    ->ArgsProduct({{100000, 1000000}, {10, 20, 40, 64}, {3, 8}, {0}})
+    ->ArgsProduct({{1000000}, {10, 20, 40, 64}, {3}, {1}})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -13,8 +13,9 @@ using namespace mlce;
 
 namespace {
 /// The kd-tree search, as one tree and split into two (NeighbourOptions::split_tree_points, which
-/// long series use), against the brute force: the same distance and, equal distances going to the
-/// earlier point, the same neighbour.
+/// long series use), with one point per leaf, nanoflann's 10, ours and leaves larger than the
+/// embedding, against the brute force: the same distance and, equal distances going to the earlier
+/// point, the same neighbour.
 void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, std::size_t delay, std::size_t theiler,
                                 double repeat_resolution = 0.0,
                                 double repeat_ceiling = std::numeric_limits<double>::infinity()) {
@@ -28,20 +29,24 @@ void expect_same_as_brute_force(const std::vector<double>& x, std::size_t dim, s
   o.repeat_ceiling = repeat_ceiling;
   const auto slow = find_nearest_neighbours_brute_force(emb, q, o);
   for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
-    o.split_tree_points = split;
-    const auto fast = find_nearest_neighbours(emb, q, o);
-    ASSERT_EQ(fast.neighbour.size(), slow.neighbour.size());
-    for (std::size_t k = 0; k < q.size(); ++k) {
-      EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k] << ", split " << split;  // exact search
-      EXPECT_EQ(fast.neighbour[k], slow.neighbour[k]) << "query " << q[k] << ", split " << split;
-      EXPECT_EQ(fast.repeated[k], slow.repeated[k]) << "query " << q[k] << ", split " << split;
-      EXPECT_EQ(fast.repeat_of[k], slow.repeat_of[k]) << "query " << q[k] << ", split " << split;
-      const std::size_t j = fast.neighbour[k];
-      EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
+    for (std::size_t leaf : {std::size_t{1}, std::size_t{10}, kDefaultLeafSize, std::size_t{100000}}) {
+      o.split_tree_points = split;
+      o.leaf_size = leaf;
+      SCOPED_TRACE(testing::Message() << "split " << split << ", leaf size " << leaf);
+      const auto fast = find_nearest_neighbours(emb, q, o);
+      ASSERT_EQ(fast.neighbour.size(), slow.neighbour.size());
+      for (std::size_t k = 0; k < q.size(); ++k) {
+        EXPECT_EQ(fast.distance[k], slow.distance[k]) << "query " << q[k] << ", split " << split;  // exact search
+        EXPECT_EQ(fast.neighbour[k], slow.neighbour[k]) << "query " << q[k] << ", split " << split;
+        EXPECT_EQ(fast.repeated[k], slow.repeated[k]) << "query " << q[k] << ", split " << split;
+        EXPECT_EQ(fast.repeat_of[k], slow.repeat_of[k]) << "query " << q[k] << ", split " << split;
+        const std::size_t j = fast.neighbour[k];
+        EXPECT_GT(j > q[k] ? j - q[k] : q[k] - j, theiler);  // eq. 20
+      }
+      EXPECT_EQ(fast.zero_distance_candidates, slow.zero_distance_candidates) << "split " << split;
+      EXPECT_EQ(fast.near_repeat_candidates, slow.near_repeat_candidates) << "split " << split;
+      EXPECT_EQ(fast.without_neighbour, slow.without_neighbour) << "split " << split;
     }
-    EXPECT_EQ(fast.zero_distance_candidates, slow.zero_distance_candidates) << "split " << split;
-    EXPECT_EQ(fast.near_repeat_candidates, slow.near_repeat_candidates) << "split " << split;
-    EXPECT_EQ(fast.without_neighbour, slow.without_neighbour) << "split " << split;
   }
 }
 }  // namespace
@@ -250,14 +255,16 @@ TEST(Neighbours, DistancesToARangeMatchBruteForce) {
   std::vector<std::uint32_t> q;
   for (std::size_t i = 0; i < M; i += 13) q.push_back(static_cast<std::uint32_t>(i));
   for (const auto& [first, count] : {std::pair<std::size_t, std::size_t>{M / 2, M - M / 2}, {0, M}, {100, 1}}) {
-    const auto fast = RangeIndex(emb, first, count).distances(q);
-    ASSERT_EQ(fast.size(), q.size());
-    for (std::size_t k = 0; k < q.size(); ++k) {
-      double best = std::numeric_limits<double>::infinity();
-      for (std::size_t j = first; j < first + count; ++j) best = std::min(best, emb.squared_distance(q[k], j));
-      EXPECT_EQ(fast[k], std::sqrt(best)) << "query " << q[k] << ", points from " << first;
-      if (q[k] >= first && q[k] < first + count) {
-        EXPECT_EQ(fast[k], 0.0);  // no Theiler window: itself
+    for (const std::size_t leaf : {std::size_t{1}, kDefaultLeafSize, std::size_t{100000}}) {
+      const auto fast = RangeIndex(emb, first, count, leaf).distances(q);
+      ASSERT_EQ(fast.size(), q.size());
+      for (std::size_t k = 0; k < q.size(); ++k) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t j = first; j < first + count; ++j) best = std::min(best, emb.squared_distance(q[k], j));
+        EXPECT_EQ(fast[k], std::sqrt(best)) << "query " << q[k] << ", points from " << first << ", leaf size " << leaf;
+        if (q[k] >= first && q[k] < first + count) {
+          EXPECT_EQ(fast[k], 0.0);  // no Theiler window: itself
+        }
       }
     }
   }
@@ -268,7 +275,7 @@ TEST(Neighbours, DistancesToARangeMatchBruteForce) {
 TEST(Neighbours, BallSearchMatchesBruteForceWithTheilerWindowLimitAndRepeats) {
   // Kantz's neighbourhoods (NeighbourIndex::within) against every pair checked by hand: Lorenz x
   // embedded in m = 3, with a periodic stretch copied in so that some points repeat exactly; one
-  // tree and two halves, a limit below the embedding's size.
+  // tree and two halves, our leaf size and one point per leaf, a limit below the embedding's size.
   std::vector<double> x = reference::lorenz_x(3000, 0.01);
   std::copy(x.begin() + 100, x.begin() + 300, x.begin() + 2000);  // exact repeats of 200 samples
   const std::size_t dim = 3, delay = 12, theiler = 40;
@@ -277,8 +284,10 @@ TEST(Neighbours, BallSearchMatchesBruteForceWithTheilerWindowLimitAndRepeats) {
   NeighbourOptions o;
   o.theiler = theiler;
   std::size_t compared = 0, repeats_seen = 0;
-  for (std::size_t split : {std::size_t{0}, std::size_t{1}}) {
+  for (std::size_t variant = 0; variant < 4; ++variant) {
+    const std::size_t split = variant % 2;
     o.split_tree_points = split;
+    o.leaf_size = variant < 2 ? kDefaultLeafSize : 1;
     const NeighbourIndex index(emb, o);
     std::vector<std::uint32_t> fast;
     for (std::size_t q = 0; q < limit; q += 37) {
@@ -292,7 +301,8 @@ TEST(Neighbours, BallSearchMatchesBruteForceWithTheilerWindowLimitAndRepeats) {
           if (d2 == 0.0) ++zeros;
           else if (d2 < radius * radius) slow.push_back(static_cast<std::uint32_t>(j));
         }
-        EXPECT_EQ(fast, slow) << "query " << q << ", radius " << radius << ", split " << split;
+        EXPECT_EQ(fast, slow) << "query " << q << ", radius " << radius << ", split " << split << ", leaf size "
+                              << o.leaf_size;
         EXPECT_EQ(repeats, zeros) << "query " << q << ", radius " << radius;
         compared += slow.size();
         repeats_seen += zeros;
