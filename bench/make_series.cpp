@@ -6,6 +6,7 @@
 //   make_series roessler N dt TRANSIENT X Y Z  (Roessler from (X, Y, Z) after TRANSIENT time units)
 //   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
 //   make_series logistic N R > file             (the logistic map at r = R instead of 4)
+//   make_series oscillator N dt ZETA OMEGA      (x = e^{-zeta omega t} cos(omega_d t); default 0.05, 2 pi)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -18,7 +19,8 @@ int main(int argc, char** argv) {
                          "       make_series lorenz N dt TRANSIENT   (from (1, 1, 1) after TRANSIENT time units; default 50)\n"
                          "       make_series lorenz N dt TRANSIENT X Y Z   (from (X, Y, Z))\n"
                          "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n"
-                         "       make_series logistic N R            (the logistic map at r = R)\n");
+                         "       make_series logistic N R            (the logistic map at r = R)\n"
+                         "       make_series oscillator N dt ZETA OMEGA   (damping ratio and natural frequency; default 0.05, 2 pi)\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -46,7 +48,9 @@ int main(int argc, char** argv) {
   } else if (name == "roessler") x = roessler_x(n, dt = dt > 0 ? dt : 0.1);
   else if (name == "roessler_z") x = roessler(n, dt = dt > 0 ? dt : 0.1, {1.0, 1.0, 0.0}, 2);
   else if (name == "vanderpol") x = van_der_pol_x(n, dt = dt > 0 ? dt : 0.01);
-  else if (name == "oscillator") x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, 0.05, 2.0 * M_PI);
+  else if (name == "oscillator")
+    x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, argc > 5 ? std::strtod(argv[4], nullptr) : 0.05,
+                          argc > 5 ? std::strtod(argv[5], nullptr) : 2.0 * M_PI);
   else if (name == "henon") x = henon_x(n), dt = 1.0;
   else if (name == "logistic") x = logistic(n, 0.1234567, argc > 3 ? std::strtod(argv[3], nullptr) : 4.0), dt = 1.0;
   else {
