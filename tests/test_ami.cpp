@@ -203,6 +203,36 @@ TEST(Ami, SmoothedSineIsNotFooledByItsRawZigzag) {
   EXPECT_GT(r.delay, 10u);
 }
 
+TEST(Ami, HistogramRippleOfALongPeriodIsSmoothedOverItsOwnSpacing) {
+  // e^{-0.005 t} cos t over 2000 samples of 0.01: period T = 628 samples, B = 12 bins. The histogram
+  // estimate ripples every ~T / (pi B) = 17 lags (the delay coordinates' ellipse widens across one
+  // more bin); the automatic smoothing is that spacing, rounded down to odd, and the first minimum
+  // of what is left is a sizeable fraction of the quarter period, 157. With the 3-lag average (the
+  // period unknown) the first ripple, at lag 14, is taken; with other bin counts it moves (8 bins:
+  // 21, 16 bins: 11), which a minimum of the signal does not.
+  std::vector<double> x(2000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = 0.01 * static_cast<double>(i);
+    x[i] = std::exp(-0.005 * t) * std::cos(t);
+  }
+  const Series s = make_series_with_step({x}, 0.01);
+  AmiOptions o;
+  const auto unaware = estimate_delay_ami(s, o);
+  EXPECT_EQ(unaware.smoothing, 3u);
+  EXPECT_LT(unaware.delay, 20u);  // the ripple
+  o.mean_period = 628;
+  const auto r = estimate_delay_ami(s, o);
+  EXPECT_EQ(r.bins, 12u);
+  EXPECT_EQ(r.smoothing, 15u);  // 628 / (12 pi) = 16.7
+  EXPECT_GT(r.delay, 157u / 2);
+  EXPECT_LT(r.delay, 157u + 20);
+  o.smoothing = 3;  // as given
+  EXPECT_EQ(estimate_delay_ami(s, o).delay, unaware.delay);
+  o.smoothing = 0;
+  o.map = true;  // a map keeps the 3-lag average whatever its period
+  EXPECT_EQ(estimate_delay_ami(s, o).smoothing, 3u);
+}
+
 TEST(Ami, RejectsBadOptions) {
   AmiOptions o;
   o.smoothing = 2;

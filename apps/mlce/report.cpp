@@ -25,7 +25,7 @@ nlohmann::json to_json(const AmiResult& r) {
   return {{"delay", r.delay},           {"rule", to_string(r.rule)}, {"bins", r.bins},
           {"binning", "equal-width over the range; Sturges ceil(log2 N)+1 unless given"},
           {"units", "nats"},            {"noise_floor", r.noise_floor}, {"ami", r.ami},
-          {"smoothed", r.smoothed},     {"channel_delay", r.channel_delay}, {"warnings", r.warnings}};
+          {"smoothing", r.smoothing},   {"smoothed", r.smoothed},     {"channel_delay", r.channel_delay}, {"warnings", r.warnings}};
 }
 
 nlohmann::json to_json(const FnnResult& r) {
@@ -195,7 +195,10 @@ std::string to_text(const MlceResult& r) {
 }
 
 std::string to_text(const AmiResult& r) {
-  std::string s = fmt::format("# average mutual information (nats), {} equal-width bins\n# tau ami smoothed\n", r.bins);
+  std::string s = fmt::format(
+      "# average mutual information (nats), {} equal-width bins; smoothed: centred {}-lag moving average\n"
+      "# tau ami smoothed\n",
+      r.bins, r.smoothing);
   for (std::size_t t = 0; t < r.ami.size(); ++t) s += fmt::format("{} {:.6g} {:.6g}\n", t, r.ami[t], r.smoothed[t]);
   s += fmt::format("# delay = {} ({})\n", r.delay, to_string(r.rule));
   for (const auto& w : r.warnings) s += "# warning: " + w + "\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "mlce/numerics.hpp"
 
@@ -58,17 +59,19 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
   std::vector<std::uint32_t> joint(bins * bins);
   const std::size_t h = o.smoothing / 2;
   r.floor = static_cast<double>((bins - 1) * (bins - 1)) / (2.0 * static_cast<double>(x.size()));
+  // Centred on lag t; within h of lag 0 the window narrows to t on either side (lag 0 itself raw),
+  // so that the smoothed curve has no step where the full window begins.
   auto smooth_at = [&](std::size_t t) {
-    if (t < h) return r.ami[t];
+    const std::size_t half = std::min(t, h);
     double s = 0.0;
-    for (std::size_t k = t - h; k <= t + h; ++k) s += r.ami[k];
-    return s / static_cast<double>(2 * h + 1);
+    for (std::size_t k = t - half; k <= t + half; ++k) s += r.ami[k];
+    return s / static_cast<double>(2 * half + 1);
   };
   std::size_t candidate = 0;  // a local minimum being confirmed
   std::size_t shoulder = 0;   // first local minimum of a stretch that may be flat (see below)
   for (std::size_t tau = 0; tau <= max_delay; ++tau) {
     r.ami.push_back(mutual_information(b, bins, tau, joint));
-    if (tau < h) continue;  // smoothed[t] is centred on lag t (the first h lags unsmoothed)
+    if (tau < h) continue;  // smoothed[t] is centred on lag t: it needs lag t + h
     r.smoothed.push_back(smooth_at(tau - h));
     const std::size_t t = r.smoothed.size() - 1;  // newest smoothed index
     if (r.delay != 0) continue;  // the whole curve is wanted (`ami` command): only extend it
@@ -166,6 +169,16 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
   return r;
 }
 
+/// AmiOptions::smoothing = 0: the ripple spacing T / (pi B) of the histogram estimate for a motion of
+/// mean period T (samples) over B bins, rounded down to odd, at least 3 (see ami.hpp).
+std::size_t automatic_smoothing(std::size_t mean_period, std::size_t bins, bool map) {
+  constexpr std::size_t kNarrowest = 3;
+  if (map || mean_period == 0) return kNarrowest;
+  const auto spacing = static_cast<std::size_t>(static_cast<double>(mean_period) / (std::numbers::pi * static_cast<double>(bins)));
+  if (spacing <= kNarrowest) return kNarrowest;
+  return spacing % 2 == 1 ? spacing : spacing - 1;
+}
+
 }  // namespace
 
 const char* to_string(DelayRule rule) {
@@ -178,8 +191,8 @@ const char* to_string(DelayRule rule) {
 }
 
 void AmiOptions::validate() const {
-  if (smoothing == 0 || smoothing % 2 == 0)
-    throw OptionError("ami.smoothing = " + std::to_string(smoothing) + ": expected an odd width >= 1");
+  if (smoothing % 2 == 0 && smoothing != 0)
+    throw OptionError("ami.smoothing = " + std::to_string(smoothing) + ": expected an odd width >= 1 (0 = auto)");
   if (bins == 1 || bins > 4096) throw OptionError("ami.bins = " + std::to_string(bins) + ": expected 2..4096 (0 = auto)");
   if (!(significance >= 0.0)) throw OptionError("ami.significance: expected >= 0");
   if (!(floor_zone >= 0.0)) throw OptionError("ami.floor_zone: expected >= 0");
@@ -211,10 +224,13 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
   std::size_t best = 0;
   bool any_fallback = false, any_map_step = false;
   const bool map = options.map || (options.mean_period > 0 && options.mean_period < kMinFlowPeriod);
+  AmiOptions resolved = options;
+  resolved.smoothing = options.smoothing ? options.smoothing : automatic_smoothing(options.mean_period, r.bins, map);
+  r.smoothing = resolved.smoothing;
   const std::size_t map_period =
       options.mean_period > 0 ? std::min(options.mean_period, kMinFlowPeriod - 1) : kMinFlowPeriod - 1;
   for (std::size_t c = 0; c < s.channel_count(); ++c) {
-    ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, options);
+    ChannelAmi a = channel_ami(s.channels[c], r.bins, max_delay, resolved);
     std::size_t d = a.delay;
     // The channel is named where there are several (mlce estimate --each names its own channels).
     const std::string channel = s.channel_count() > 1 ? channel_name(series, c) + ": " : std::string();
