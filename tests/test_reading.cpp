@@ -179,6 +179,21 @@ TEST(Reading, WhatTheWarningsCallMeaninglessIsUndetermined) {
   expect_undetermined(read(wrapped, 0.01), "wraps");
 }
 
+TEST(Reading, TwoDecayingModesBeatingAreNotReadUnstable) {
+  // e^{-0.02 t} cos 2t + e^{-0.05 t} cos 2.4t over 40 s (2.5 beats): both modes decay, so the motion's
+  // largest exponent is -0.02 (truth). The divergence curve rises while the modes dephase (at close
+  // frequencies their directions in delay coordinates are nearly parallel, and the nearest neighbours
+  // are near-cancellations) and reads lambda > 0 at every m from 3 to 6; the amplitude falls (envelope
+  // rate -0.022 1/s, last third 0.53 of the first). Until the amplitude's fall counted as a decay
+  // against lambda > 0, the reading was "unstable, diverging": a false alarm on a stable rotor.
+  using reference::DecayingMode;
+  const double hz = 1.0 / kTwoPi;  // the modes' frequencies in rad/s
+  const auto x = reference::decaying_modes(4000, 0.01, {{-0.02, 2.0 * hz, 1.0}, {-0.05, 2.4 * hz, 1.0}});
+  const Reading r = read(x, 0.01);
+  EXPECT_NE(r.stability, Stability::unstable) << r.summary;
+  expect_undetermined(r, "lambda > 0 while the amplitude decays");
+}
+
 TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {
   // A result that says lambda > 0 while the signal's amplitude falls to a tenth: not a reading.
   MlceResult r;

@@ -64,6 +64,13 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
     return AmplitudeTrend::grows;
   if (ratio <= 1.0 / kPersistentAmplitude || (beyond_band && lambda < 0.0 && rate <= o.persist_share * lambda))
     return AmplitudeTrend::decays;
+  // An amplitude that falls over the run (rate beyond the band, last third smaller than the first)
+  // while lambda > 0 decays, however slowly against lambda: the two disagree in sign, which the
+  // reading must say rather than take the fall for "a growth or chaos". Two decaying modes beating
+  // (e^{-0.02 t} cos 2t + e^{-0.05 t} cos 2.4t over 40 s: rate -0.022, ratio 0.53) read +0.215, the
+  // pairs' transient growth while the modes dephase (close frequencies have nearly parallel directions
+  // in delay coordinates, so the nearest neighbours are near-cancellations), and were "unstable".
+  if (beyond_band && lambda > 0.0 && rate < 0.0 && ratio < 1.0) return AmplitudeTrend::decays;
   if (std::isnan(rate) || std::abs(rate) <= o.steady_share * std::abs(lambda) || !beyond_band)
     return AmplitudeTrend::persists;
   return AmplitudeTrend::changes;
