@@ -10,6 +10,11 @@
 namespace mlce {
 namespace {
 
+/// The narrowest moving average (lags), and the reach of the coarse-sampling search below, which
+/// looks for a minimum that this average lost within its first 2 x 3 lags, whatever width the
+/// ripple spacing gives the average itself (a coarse flow's period is short, and its width 3 anyway).
+constexpr std::size_t kNarrowestSmoothing = 3;
+
 /// Equal-width bins over the range; `shift` moves every edge by that fraction of a width (the
 /// first and last bins then hold the ends: `bins` + 1 bins when shift > 0).
 std::vector<std::uint16_t> bin_indices(const std::vector<double>& x, std::size_t bins, double shift = 0.0) {
@@ -124,7 +129,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
   // into a monotone decline (Lorenz x at dt = 0.1: I = 2.48, 0.95, 0.75, 0.78, 0.64, ... nats; the
   // smoothed curve's first minimum is at 6, where FNN needs m = 5 and the embedding window spans
   // 2.4 time units). A curve that loses more than coarse_first_lag of I(0) at its first lag may be
-  // such a curve: its lags 1..2 x smoothing are searched unsmoothed too. A finely sampled one is
+  // such a curve: its lags 1..2 x 3 are searched unsmoothed too. A finely sampled one is
   // not, since its raw values zigzag with the bins at small lags (a sine of 126 samples per period:
   // I = 2.57, 1.95, 1.75, 1.77, 1.59, ...), which is what the smoothing is for; and a coarse curve
   // may zigzag too, which the shifted bins below tell from a minimum of the signal.
@@ -142,13 +147,13 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     // The bins' zigzag moves when the bin edges move, a minimum of the signal does not: with the
     // edges shifted by half a width the curve must have one too, at the same lag give or take one
     // (a shallow minimum of Lorenz x at dt = 0.05 sits at lag 4 with 16 bins, at 5 with 15).
-    // Computed once, at the first candidate, over every lag a candidate (<= 2 x smoothing) can ask.
+    // Computed once, at the first candidate, over every lag a candidate (<= 2 x 3) can ask.
     std::vector<double> shifted_ami;
     auto survives_shifted_bins = [&](std::size_t m) {
       if (shifted_ami.empty()) {
         const auto shifted = bin_indices(x, bins, 0.5);
         std::vector<std::uint32_t> joint2((bins + 1) * (bins + 1));
-        for (std::size_t tau = 0; tau <= std::min(4 * o.smoothing + 3, r.ami.size() - 1); ++tau)
+        for (std::size_t tau = 0; tau <= std::min(4 * kNarrowestSmoothing + 3, r.ami.size() - 1); ++tau)
           shifted_ami.push_back(mutual_information(shifted, bins + 1, tau, joint2));
       }
       for (std::size_t k = std::max<std::size_t>(m, 2) - 1; k <= m + 1 && k + 1 < shifted_ami.size(); ++k)
@@ -157,7 +162,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     };
     // Only a minimum the smoothing lost: one the smoothed curve has within twice its lag is the same
     // minimum shifted by the averaging (Roessler x at dt = 0.2: raw 6, smoothed 7), and stays.
-    for (std::size_t m = 1; m + 1 < r.ami.size() && m <= 2 * o.smoothing && (r.delay == 0 || 2 * m <= r.delay); ++m) {
+    for (std::size_t m = 1; m + 1 < r.ami.size() && m <= 2 * kNarrowestSmoothing && (r.delay == 0 || 2 * m <= r.delay); ++m) {
       if (r.ami[m] >= o.floor_zone * r.floor && is_minimum(r.ami, m) && survives_shifted_bins(m)) {
         r.delay = m;
         break;
@@ -172,10 +177,9 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
 /// AmiOptions::smoothing = 0: the ripple spacing T / (pi B) of the histogram estimate for a motion of
 /// mean period T (samples) over B bins, rounded down to odd, at least 3 (see ami.hpp).
 std::size_t automatic_smoothing(std::size_t mean_period, std::size_t bins, bool map) {
-  constexpr std::size_t kNarrowest = 3;
-  if (map || mean_period == 0) return kNarrowest;
+  if (map || mean_period == 0) return kNarrowestSmoothing;
   const auto spacing = static_cast<std::size_t>(static_cast<double>(mean_period) / (std::numbers::pi * static_cast<double>(bins)));
-  if (spacing <= kNarrowest) return kNarrowest;
+  if (spacing <= kNarrowestSmoothing) return kNarrowestSmoothing;
   return spacing % 2 == 1 ? spacing : spacing - 1;
 }
 

@@ -26,8 +26,10 @@ struct AmiOptions {
   /// amplitude). Over a few periods of a lightly damped oscillation that ripple has minima deeper than
   /// a 3-lag average removes, at lags that move with B: e^{-0.005 t} cos t over 2000 samples of 0.01
   /// took delay 14 (12 bins; 11 with 16, 21 with 8) for its quarter period of 157, and read
-  /// lambda = +0.07 for -0.005. A box of the ripple's own width nulls it. Lorenz x at dt = 0.01
-  /// (T ~ 140..220 samples, B = 15 at N = 10^4) keeps 3.
+  /// lambda = +0.07 for -0.005. A box of the ripple's own width nulls the first ripples and leaves
+  /// about a third of those near T/4, where their spacing has grown 1.4-fold (the ripples sit at
+  /// T/pi arcsin(k/B)). Lorenz x at dt = 0.01 (T ~ 140..220 samples, B = 15 at N = 10^4) keeps 3.
+  /// The coarse-sampling search (coarse_first_lag) reaches 2 x 3 lags whatever this width.
   std::size_t smoothing = 0;
   /// A local minimum of the smoothed curve counts only if the curve rises after it (within as many
   /// lags again) by at least
@@ -47,7 +49,7 @@ struct AmiOptions {
   /// series still got the deep minimum at 61 samples (build/start_variants, part 2).
   double relative_rise = 0.004;
   /// A curve that loses more than this fraction of I(0) at lag 1 may be coarsely sampled: its
-  /// first 2 x smoothing lags are searched for a minimum without the smoothing as well (see
+  /// first 2 x 3 lags are searched for a minimum without the smoothing as well (see
   /// ami.cpp and README "The delay rule"). Lorenz x loses 0.62 at dt = 0.1 and 0.47 at dt = 0.05; a
   /// sine of 126 samples per period 0.24.
   double coarse_first_lag = 0.4;
