@@ -570,7 +570,7 @@ TEST(EstimateSystems, LimitCycleRunOfTwoAndAHalfCyclesIsZeroAndFlaggedWithItsTru
   EXPECT_LT(spanned, 3.0) << *w;
   // Truth 0. Over 2.6 cycles the curve is flat within the fit's own 95 % interval (half-width ~0.06
   // 1/s): any delay from 105 to 950 samples reads -0.007 .. -0.013 (`--delay`), the automatic one
-  // -0.012, so the bound is the interval's and a fifth of it.
+  // -0.012: the interval must hold 0, and |lambda| stay within a third of its half-width.
   EXPECT_LT(r.ci95_low, 0.0);
   EXPECT_GT(r.ci95_high, 0.0);
   EXPECT_LT(std::abs(r.lambda), 0.02) << r.fit.rule;
