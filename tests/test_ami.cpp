@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -233,6 +234,38 @@ TEST(Ami, HistogramRippleOfALongPeriodIsSmoothedOverItsOwnSpacing) {
   EXPECT_EQ(estimate_delay_ami(s, o).smoothing, 3u);
 }
 
+TEST(Ami, SineZigzagIsNotTakenForItsFirstMinimum) {
+  // The histogram estimate of a sine zigzags from lag to lag by several per cent of its drop (the
+  // delay coordinates' ellipse crosses the bins), most when the period is a whole number of samples
+  // and each lag sees the same few points. A minimum must rise above that scatter
+  // (AmiOptions::noise_rise), so the delay lands near the quarter period, where x(t) and x(t + T/4)
+  // are least dependent. The estimator passes the mean period (here the period itself).
+  for (const double period : {100.0, 157.0, 200.0}) {
+    for (const std::size_t n : {2000u, 10000u, 100000u}) {
+      std::vector<double> x(n);
+      for (std::size_t i = 0; i < n; ++i) x[i] = std::sin(2 * std::numbers::pi * static_cast<double>(i) / period + 0.3);
+      AmiOptions o;
+      o.mean_period = static_cast<std::size_t>(period);
+      const auto r = estimate_delay_ami(make_series_with_step({x}, 1.0), o);
+      EXPECT_EQ(r.rule, DelayRule::first_minimum) << period << " " << n;
+      EXPECT_GE(static_cast<double>(r.delay), 0.75 * period / 4) << period << " " << n;
+      EXPECT_LE(static_cast<double>(r.delay), 1.25 * period / 4) << period << " " << n;
+      EXPECT_GT(r.scatter, 0.0) << period << " " << n;
+      AmiOptions without = o;
+      without.noise_rise = 0.0;
+      std::printf("sine of %.0f samples per period, N = %zu: delay %zu (without the scatter clause %zu), scatter %.3g nats\n",
+                  period, n, r.delay, estimate_delay_ami(make_series_with_step({x}, 1.0), without).delay, r.scatter);
+      if (period == 200.0 && n == 100000u) {
+        // Two hundred distinct points: the raw curve scatters by more than 2 % of its drop, and
+        // without the rule its zigzag's first minimum, at lag 6, was taken.
+        EXPECT_GT(r.scatter, 0.02 * (r.ami[0] - r.smoothed[r.delay]));
+        o.noise_rise = 0.0;
+        EXPECT_LT(estimate_delay_ami(make_series_with_step({x}, 1.0), o).delay, 10u);
+      }
+    }
+  }
+}
+
 TEST(Ami, RejectsBadOptions) {
   AmiOptions o;
   o.smoothing = 2;
@@ -245,5 +278,8 @@ TEST(Ami, RejectsBadOptions) {
   EXPECT_THROW(o.validate(), OptionError);
   o = {};
   o.coarse_first_lag = 0.0;
+  EXPECT_THROW(o.validate(), OptionError);
+  o = {};
+  o.noise_rise = -1.0;
   EXPECT_THROW(o.validate(), OptionError);
 }

@@ -24,7 +24,7 @@ std::string rate_unit(const MlceResult& r) { return r.time_unit.empty() ? "1/sam
 nlohmann::json to_json(const AmiResult& r) {
   return {{"delay", r.delay},           {"rule", to_string(r.rule)}, {"bins", r.bins},
           {"binning", "equal-width over the range; Sturges ceil(log2 N)+1 unless given"},
-          {"units", "nats"},            {"noise_floor", r.noise_floor}, {"ami", r.ami},
+          {"units", "nats"},            {"noise_floor", r.noise_floor}, {"scatter", r.scatter}, {"ami", r.ami},
           {"smoothing", r.smoothing},   {"smoothed", r.smoothed},     {"channel_delay", r.channel_delay}, {"warnings", r.warnings}};
 }
 
@@ -201,6 +201,8 @@ std::string to_text(const AmiResult& r) {
       r.bins, r.smoothing);
   for (std::size_t t = 0; t < r.ami.size(); ++t) s += fmt::format("{} {:.6g} {:.6g}\n", t, r.ami[t], r.smoothed[t]);
   s += fmt::format("# delay = {} ({})\n", r.delay, to_string(r.rule));
+  if (r.scatter > 0.0)  // the rise the minimum needed above the curve's own scatter (AmiOptions::noise_rise)
+    s += fmt::format("# the raw curve scatters by {:.3g} nats about its trend there\n", r.scatter);
   for (const auto& w : r.warnings) s += "# warning: " + w + "\n";
   return s;
 }

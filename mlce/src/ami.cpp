@@ -55,7 +55,21 @@ struct ChannelAmi {
   std::vector<double> ami, smoothed;
   std::size_t delay = 0;  // 0: no significant minimum
   double floor = 0.0;
+  double scatter = 0.0;  // sigma of the raw curve about its trend, where the minimum was accepted
 };
+
+/// Robust scatter sigma of a curve's values about a smooth trend, from its third differences over
+/// lags [from, to] (each needs lags k - 1 .. k + 2): a third difference leaves a quadratic trend out
+/// and has variance 20 sigma^2 for independent errors; the median of their magnitudes is 0.6745 of
+/// their standard deviation for Gaussian errors (MAD). 0 when fewer than 5 differences are available.
+double curve_scatter(const std::vector<double>& a, std::size_t from, std::size_t to) {
+  std::vector<double> third;
+  for (std::size_t k = std::max<std::size_t>(1, from); k <= to && k + 2 < a.size(); ++k)
+    third.push_back(std::abs(a[k + 2] - 3.0 * a[k + 1] + 3.0 * a[k] - a[k - 1]));
+  if (third.size() < 5) return 0.0;
+  std::nth_element(third.begin(), third.begin() + static_cast<std::ptrdiff_t>(third.size() / 2), third.end());
+  return 1.4826 * third[third.size() / 2] / std::sqrt(20.0);
+}
 
 ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size_t max_delay,
                        const AmiOptions& o) {
@@ -87,11 +101,21 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
       // of a sampled flow is smooth, b is an offset shared by neighbouring lags, and a shallow
       // first minimum (Lorenz x: ~1 % of the drop from I(0)) is the minimum.
       const bool near_floor = r.smoothed[candidate] < o.floor_zone * r.floor;
-      const double need = near_floor ? std::max(o.significance * r.floor, 0.01 * depth) : o.relative_rise * depth;
+      double need = near_floor ? std::max(o.significance * r.floor, 0.01 * depth) : o.relative_rise * depth;
+      // And above the curve's own scatter (AmiOptions::noise_rise): the standard error of the
+      // difference of two averages of w raw values is sigma sqrt(2 / w). Measured from half the
+      // candidate's lag on, where the decline has flattened (its curvature is not scatter), up to
+      // the newest raw lag; only once the rise passes the other need, as it is a median over lags.
+      double scatter = 0.0;
+      if (o.noise_rise > 0.0 && r.smoothed[t] - r.smoothed[candidate] >= need) {
+        scatter = curve_scatter(r.ami, candidate / 2, r.ami.size() - 3);
+        need = std::max(need, o.noise_rise * scatter * std::sqrt(2.0 / static_cast<double>(2 * h + 1)));
+      }
       if (r.smoothed[t] < r.smoothed[candidate]) {
         candidate = 0;  // the curve kept falling: not a minimum
       } else if (r.smoothed[t] - r.smoothed[candidate] >= need) {
         r.delay = candidate;  // significant rise after it: accepted
+        r.scatter = scatter;
         // A minimum at the level of independent samples (below significance x b) is the floor of a
         // series that decorrelates completely and rises again only at its next recurrence (the
         // spikes of Roessler z): the decline ended where the curve first came within b of that
@@ -165,6 +189,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
     for (std::size_t m = 1; m + 1 < r.ami.size() && m <= 2 * kNarrowestSmoothing && (r.delay == 0 || 2 * m <= r.delay); ++m) {
       if (r.ami[m] >= o.floor_zone * r.floor && is_minimum(r.ami, m) && survives_shifted_bins(m)) {
         r.delay = m;
+        r.scatter = 0.0;  // a minimum of the raw curve, not of the smoothed one
         break;
       }
     }
@@ -201,6 +226,7 @@ void AmiOptions::validate() const {
   if (!(significance >= 0.0)) throw OptionError("ami.significance: expected >= 0");
   if (!(floor_zone >= 0.0)) throw OptionError("ami.floor_zone: expected >= 0");
   if (!(relative_rise >= 0.0 && relative_rise < 1.0)) throw OptionError("ami.relative_rise: expected 0 <= value < 1");
+  if (!(noise_rise >= 0.0 && std::isfinite(noise_rise))) throw OptionError("ami.noise_rise: expected a finite value >= 0 (0 = off)");
   if (!(coarse_first_lag > 0.0 && coarse_first_lag <= 1.0)) throw OptionError("ami.coarse_first_lag: expected 0 < value <= 1");
 }
 
@@ -258,6 +284,7 @@ AmiResult estimate_delay_ami(const Series& series, const AmiOptions& options) {
       r.ami = std::move(a.ami);
       r.smoothed = std::move(a.smoothed);
       r.noise_floor = a.floor;
+      r.scatter = a.scatter;
     }
     best = best == 0 ? d : std::min(best, d);
   }

@@ -48,6 +48,20 @@ struct AmiOptions {
   /// measured it from the mean of I(0..2), ~30 % less, with 0.005): at 0.005 one of 200 Lorenz x
   /// series still got the deep minimum at 61 samples (build/start_variants, part 2).
   double relative_rise = 0.004;
+  /// A minimum counts only if its rise also exceeds this many standard errors of the difference of
+  /// two smoothed values, sigma x sqrt(2 / w): sigma is the raw curve's own scatter about its trend,
+  /// 1.4826 x the median |third difference| / sqrt(20) (robust; a third difference of independent
+  /// errors has variance 20 sigma^2 and leaves a quadratic trend out), over lags candidate / 2 ..
+  /// the newest. Why: a sine's histogram estimate zigzags by several per cent of its drop from lag
+  /// to lag (the delay coordinates' ellipse crosses the bins; worst when the period is a whole number
+  /// of samples, so that each lag sees the same few points), and the relative_rise (0.4 % of the
+  /// drop, for Lorenz's shallow minimum) took the zigzag's first minima: a sine of 200 samples per
+  /// period over 10^5 samples took delay 6 for its quarter period of 50 (now 40). Lorenz x's curve
+  /// scatters by ~10^-3 nats about its trend at dt = 0.01 (its first minimum rises ~100 such
+  /// standard errors) and ~10^-2 at dt = 0.02 (~9): 2, not 3, keeps every Lorenz x delay of
+  /// `build/finite_time_spread sampling`, one of whose dt = 0.02 series' minimum rises between 2 and 3.
+  /// 0 = off (the rule before 2026-12-05).
+  double noise_rise = 2.0;
   /// A curve that loses more than this fraction of I(0) at lag 1 may be coarsely sampled: its
   /// first 2 x 3 lags are searched for a minimum without the smoothing as well (see
   /// ami.cpp and README "The delay rule"). Lorenz x loses 0.62 at dt = 0.1 and 0.47 at dt = 0.05; a
@@ -90,6 +104,9 @@ struct AmiResult {
   std::size_t bins = 0;
   std::size_t smoothing = 0;  ///< width of the moving average used (AmiOptions::smoothing resolved)
   double noise_floor = 0.0;  ///< b, nats
+  /// The raw curve's scatter sigma about its trend where the minimum was accepted (nats; see
+  /// AmiOptions::noise_rise); 0 when the delay is not a first minimum of the smoothed curve.
+  double scatter = 0.0;
   std::vector<std::size_t> channel_delay;
   std::vector<std::string> warnings;
 };
