@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <regex>
@@ -348,6 +349,23 @@ TEST_F(Cli, CurveCsvLocalSlopeIsTheDecayRate) {
   }
   EXPECT_GT(with_slope, 100u);
   EXPECT_GT(empty, 0u);
+}
+
+TEST_F(Cli, AmiSaysTheCurvesScatterWhereItsMinimumWasAccepted) {
+  // A sine of 200 samples per period: its histogram AMI zigzags from lag to lag, and the minimum
+  // taken (near the quarter period, 50) had to rise above that scatter (AmiOptions::noise_rise).
+  std::vector<double> x(10000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(2 * std::numbers::pi * static_cast<double>(i) / 200.0 + 0.3);
+  const auto f = series_file(x, 1.0);
+  CliRun r = run("ami " + f + " --column 2 --time-column 1 --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["scatter"].get<double>(), 0.0);
+  EXPECT_GE(j["delay"].get<int>(), 38);
+  EXPECT_LE(j["delay"].get<int>(), 62);
+  r = run("ami " + f + " --column 2 --time-column 1");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("# the raw curve scatters by "), std::string::npos) << r.out.substr(r.out.size() - 300);
 }
 
 TEST_F(Cli, AmiAndFnnPrintTheirCurves) {
