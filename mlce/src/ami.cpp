@@ -105,7 +105,7 @@ ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size
       // And above the curve's own scatter (AmiOptions::noise_rise): the standard error of the
       // difference of two averages of w raw values is sigma sqrt(2 / w). Measured from half the
       // candidate's lag on, where the decline has flattened (its curvature is not scatter), up to
-      // the newest raw lag; only once the rise passes the other need, as it is a median over lags.
+      // the newest raw lag. A median over lags, so computed only once the rise passes the other need.
       double scatter = 0.0;
       if (o.noise_rise > 0.0 && r.smoothed[t] - r.smoothed[candidate] >= need) {
         scatter = curve_scatter(r.ami, candidate / 2, r.ami.size() - 3);
