@@ -57,9 +57,10 @@ struct AmiOptions {
   /// of samples, so that each lag sees the same few points), and the relative_rise (0.4 % of the
   /// drop, for Lorenz's shallow minimum) took the zigzag's first minima: a sine of 200 samples per
   /// period over 10^5 samples took delay 6 for its quarter period of 50 (now 40). Lorenz x's curve
-  /// scatters by ~10^-3 nats about its trend at dt = 0.01 (its first minimum rises ~100 such
-  /// standard errors) and ~10^-2 at dt = 0.02 (~9): 2, not 3, keeps every Lorenz x delay of
-  /// `build/finite_time_spread sampling`, one of whose dt = 0.02 series' minimum rises between 2 and 3.
+  /// scatters by 4..8 x 10^-4 nats about its trend at dt = 0.01 (data/lorenz_x.txt: 6.1 x 10^-4; its
+  /// smoothed curve rises 100..200 such standard errors within twice its lag) and 2..5 x 10^-3 at
+  /// dt = 0.02 (12..26): 2, not 3, keeps every Lorenz x delay of `build/finite_time_spread sampling`,
+  /// one of whose dt = 0.02 series' minimum passed its other rise at between 2 and 3.
   /// 0 = off (the rule before 2026-12-05).
   double noise_rise = 2.0;
   /// A curve that loses more than this fraction of I(0) at lag 1 may be coarsely sampled: its
