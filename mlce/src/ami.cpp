@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <utility>
 
 #include "mlce/numerics.hpp"
 
@@ -67,8 +68,7 @@ double curve_scatter(const std::vector<double>& a, std::size_t from, std::size_t
   for (std::size_t k = std::max<std::size_t>(1, from); k <= to && k + 2 < a.size(); ++k)
     third.push_back(std::abs(a[k + 2] - 3.0 * a[k + 1] + 3.0 * a[k] - a[k - 1]));
   if (third.size() < 5) return 0.0;
-  std::nth_element(third.begin(), third.begin() + static_cast<std::ptrdiff_t>(third.size() / 2), third.end());
-  return 1.4826 * third[third.size() / 2] / std::sqrt(20.0);
+  return 1.4826 * upper_median(std::move(third)) / std::sqrt(20.0);
 }
 
 ChannelAmi channel_ami(const std::vector<double>& x, std::size_t bins, std::size_t max_delay,

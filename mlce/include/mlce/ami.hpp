@@ -60,7 +60,7 @@ struct AmiOptions {
   /// scatters by 4..8 x 10^-4 nats about its trend at dt = 0.01 (data/lorenz_x.txt: 6.1 x 10^-4; its
   /// smoothed curve rises 100..200 such standard errors within twice its lag) and 2..5 x 10^-3 at
   /// dt = 0.02 (12..26): 2, not 3, keeps every Lorenz x delay of `build/finite_time_spread sampling`,
-  /// one of whose dt = 0.02 series' minimum passed its other rise at between 2 and 3.
+  /// one of whose dt = 0.02 series' minimum passed its other rise at between 2 and 3 (scratch build).
   /// 0 = off (the rule before 2026-12-05).
   double noise_rise = 2.0;
   /// A curve that loses more than this fraction of I(0) at lag 1 may be coarsely sampled: its
