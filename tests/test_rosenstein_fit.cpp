@@ -601,6 +601,57 @@ TEST(Fit, LimitCycleCurveThatRisesAndFallsBackIsBounded) {
   EXPECT_NE(fit_divergence(synthetic(fall, 0.34), o).end, CurveEnd::bounded);
 }
 
+TEST(Fit, CurveThatComesBackDownToItsStartLevelIsBoundedEvenNearTheAttractorScale) {
+  // A lightly damped sine recorded over 2 periods of 500 samples (e^{-0.0628 t} sin 2 pi t, dt = 0.002):
+  // too short for neighbours one period apart, so the pairs sit at a phase offset and their distance
+  // parts and closes again every half period. Its measured curve rose from -2.56 to -0.91 at step 120,
+  // 1.06 below the attractor scale, and fell back to -2.41 at step 240. The rule without the return
+  // fitted the arch, +0.0012 per step, and the reading said "chaotic" for a decaying oscillator.
+  std::vector<double> arch;
+  for (int i = 0; i <= 240; ++i) arch.push_back(-2.56 + 1.65 * std::sin(std::numbers::pi * i / 250.0));
+  FitOptions o;
+  o.period = 250;
+  const FitResult r = fit_divergence(synthetic(arch, 0.15), o);
+  EXPECT_EQ(r.end, CurveEnd::bounded) << r.rule;
+  EXPECT_NE(r.rule.find("comes back down to its start level"), std::string::npos) << r.rule;
+  EXPECT_EQ(r.first, 0u);
+  o.bounded_return = 0.0;  // the rule before the return: a rise near the attractor scale is a divergence
+  EXPECT_NE(fit_divergence(synthetic(arch, 0.15), o).end, CurveEnd::bounded);
+  o.bounded_return = 1.0;
+  EXPECT_THROW(fit_divergence(synthetic(arch, 0.15), o), OptionError);
+
+  // Swings that ride on a trend are a rate, not a bounded curve: swings of 1.4 every 150 steps
+  // (Hammond's airframe y at 124 rpm, blade 3 inoperative, 2-12 s) on a fall of `fall` per step.
+  auto swings = [](double fall) {
+    std::vector<double> y;
+    for (int i = 0; i <= 600; ++i) y.push_back(-0.8 + fall * i - 0.7 * std::cos(2.0 * std::numbers::pi * i / 150.0));
+    return y;
+  };
+  FitOptions d;
+  d.period = 300;
+  // A slight fall beneath the swings (0.24 over them, a sixth of their rise) with nothing known of
+  // the signal: swings about a level.
+  EXPECT_EQ(fit_divergence(synthetic(swings(-4e-4), 0.6), d).end, CurveEnd::bounded);
+  // A fall of 0.9, more than half the rise: a trend, whatever the signal.
+  EXPECT_NE(fit_divergence(synthetic(swings(-1.5e-3), 0.6), d).end, CurveEnd::bounded);
+  // The signal decays as fast as the slight fall, or into a floor of its own: a decay.
+  FitOptions decays = d;
+  decays.signal_rate = -4e-4;
+  EXPECT_NE(fit_divergence(synthetic(swings(-4e-4), 0.6), decays).end, CurveEnd::bounded);
+  FitOptions floor = d;
+  floor.signal_floor = true;
+  EXPECT_NE(fit_divergence(synthetic(swings(-4e-4), 0.6), floor).end, CurveEnd::bounded);
+
+  // A divergence that saturates at the attractor scale does not come back down: not bounded.
+  std::vector<double> chaos;
+  for (int i = 0; i <= 400; ++i) chaos.push_back(-4.0 + 3.5 * (1.0 - std::exp(-i / 60.0)) + 0.2 * std::sin(i / 20.0));
+  FitOptions c;
+  c.period = 60;
+  const FitResult saturates = fit_divergence(synthetic(chaos, 0.0), c);
+  EXPECT_NE(saturates.end, CurveEnd::bounded) << saturates.rule;
+  EXPECT_GT(saturates.slope, 0.01) << saturates.rule;
+}
+
 TEST(Fit, ShortSlowDecayThatRisesFirstIsADecayNotABoundedCurve) {
   // The curve of a slow decay recorded for few periods (Hammond at 200 rpm, blade 3 inoperative,
   // 20 s): the start-up lifts it by 0.41 over 120 steps, then it falls at -4.35e-4 per step for 1124

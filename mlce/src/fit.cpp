@@ -135,15 +135,54 @@ std::vector<Piece> merge_collinear(std::vector<Piece> pieces, const std::vector<
 /// attractor scale and never falls; a limit cycle that has not fully settled does (its neighbours
 /// drift apart by the search's selection bias, then close in again as the residual decaying mode dies
 /// out: Hammond at 240 rpm, blade 3 inoperative, rose by 1.3 and fell by 0.7 over 25 s).
-enum class Bounded { no, settled, falls_back };
-Bounded bounded_kind(const std::vector<double>& y, double attractor, double margin, double max_rise) {
+enum class Bounded { no, settled, falls_back, returns };
+/// A curve that comes back down to its start level swings about a level when the least-squares line
+/// over its swings changes by at most this share of its rise (bounded_kind).
+constexpr double kReturnDrift = 0.5;
+
+/// The level a curve comes back down to (FitOptions::bounded_return): its first step's, plus that
+/// share of its rise to its highest point.
+double return_level(const std::vector<double>& y, const FitOptions& options) {
+  return y[0] + options.bounded_return * (*std::max_element(y.begin(), y.end()) - y[0]);
+}
+/// The last step at which the curve is at or below its return level (0 when none is).
+std::size_t last_return(const std::vector<double>& y, const FitOptions& options) {
+  const double level = return_level(y, options);
+  std::size_t last = y.size() - 1;
+  while (last > 0 && y[last] > level) --last;
+  return last;
+}
+
+Bounded bounded_kind(const std::vector<double>& y, double attractor, const FitOptions& options) {
+  const double margin = options.bounded_margin, max_rise = options.bounded_max_rise;
   const std::size_t n = y.size(), half = n / 2;
   const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
-  if (!std::isfinite(attractor) || *hi >= attractor - margin || y[0] > 0.5 * (*lo + *hi) || *hi - y[0] > max_rise)
-    return Bounded::no;
-  const double late = fit_line(y.data(), half, n - 1).slope * static_cast<double>(n - 1 - half);
-  const double tolerance = std::max(0.25, 0.4 * (*hi - *lo));
-  return std::abs(late) < tolerance ? Bounded::settled : late < 0.0 ? Bounded::falls_back : Bounded::no;
+  if (y[0] > 0.5 * (*lo + *hi) || *hi - y[0] > max_rise) return Bounded::no;
+  if (std::isfinite(attractor) && *hi < attractor - margin) {
+    const double late = fit_line(y.data(), half, n - 1).slope * static_cast<double>(n - 1 - half);
+    const double tolerance = std::max(0.25, 0.4 * (*hi - *lo));
+    if (std::abs(late) < tolerance) return Bounded::settled;
+    if (late < 0.0) return Bounded::falls_back;
+  }
+  // A curve that comes back down to its start level after its highest point (FitOptions::bounded_return),
+  // however near the attractor scale it rose and whatever its second half does: divergence saturates
+  // and stays; pairs of a periodic motion at a phase offset part and close again, every half period.
+  // Fitted over its whole swings, from its first step to its last return to that level. Not on a
+  // signal that decayed into a floor of its own (signal_floor: build/noisy_decays short's two-mode
+  // decays at 3 % noise read 0.15 and 0.31 of the slow mode's rate, neutral, as bounded), nor when the
+  // signal's own amplitude decays at least persist_share x as fast as that fit falls (signal_rate):
+  // the swings then ride on a decay (Hammond's airframe at 124 rpm, blade 3 inoperative, 2-12 s: the
+  // curve swings by 1.4 every 150 steps and falls at the signal's rate beneath). Nor when that fit
+  // drifts over the swings by more than kReturnDrift of the rise: a trend beneath swings is a rate
+  // (the noise-compensated curves of build/noisy_decays' zeta = 0.05, 3 % noise, whose envelope rate
+  // is unknown: a fall of 1.2 rises over 153 steps; the periodic records' 0.17-0.38).
+  const std::size_t back = last_return(y, options);
+  if (!(options.bounded_return > 0.0) || back <= static_cast<std::size_t>(hi - y.begin())) return Bounded::no;
+  const double trend = fit_line(y.data(), std::size_t{0}, back).slope;
+  const bool decay = options.signal_floor ||
+                     (trend < 0.0 && std::isfinite(options.signal_rate) && options.signal_rate <= options.persist_share * trend);
+  const bool drifts = std::abs(trend) * static_cast<double>(back) > kReturnDrift * (*hi - y[0]);
+  return decay || drifts ? Bounded::no : Bounded::returns;
 }
 
 /// The piece of largest |slope| x length (the change it explains).
@@ -403,30 +442,41 @@ bool fit_flat(const std::vector<double>& y, FitResult& r, std::ostringstream& ru
 bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitResult& r, std::ostringstream& rule) {
   const auto& y = curve.mean_log_distance;
   const std::size_t n = y.size();
-  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options.bounded_margin, options.bounded_max_rise) : Bounded::no;
+  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options) : Bounded::no;
   if (kind == Bounded::no) return false;
   // A curve that falls back while the signal's own amplitude decays at least persist_share x as fast
   // is a decay to rest, not a limit cycle closing in again: its early rise is the start-up, and a
   // short record of a slow decay starts low in its range (Hammond at 200 rpm, blade 3 inoperative,
   // 20 s: the curve rose by 0.4 in 0.6 s, then fell at -0.087 1/s with the signal's -0.083; fitted
   // from step 0 it read -0.071). The decay stages fit it.
-  if (kind == Bounded::falls_back && std::isfinite(options.signal_rate) &&
-      options.signal_rate <= options.persist_share * fit_line(y.data(), n / 2, n - 1).slope)
+  const double late_slope = fit_line(y.data(), n / 2, n - 1).slope;
+  if (kind != Bounded::settled && late_slope < 0.0 && std::isfinite(options.signal_rate) &&
+      options.signal_rate <= options.persist_share * late_slope)
     return false;
-  std::size_t first = n / 2;
+  const double highest = *std::max_element(y.begin(), y.end());
+  std::size_t first = n / 2, last = n - 1;
   if (kind == Bounded::falls_back) {
     first = 0;
     while (first + 3 < n && y[first] < y[n - 1]) ++first;
+  } else if (kind == Bounded::returns) {
+    // From the first step to the curve's last return to its start level: whole swings, which start
+    // and end at the same level.
+    first = 0;
+    last = last_return(y, options);
   }
-  const double highest = *std::max_element(y.begin(), y.end());
   r.first = first;
-  r.last = n - 1;
+  r.last = last;
   r.end = CurveEnd::bounded;
   r.end_index = first;
-  rule << "bounded divergence: the curve " << (kind == Bounded::settled ? "stops rising" : "rises and falls back")
-       << " at " << highest << ", " << curve.attractor_log_distance - highest
-       << " below the attractor scale (neighbours never separate: limit cycle or torus); "
-       << (kind == Bounded::settled ? "second half fitted" : "fitted from where it first reached its final level");
+  rule << "bounded divergence: the curve "
+       << (kind == Bounded::settled ? "stops rising" : kind == Bounded::returns ? "comes back down to its start level" : "rises and falls back")
+       << " at " << highest << ", " << curve.attractor_log_distance - highest << " below the attractor scale ("
+       << (kind == Bounded::returns ? "pairs of a periodic motion at a phase offset part and close again"
+                                    : "neighbours never separate: limit cycle or torus")
+       << "); "
+       << (kind == Bounded::settled  ? "second half fitted"
+           : kind == Bounded::returns ? "fitted from the first step to its last return to that level"
+                                      : "fitted from where it first reached its final level");
   return true;
 }
 
@@ -661,6 +711,7 @@ void FitOptions::validate() const {
   if (!(end_tolerance > 0.0 && end_tolerance < 1.0)) throw OptionError("fit.end_tolerance: expected (0, 1)");
   if (!(bounded_margin > 0.0)) throw OptionError("fit.bounded_margin: expected > 0");
   if (!(bounded_max_rise > 0.0)) throw OptionError("fit.bounded_max_rise: expected > 0");
+  if (!(bounded_return >= 0.0 && bounded_return < 1.0)) throw OptionError("fit.bounded_return: expected [0, 1)");
   if (!(straightness > 0.0 && straightness <= 1.0)) throw OptionError("fit.straightness: expected (0, 1]");
   if (!(map_straightness > 0.0 && map_straightness <= 1.0)) throw OptionError("fit.map_straightness: expected (0, 1]");
   if (!(bend_ratio >= 0.0 && bend_ratio < 1.0)) throw OptionError("fit.bend_ratio: expected [0, 1) (0 = off)");

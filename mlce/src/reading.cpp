@@ -167,7 +167,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
         r.envelope_rate / r.dt * T, r.amplitude_ratio, 100.0 * r.noise_level, numbers);
     return out;
   }
-  // The fit rule's own finding that the neighbours never separate to the attractor scale (a bounded
+  // The fit rule's own finding that the neighbours never separate for good (a bounded
   // or flat curve, fit.hpp) is the limit cycle's signature, whatever residual slope was fitted
   // (Hammond at 300 rpm, blade 3 inoperative, on its limit cycle: +0.055 per period on a bounded
   // curve). Not when the motion decays to rest, nor when it grows at a rate the interval places above
@@ -179,7 +179,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   if (never_separate && a != AmplitudeTrend::decays && !growth_beyond_band) {
     out.stability = Stability::neutral;
     out.motion = a == AmplitudeTrend::grows ? "slowly growing" : "limit cycle";
-    out.summary = std::string("neutral: the neighbours never separate to the attractor scale (curve end: ") +
+    out.summary = std::string("neutral: the neighbours never separate for good (curve end: ") +
                   to_string(r.fit.end) + "): " +
                   (a == AmplitudeTrend::grows ? "a motion that grows towards a larger bounded one"
                                               : "a limit cycle or torus, largest exponent 0 (paper 001 Fig. 4)") +

@@ -62,6 +62,14 @@ struct FitOptions {
   /// separate within their band, from -10.6 to -2.9 at the orbit's exponent, and level off 2.2
   /// below the scale of the whole attractor (`build/map_bands`).
   double bounded_max_rise = 4.0;
+  /// ... and a curve that comes back down, after its highest point, to within this share of its rise
+  /// of its first step's level is bounded however close to the attractor scale it rose (0 turns this
+  /// off). Divergence saturates and stays at the scale; a record of a periodic motion too short for
+  /// neighbours one period apart pairs points at a phase offset instead, and their distance parts and
+  /// closes again every half period: a lightly damped sine over 2-3 periods of 500 samples rose to
+  /// 1.1 below the scale and fell back to 0.09 of its rise, and read +0.54 1/s, "chaotic"
+  /// (`mlce estimate` on `build/make_series oscillator 1000 0.002 0.01 6.2832`).
+  double bounded_return = 0.25;
   /// The chosen region is straight when the slope of its second half is at least this fraction of
   /// its first half's; otherwise it reaches into the bend and its last quarter is dropped (repeated
   /// while the region is at least 4 minimum pieces long). 1 would trim any concave region. 0.97
@@ -208,6 +216,12 @@ struct FitResult {
 ///     Not when the signal's own amplitude decays at least persist_share x as fast as that second
 ///     half falls (signal_rate): a decay to rest whose curve rose over its start-up (a short record
 ///     of a slow decay starts low in its range) goes on to stage 1.
+///     So is a curve that comes back down after its highest point to its start level (bounded_return),
+///     however near the attractor scale it rose: divergence saturates and stays, while pairs of a
+///     periodic motion at a phase offset part and close again. Fitted from its first step to its
+///     last return to that level; not when that fit drifts by more than half the rise, nor on a signal
+///     with a floor of its own (signal_floor), nor when the signal decays at least persist_share x as
+///     fast as that fit falls (swings riding on a trend are a rate).
 ///  1. Three pieces; the piece explaining the largest change |slope| x length is the growth (or
 ///     decay); a later piece with |slope| < end_tolerance x that slope is the saturation plateau
 ///     (lambda > 0) or the noise/underflow floor (lambda < 0, paper 001 Fig. 6): the curve is cut there.
