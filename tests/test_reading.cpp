@@ -196,6 +196,24 @@ TEST(Reading, AShortRecordOfALightlyDampedSineIsNotChaos) {
   }
 }
 
+TEST(Reading, ADecayTooShortForTheEnvelopeWindowsIsReadFromItsThirds) {
+  // e^{-0.005 t} sin t over 50 s (8 periods, dt = 0.005): lambda = -0.005 1/s, 0.031 per period, beyond
+  // the neutral band: stable (truth). The envelope rate needs 4 windows of 2 periods and is NaN here;
+  // the curve is flat (it falls by 0.07 over its horizon), and with the amplitude counted as steady it
+  // read "neutral, limit cycle" although lambda measured the decay to 1e-4. The RMS of the last third
+  // over the first (0.85 over 2/3 of the run) says the amplitude decays at the rate lambda says.
+  const std::vector<double> x = exponential_sine(10000, 0.005, -0.005, 1.0);
+  const MlceResult m = estimate_mlce(make_series_with_step({x}, 0.005), {});
+  EXPECT_NEAR(m.lambda, -0.005, 1e-4);
+  EXPECT_TRUE(std::isnan(m.envelope_rate));
+  const Reading r = read_stability(m);
+  EXPECT_EQ(r.amplitude, AmplitudeTrend::decays) << r.summary;
+  expect_reading(r, Stability::stable, "decays to rest", "8 periods of a slow decay");
+  // A steady sine of the same length stays neutral: its thirds have the same RMS.
+  expect_reading(read(exponential_sine(10000, 0.005, 0.0, 1.0), 0.005), Stability::neutral, "limit cycle",
+                 "8 periods of a sine");
+}
+
 TEST(Reading, TwoDecayingModesBeatingAreNotReadUnstable) {
   // e^{-0.02 t} cos 2t + e^{-0.05 t} cos 2.4t over 40 s (2.5 beats): both modes decay, so the motion's
   // largest exponent is -0.02 (truth). The divergence curve rises while the modes dephase (at close

@@ -13,7 +13,8 @@
 //    precision).
 //  - The signal's own amplitude (AmplitudeTrend) tells a growth from chaos and a decay from a
 //    contraction onto a persisting motion: it grows when its last third's RMS is at least
-//    kPersistentAmplitude x its first third's or its envelope rate at least persist_share x lambda
+//    kPersistentAmplitude x its first third's or its envelope rate (on a run too short for its
+//    windows, the rate the thirds' RMS ratio says) at least persist_share x lambda
 //    (lambda > 0); it decays in the mirror case; it is steady when neither and the rate is below
 //    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
 //    oscillation (an instability such as ground resonance); unstable + steady: chaos, when the curve
