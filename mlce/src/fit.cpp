@@ -140,20 +140,15 @@ enum class Bounded { no, settled, falls_back, returns };
 /// over its swings changes by at most this share of its rise (bounded_kind).
 constexpr double kReturnDrift = 0.5;
 
-/// The level a curve comes back down to (FitOptions::bounded_return): its first step's, plus that
-/// share of its rise to its highest point.
-double return_level(const std::vector<double>& y, const FitOptions& options) {
-  return y[0] + options.bounded_return * (*std::max_element(y.begin(), y.end()) - y[0]);
-}
-/// The last step at which the curve is at or below its return level (0 when none is).
-std::size_t last_return(const std::vector<double>& y, const FitOptions& options) {
-  const double level = return_level(y, options);
+/// The last step at which the curve is at or below `level` (0 when none is).
+std::size_t last_at_or_below(const std::vector<double>& y, double level) {
   std::size_t last = y.size() - 1;
   while (last > 0 && y[last] > level) --last;
   return last;
 }
 
-Bounded bounded_kind(const std::vector<double>& y, double attractor, const FitOptions& options) {
+/// `back`: for Bounded::returns, the curve's last return to its start level (the fit's last step).
+Bounded bounded_kind(const std::vector<double>& y, double attractor, const FitOptions& options, std::size_t& back) {
   const double margin = options.bounded_margin, max_rise = options.bounded_max_rise;
   const std::size_t n = y.size(), half = n / 2;
   const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
@@ -176,7 +171,8 @@ Bounded bounded_kind(const std::vector<double>& y, double attractor, const FitOp
   // drifts over the swings by more than kReturnDrift of the rise: a trend beneath swings is a rate
   // (the noise-compensated curves of build/noisy_decays' zeta = 0.05, 3 % noise, whose envelope rate
   // is unknown: a fall of 1.2 rises over 153 steps; the periodic records' 0.17-0.38).
-  const std::size_t back = last_return(y, options);
+  // The level it comes back down to: its first step's plus bounded_return of its rise.
+  back = last_at_or_below(y, y[0] + options.bounded_return * (*hi - y[0]));
   if (!(options.bounded_return > 0.0) || back <= static_cast<std::size_t>(hi - y.begin())) return Bounded::no;
   const double trend = fit_line(y.data(), std::size_t{0}, back).slope;
   const bool decay = options.signal_floor ||
@@ -442,7 +438,8 @@ bool fit_flat(const std::vector<double>& y, FitResult& r, std::ostringstream& ru
 bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitResult& r, std::ostringstream& rule) {
   const auto& y = curve.mean_log_distance;
   const std::size_t n = y.size();
-  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options) : Bounded::no;
+  std::size_t back = n - 1;
+  const Bounded kind = n >= 6 ? bounded_kind(y, curve.attractor_log_distance, options, back) : Bounded::no;
   if (kind == Bounded::no) return false;
   // A curve that falls back while the signal's own amplitude decays at least persist_share x as fast
   // is a decay to rest, not a limit cycle closing in again: its early rise is the start-up, and a
@@ -462,7 +459,7 @@ bool fit_bounded(const DivergenceCurve& curve, const FitOptions& options, FitRes
     // From the first step to the curve's last return to its start level: whole swings, which start
     // and end at the same level.
     first = 0;
-    last = last_return(y, options);
+    last = back;
   }
   r.first = first;
   r.last = last;
