@@ -7,7 +7,12 @@
 # "stable" is a wrong reading on every one. Each estimated with every parameter automatic; per series
 # the periods and e-folds it spans, lambda, its relative error, R^2 and the reading's stability and
 # motion ("refused" where the series is too short to estimate); then how often each reading was given.
-#   bench/oscillator_readings.sh [BUILD_DIR] [growths]        (about 2 min; growths 1 min)
+# `tones`: 40 series of two tones of unrelated frequencies, sin t + A sin(R t + 0.3) (R = sqrt 2, the
+# golden ratio, sqrt 5, 1/sqrt 2; A = 0.2, 0.5; dt = 0.01 s; N = 1500-10^4, 2.4-16 periods of the
+# first tone): a torus, largest exponent 0 (neutral), where "unstable" is a wrong reading; per series
+# lambda, how closely the record repeats itself one period on, scaled (`short_run_repeat`: one mode
+# repeats to ~0), and the reading.
+#   bench/oscillator_readings.sh [BUILD_DIR] [growths|tones]        (about 2 min; growths 1 min; tones 15 s)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build}"
@@ -22,6 +27,34 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
 field() { grep -o "\"$1\":[^,}]*" | head -n 1 | cut -d: -f2- | tr -d '"'; }  # the key's first value (each is unique)
+count_readings() {
+  echo "readings over $(wc -l < "$1") series:"
+  awk '/ refused$/ { n["refused"]++; next } { sub(/.*R\^2 [^ ]+ +/, ""); sub(/.*repeat [^ ]+ +/, ""); n[$0]++ }
+       END { for (k in n) printf "  %4d  %s\n", n[k], k }' "$1" | sort -rn
+}
+if [ "${2:-}" = tones ]; then
+  for ratio in 1.4142135623731 1.61803398874989 2.23606797749979 0.707106781186548; do
+    for amp in 0.2 0.5; do
+      for n in 1500 2000 3000 4000 10000; do
+        awk -v n="$n" -v r="$ratio" -v a="$amp" \
+            'BEGIN { for (i = 0; i < n; i++) { t = 0.01 * i; printf "%.2f %.15g\n", t, sin(t) + a * sin(r * t + 0.3) } }' > "$work/s.txt"
+        span="$(awk -v n="$n" 'BEGIN { printf "%5.1f periods", n * 0.01 / 6.283185307179586 }')"
+        json="$("$build/mlce" estimate "$work/s.txt" --time-column 1 --column 2 --json --quiet 2>/dev/null || true)"
+        if [ -z "$json" ]; then
+          printf 'R %-6.4g A %-3s N %-5s %s  refused\n' "$ratio" "$amp" "$n" "$span"
+          continue
+        fi
+        repeat="$(printf '%s' "$json" | grep -o '"short_run_repeat":{[^}]*}' | field difference || true)"  # absent before 2026-12
+        printf 'R %-6.4g A %-3s N %-5s %s  lambda %+8.4f  repeat %-6.4s  %s %s\n' "$ratio" "$amp" "$n" "$span" \
+          "$(printf '%s' "$json" | field lambda)" "${repeat:-null}" \
+          "$(printf '%s' "$json" | field stability)" "$(printf '%s' "$json" | field motion)"
+      done
+    done
+  done > "$work/table.txt"
+  cat "$work/table.txt"
+  count_readings "$work/table.txt"
+  exit 0
+fi
 for zeta in $zetas; do
   for omega in $omegas; do
     for dt in $steps; do
@@ -45,6 +78,4 @@ for zeta in $zetas; do
   done
 done > "$work/table.txt"
 cat "$work/table.txt"
-echo "readings over $(wc -l < "$work/table.txt") series:"
-awk '/ refused$/ { n["refused"]++; next } { sub(/.*R\^2 [^ ]+ +/, ""); n[$0]++ }
-     END { for (k in n) printf "  %4d  %s\n", n[k], k }' "$work/table.txt" | sort -rn
+count_readings "$work/table.txt"

@@ -196,12 +196,13 @@ TEST(Reading, AShortRecordOfALightlyDampedSineIsNotChaos) {
   }
 }
 
-TEST(Reading, ADecayTooShortForTheEnvelopeWindowsIsReadFromItsThirds) {
+TEST(Reading, ADecayTooShortForTheEnvelopeWindowsIsReadFromItsEnds) {
   // e^{-0.005 t} sin t over 50 s (8 periods, dt = 0.005): lambda = -0.005 1/s, 0.031 per period, beyond
   // the neutral band: stable (truth). The envelope rate needs 4 windows of 2 periods and is NaN here;
   // the curve is flat (it falls by 0.07 over its horizon), and with the amplitude counted as steady it
-  // read "neutral, limit cycle" although lambda measured the decay to 1e-4. The RMS of the last third
-  // over the first (0.85 over 2/3 of the run) says the amplitude decays at the rate lambda says.
+  // read "neutral, limit cycle" although lambda measured the decay to 1e-4. The RMS of the last two
+  // whole periods over the first two (ends_amplitude_rate) says the amplitude decays at the rate
+  // lambda says.
   const std::vector<double> x = exponential_sine(10000, 0.005, -0.005, 1.0);
   const MlceResult m = estimate_mlce(make_series_with_step({x}, 0.005), {});
   EXPECT_NEAR(m.lambda, -0.005, 1e-4);
@@ -212,6 +213,64 @@ TEST(Reading, ADecayTooShortForTheEnvelopeWindowsIsReadFromItsThirds) {
   // A steady sine of the same length stays neutral: its thirds have the same RMS.
   expect_reading(read(exponential_sine(10000, 0.005, 0.0, 1.0), 0.005), Stability::neutral, "limit cycle",
                  "8 periods of a sine");
+}
+
+TEST(Reading, AGrowthOfAFewPeriodsIsReadFromWholePeriods) {
+  // e^{0.005 t} sin t over 30 s (4.8 periods, dt = 0.01): lambda = +0.005 1/s, 0.031 per period,
+  // beyond the band: unstable, a growing oscillation (truth). Its curve is bounded and lambda
+  // measures the growth; the amplitude's rate from its thirds was 0.0020 1/s (their partial periods),
+  // under half of lambda, and the reading was "neutral, limit cycle". Between whole periods at the
+  // ends it is 0.0050.
+  const MlceResult m = estimate_mlce(make_series_with_step({exponential_sine(3000, 0.01, 0.005, 1.0)}, 0.01), {});
+  EXPECT_NEAR(m.lambda, 0.005, 5e-4);
+  EXPECT_NEAR(m.ends_amplitude_rate / m.dt, 0.005, 1e-4);
+  const Reading r = read_stability(m);
+  EXPECT_EQ(r.amplitude, AmplitudeTrend::grows) << r.summary;
+  expect_reading(r, Stability::unstable, "growing oscillation", "4.8 periods of a slow growth");
+  // van der Pol over 2.25 periods stays a limit cycle: its whole periods are its own (the record's
+  // repeat), not the mean period's, which its harmonics shorten.
+  expect_reading(read(reference::van_der_pol_x(1500, 0.01), 0.01), Stability::neutral, "limit cycle",
+                 "2.25 periods of van der Pol");
+}
+
+TEST(Reading, AShortRecordOfOneDecayingModeIsReadFromItsAmplitude) {
+  // e^{-0.005 t} sin t over 15 s (2.4 periods, dt = 0.01): stable, lambda = -0.005 1/s, 0.031 per
+  // period (truth). Too short for neighbours a period apart: its curve swings with their phase offset
+  // and returns (bounded), the fitted slope is that swing's residue (-0.40), and the reading was
+  // "neutral, limit cycle". The record repeats itself one period on, scaled: one mode, whose
+  // amplitude's change between its first and last whole periods is its exponent.
+  const MlceResult m = estimate_mlce(make_series_with_step({exponential_sine(1500, 0.01, -0.005, 1.0)}, 0.01), {});
+  EXPECT_LT(m.short_run_repeat.difference, 0.01);
+  EXPECT_NEAR(m.ends_amplitude_rate / m.dt, -0.005, 5e-4);  // one period at each end: the growth within a window weighs its phases, O(sigma / omega)
+  const Reading r = read_stability(m);
+  expect_reading(r, Stability::stable, "decays to rest", "2.4 periods of a slow decay");
+  EXPECT_NE(r.summary.find("one mode"), std::string::npos) << r.summary;
+  // The growth of the same length: unstable, a growing oscillation.
+  expect_reading(read(exponential_sine(1500, 0.01, 0.005, 1.0), 0.01), Stability::unstable, "growing oscillation",
+                 "2.4 periods of a slow growth");
+  // A steady sine of that length: neutral, whatever residue its curve leaves.
+  expect_reading(read(exponential_sine(1500, 0.01, 0.0, 1.0), 0.01), Stability::neutral, "limit cycle",
+                 "2.4 periods of a sine");
+}
+
+TEST(Reading, AFewPeriodsOfATorusAreNotChaos) {
+  // sin t + 0.5 sin(sqrt 2 t + 0.3): two tones of unrelated frequencies, a torus, largest exponent 0
+  // (truth). Over 20-30 s (3-5 periods) lambda reads +0.2 1/s and the reading was "unstable,
+  // chaotic"; too few returns to show an attractor: undetermined. Over 100 s: neutral.
+  auto tones = [](std::size_t n) {
+    std::vector<double> x(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = 0.01 * static_cast<double>(i);
+      x[i] = std::sin(t) + 0.5 * std::sin(std::sqrt(2.0) * t + 0.3);
+    }
+    return x;
+  };
+  for (const std::size_t n : {2000, 3000}) {
+    const Reading r = read(tones(n), 0.01);
+    EXPECT_NE(r.stability, Stability::unstable) << n << ": " << r.summary;
+    if (r.stability == Stability::undetermined) expect_undetermined(r, "too few returns");
+  }
+  expect_reading(read(tones(10000), 0.01), Stability::neutral, "limit cycle", "100 s of a torus");
 }
 
 TEST(Reading, TwoDecayingModesBeatingAreNotReadUnstable) {

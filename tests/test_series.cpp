@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -160,6 +161,7 @@ TEST(Series, TimeWindowSelectsInclusiveRange) {
   EXPECT_THROW(time_window(s, 100.0, 200.0), InputError);
 }
 
+#include "mlce/mean_period.hpp"
 #include "mlce/transient.hpp"
 
 namespace {
@@ -521,6 +523,86 @@ TEST(Envelope, SteadyMotionHasRateZeroAndTooShortOrConstantIsNaN) {
   const std::vector<double> flat(1000, 3.0);
   EXPECT_TRUE(std::isnan(envelope_rates(make_series_with_step({flat}, 0.01), 10).whole));  // no log 0
   EXPECT_TRUE(std::isnan(envelope_rates(make_series_with_step({lc}, 0.01), 3000).whole));   // 3 windows
+}
+
+TEST(Envelope, EndsRateIsTheChangeBetweenTheFirstAndLastWholePeriods) {
+  // e^{0.005 t} sin t over 30 s (4.8 periods, dt = 0.01): the amplitude grows at 0.005 1/s exactly.
+  // Between whole periods at the ends (one period each: a third holds 1.6) that is what the windows'
+  // RMS say, to the O(sigma / omega) the growth within a window adds to its phase dependence. The
+  // thirds cut their periods short and weigh the phases unevenly: their RMS ratio, 1.17, says
+  // 0.0079 1/s over the 20 s between their centres.
+  const double dt = 0.01, sigma = 0.005, two_pi = 2.0 * std::numbers::pi;
+  std::vector<double> grows(3000), steady(3000);
+  for (std::size_t i = 0; i < grows.size(); ++i) {
+    const double t = dt * static_cast<double>(i);
+    grows[i] = std::exp(sigma * t) * std::sin(t);
+    steady[i] = 1.0 + std::sin(t);  // about an offset
+  }
+  const double period = two_pi / dt;  // 628.3 samples
+  const Series g = make_series_with_step({grows}, dt);
+  EXPECT_NEAR(ends_amplitude_rate(g, period) / dt, sigma, 0.02 * sigma);
+  EXPECT_GT(std::abs(std::log(amplitude_ratio(g)) / 20.0 - sigma), 0.5 * sigma);  // the thirds' rate, the control
+  // A steady sine about an offset: 0 (windows of 628.3 samples: the 629th weighted by 0.3).
+  EXPECT_NEAR(ends_amplitude_rate(make_series_with_step({steady}, dt), period) * period, 0.0, 1e-5);
+  // Scale-free (each channel over its peak first).
+  for (const double scale : {1e-200, 1e200}) {
+    std::vector<double> y = grows;
+    for (double& v : y) v *= scale;
+    EXPECT_NEAR(ends_amplitude_rate(make_series_with_step({y}, dt), period), ends_amplitude_rate(g, period), 1e-12);
+  }
+  // Nothing to tell: two windows do not fit (a period over half the run), no period, a constant.
+  EXPECT_TRUE(std::isnan(ends_amplitude_rate(g, 1600.0)));
+  EXPECT_TRUE(std::isnan(ends_amplitude_rate(g, 0.0)));
+  EXPECT_TRUE(std::isnan(ends_amplitude_rate(g, std::numeric_limits<double>::infinity())));
+  EXPECT_TRUE(std::isnan(ends_amplitude_rate(make_series_with_step({std::vector<double>(300, 3.0)}, dt), 50.0)));
+}
+
+TEST(Envelope, WholeRecordRepeatFindsTheFundamentalOfAShortLimitCycle) {
+  // van der Pol (mu = 1) over 15 s, 2.25 periods of 6.6633 s (its published period): the record
+  // repeats itself at the period, 666.3 samples, where the spectrum's mean period is 4 % shorter
+  // (the cycle's harmonics raise its mean frequency). Whole periods of the repeat leave its
+  // amplitude steady, rate below 1e-4 per period; windows of the mean period read 0.027 per period,
+  // beyond the reading's neutral band (0.01).
+  const double dt = 0.01;
+  const Series lc = make_series_with_step({reference::van_der_pol_x(1500, dt)}, dt);
+  const EndRepeat whole = whole_record_repeat(lc);
+  EXPECT_NEAR(whole.period, 666.33, 1.0);
+  EXPECT_LT(whole.difference, 0.01);
+  EXPECT_LT(std::abs(ends_amplitude_rate(lc, whole.period) * whole.period), 1e-4);
+  const double mean_period = 1.0 / estimate_mean_period(lc, {}).mean_frequency_per_sample;
+  EXPECT_LT(mean_period, 0.97 * whole.period);
+  EXPECT_GT(std::abs(ends_amplitude_rate(lc, mean_period) * whole.period), 0.01);
+  EXPECT_TRUE(std::isnan(whole_record_repeat(make_series_with_step({std::vector<double>(10, 1.0)}, dt)).period));
+}
+
+TEST(Envelope, ScaledRepeatTellsOneModeFromTwo) {
+  // e^{sigma t} sin(omega t) one period P on is e^{sigma P} times itself: scale e^{sigma P} and no
+  // rest but the linear interpolation's (P = 2 pi / 0.01 = 628.3 samples, between two samples).
+  const double dt = 0.01, sigma = -0.02, two_pi = 2.0 * std::numbers::pi, period = two_pi / dt;
+  std::vector<double> mode(2000), tones(2000);
+  for (std::size_t i = 0; i < mode.size(); ++i) {
+    const double t = dt * static_cast<double>(i);
+    mode[i] = std::exp(sigma * t) * std::sin(t);
+    tones[i] = std::sin(t) + 0.5 * std::sin(std::sqrt(2.0) * t + 0.3);  // a torus: two unrelated tones
+  }
+  const ScaledRepeat one = scaled_repeat(make_series_with_step({mode}, dt), period);
+  EXPECT_NEAR(one.scale, std::exp(sigma * two_pi), 1e-4);
+  EXPECT_LT(one.difference, 1e-3);
+  // Two tones repeat at no lag: over the first tone's period a third of the signal or more is left,
+  // and over the best of the lags 100 .. 1000 samples (in half samples) more than a tenth.
+  const Series two = make_series_with_step({tones}, dt);
+  EXPECT_GT(scaled_repeat(two, period).difference, 0.3);
+  double best = 1.0;
+  for (int half_samples = 200; half_samples <= 2000; ++half_samples)
+    best = std::min(best, scaled_repeat(two, 0.5 * half_samples).difference);
+  EXPECT_GT(best, 0.1);
+  // A limit cycle: scale 1.
+  const Series lc = make_series_with_step({reference::van_der_pol_x(1500, dt)}, dt);
+  EXPECT_NEAR(scaled_repeat(lc, whole_record_repeat(lc).period).scale, 1.0, 1e-3);
+  // Nothing to tell: a lag over half the record, no lag, a constant.
+  EXPECT_TRUE(std::isnan(scaled_repeat(make_series_with_step({mode}, dt), 1001.0).difference));
+  EXPECT_TRUE(std::isnan(scaled_repeat(make_series_with_step({mode}, dt), 0.0).difference));
+  EXPECT_TRUE(std::isnan(scaled_repeat(make_series_with_step({std::vector<double>(300, 3.0)}, dt), 50.0).difference));
 }
 
 TEST(WrappedAngle, AzimuthPrintedModuloATurnIsFoundAndSmoothOrMapSignalsAreNot) {

@@ -73,6 +73,11 @@ nlohmann::json to_json(const MlceResult& r) {
   j["uncompensated_lambda"] = finite_or_null(r.uncompensated_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
   j["end_envelope_rate"] = finite_or_null(r.end_envelope_rate / r.dt);  // the second half's (FitOptions::signal_end_rate)
+  j["ends_amplitude_rate"] = finite_or_null(r.ends_amplitude_rate / r.dt);  // first vs last whole periods (reading, short runs)
+  // On a short run: how closely it repeats itself one period on, scaled (transient.hpp, scaled_repeat).
+  j["short_run_repeat"] = {{"period", finite_or_null(r.short_run_repeat.period)},
+                           {"scale", finite_or_null(r.short_run_repeat.scale)},
+                           {"difference", finite_or_null(r.short_run_repeat.difference)}};
   j["skipped_start"] = r.skipped_start;  // samples left out because they do not recur
   // The recurrence test's windows (recurrence.hpp), when it ran: their length and scores.
   if (!r.recurrence.ratio.empty()) {

@@ -490,6 +490,13 @@ FitOptions fit_options_for(const Series& series, const MlceOptions& options, std
     fo.period = r.mean_period.map ? r.mean_period.rule_period() : fit_period(r.mean_period, options.mean_period, series, period);
   const EnvelopeRates envelope = envelope_rates(series, period);
   r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
+  if (std::isnan(r.envelope_rate)) {  // fewer than 8 mean periods: the reading's rate (reading.cpp, short_run_rate)
+    const double repeats_every = whole_record_repeat(series).period;
+    const double whole_period =
+        std::isfinite(repeats_every) ? repeats_every : 1.0 / r.mean_period.mean_frequency_per_sample;
+    r.ends_amplitude_rate = ends_amplitude_rate(series, whole_period);
+    r.short_run_repeat = scaled_repeat(series, whole_period);
+  }
   if (std::isnan(fo.signal_rate)) fo.signal_rate = r.envelope_rate;
   if (std::isnan(fo.signal_end_rate)) fo.signal_end_rate = r.end_envelope_rate;
   fo.signal_floor = fo.signal_floor || floor_cut;

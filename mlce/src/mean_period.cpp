@@ -123,15 +123,11 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
   return r;
 }
 
-EndRepeat end_repeat(const Series& series) {
+namespace {
+/// end_repeat's D(L) and period over samples [from, from + q) of each channel, lags 1 .. max_lag
+/// (end_repeat states the rule; whole_record_repeat applies it to a whole record).
+EndRepeat repeat_over(const Series& series, std::size_t from, std::size_t q, std::size_t max_lag) {
   EndRepeat out;
-  const std::size_t n = series.size();
-  // Lags up to a third of the segment: the stretch compared, from t to t + L, then spans at least two
-  // periods (a weakly chaotic orbit can shadow a periodic one for one period: Thomas' flow, 2 x 10^4
-  // samples from (0.2, 0, 0), repeated itself after 3174 samples to 1.2 % over the 3493 that a lag
-  // of up to half the segment compared, scratch).
-  const std::size_t q = std::min(n / 3, kEndRepeatMaxSamples), max_lag = q / 3;
-  if (q < 16) return out;
   // Zero-padded to 2q: the circular correlation of the padded segment is the linear one.
   const std::size_t size = 2 * q, nc = size / 2 + 1;
   std::unique_ptr<double, decltype(&fftw_free)> buffer(fftw_alloc_real(size), &fftw_free);
@@ -142,16 +138,16 @@ EndRepeat end_repeat(const Series& series) {
   std::size_t channels = 0;
   for (const auto& x : series.channels) {
     // Over the peak first (no square of 1e200 overflows), then about the segment's mean.
-    const std::span<const double> tail(x.data() + (n - q), q);
-    const double peak = max_abs(tail);
+    const std::span<const double> part(x.data() + from, q);
+    const double peak = max_abs(part);
     if (!(peak > 0.0)) continue;
     CompensatedSum mean_sum;
-    for (double v : tail) mean_sum.add(v / peak);
+    for (double v : part) mean_sum.add(v / peak);
     const double mean = mean_sum.value() / static_cast<double>(q);
     CompensatedSum squares;
     prefix[0] = 0.0;
     for (std::size_t t = 0; t < q; ++t) {
-      segment[t] = tail[t] / peak - mean;
+      segment[t] = part[t] / peak - mean;
       squares.add(segment[t] * segment[t]);
       prefix[t + 1] = squares.value();
     }
@@ -196,6 +192,24 @@ EndRepeat end_repeat(const Series& series) {
   least = period->second;
   out.difference = std::sqrt(std::max(0.0, least));
   return out;
+}
+}  // namespace
+
+EndRepeat end_repeat(const Series& series) {
+  const std::size_t n = series.size();
+  // Lags up to a third of the segment: the stretch compared, from t to t + L, then spans at least two
+  // periods (a weakly chaotic orbit can shadow a periodic one for one period: Thomas' flow, 2 x 10^4
+  // samples from (0.2, 0, 0), repeated itself after 3174 samples to 1.2 % over the 3493 that a lag
+  // of up to half the segment compared, scratch).
+  const std::size_t q = std::min(n / 3, kEndRepeatMaxSamples);
+  if (q < 16) return {};
+  return repeat_over(series, n - q, q, q / 3);
+}
+
+EndRepeat whole_record_repeat(const Series& series) {
+  const std::size_t q = std::min(series.size(), kEndRepeatMaxSamples);
+  if (q < 16) return {};
+  return repeat_over(series, 0, q, q / 2);
 }
 
 }  // namespace mlce

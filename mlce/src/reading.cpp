@@ -44,12 +44,16 @@ void ReadingOptions::validate() const {
 
 namespace {
 
-/// The envelope rate (per time unit) that the RMS ratio of the run's last third to its first says,
-/// for a run too short for envelope_rate's windows (fewer than 8 mean periods): the thirds' centres
-/// lie 2/3 of the run apart. NaN when the ratio is unknown. A decay at -0.005 1/s over 8 periods
-/// (e^{-0.005 t} cos t, dt = 0.005, 10^4 samples: ratio 0.837, rate -0.0053) was measured exactly by
-/// lambda and read as a limit cycle (its curve is flat, and the amplitude counted as steady).
-double rate_from_thirds(const MlceResult& r) {
+/// The amplitude's rate (per time unit) on a run too short for envelope_rate's windows (fewer than
+/// 8 mean periods): its change between its first and last whole periods (ends_amplitude_rate), or,
+/// under 2 mean periods, the one the RMS ratio of its thirds says (their centres 2/3 of the run
+/// apart). NaN when neither is known. A decay at -0.005 1/s over 8 periods (e^{-0.005 t} cos t,
+/// dt = 0.005, 10^4 samples) was measured exactly by lambda and read as a limit cycle (its curve is
+/// flat, and the amplitude counted as steady); a growth at +0.005 1/s over 4.8 periods likewise
+/// while its rate came from the thirds, whose partial periods halve it (+0.0020; whole periods
+/// +0.0050: bench/oscillator_readings.sh growths).
+double short_run_rate(const MlceResult& r) {
+  if (std::isfinite(r.ends_amplitude_rate)) return r.ends_amplitude_rate / r.dt;
   const double span = 2.0 / 3.0 * static_cast<double>(r.n_points) * r.dt;
   return r.amplitude_ratio > 0.0 && span > 0.0 ? std::log(r.amplitude_ratio) / span
                                                : std::numeric_limits<double>::quiet_NaN();
@@ -66,7 +70,7 @@ double rate_from_thirds(const MlceResult& r) {
 AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptions& o) {
   const double ratio = r.amplitude_ratio;
   const double rate = std::isfinite(r.envelope_rate) ? r.envelope_rate / r.dt  // per time unit, like lambda
-                                                     : rate_from_thirds(r);
+                                                     : short_run_rate(r);
   const double lambda = r.lambda;
   if (std::isnan(ratio) && std::isnan(rate)) return AmplitudeTrend::unknown;
   // A rate within the neutral band per mean period is no trend, whatever lambda (a torus: lambda
@@ -87,6 +91,13 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
     return AmplitudeTrend::persists;
   return AmplitudeTrend::changes;
 }
+
+/// A record that repeats itself one period on, scaled, to within this (ScaledRepeat::difference) is
+/// one mode. e^{-0.02 omega t} sin(omega t) over 4.5 periods leaves the interpolation's residual,
+/// 1e-4 .. 2e-3 at 20-200 samples per period; with white noise of 1 % (3 %) of its amplitude 0.025
+/// (0.077). Two tones of unrelated frequencies leave 0.14 and more (sin t + a sin(r t + 0.3), r = sqrt 2,
+/// golden ratio, sqrt 5, 1 / sqrt 2, a = 0.2 and 0.5, 15-40 s).
+constexpr double kOneModeRepeat = 0.1;
 
 /// A decay that stops: the envelope of the signal's second half changes at most kSettledShare of
 /// the whole run's (negative) rate, and its last third repeats itself one period on
@@ -187,6 +198,32 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // flat tests' 0.25 over its horizon (e^{0.05 t} cos 2 pi t over 30 s: lambda 0.0500 on a "bounded"
   // curve, read neutral until this clause), and a growing oscillation is the instability itself.
   const bool never_separate = r.fit.automatic && (r.fit.end == CurveEnd::bounded || r.fit.end == CurveEnd::flat);
+  // A run of a few periods (fewer than 8: no envelope rate) whose neighbours never separate has no
+  // divergence to measure: its neighbours lie a fraction of a period apart and the curve swings with
+  // their phase, so the fitted slope is that swing's residue, not a rate. When the record is one
+  // mode (it repeats itself one period on, scaled, to within kOneModeRepeat) the amplitude's change
+  // between its first and last whole periods is that mode's rate, its exponent: beyond the band it
+  // decides. e^{-0.005 t} sin t over 2.4 periods read "neutral, limit cycle" with lambda = -0.42, the
+  // residue (bench/oscillator_readings.sh: 8 of 560 damped records); its ends say -0.005, 0.031 per
+  // period. A limit cycle repeats with scale 1 (van der Pol over 2.25 periods: 1e-6 per period); two
+  // modes (a beat, a torus) do not repeat and keep the rules below.
+  const double ends_rate = r.ends_amplitude_rate / r.dt * T;  // per mean period
+  if (never_separate && std::isnan(r.envelope_rate) && r.short_run_repeat.difference < kOneModeRepeat &&
+      std::abs(ends_rate) > band) {
+    const bool grows = ends_rate > 0.0;
+    out.amplitude = grows ? AmplitudeTrend::grows : AmplitudeTrend::decays;
+    out.stability = grows ? Stability::unstable : Stability::stable;
+    out.motion = grows ? "growing oscillation" : "decays to rest";
+    out.summary = fmt::format(
+        "{}: over this short run ({:.3g} mean periods) the neighbours never separate (curve end: {}), and the "
+        "motion is one mode (it repeats itself one period on, scaled, to {:.2g} %) whose amplitude {} by {:+.3g} per "
+        "mean period between its first and last whole periods, beyond the band: {}; lambda is the swing's residue "
+        "here, not that rate; {}",
+        grows ? "unstable" : "stable", static_cast<double>(r.n_points) * r.dt / T, to_string(r.fit.end),
+        100.0 * r.short_run_repeat.difference, grows ? "grows" : "decays", ends_rate,
+        grows ? "a growing oscillation (an instability)" : "it decays to rest (exponentially stable)", numbers + noise);
+    return out;
+  }
   const bool growth_beyond_band = a == AmplitudeTrend::grows && out.ci_low_per_period > band;
   if (never_separate && a != AmplitudeTrend::decays && !growth_beyond_band) {
     out.stability = Stability::neutral;
@@ -237,6 +274,17 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
           "{:.3g} below the attractor scale (natural log): chaos is not shown; a growth beneath a steady carrier (a "
           "rotating part's absolute coordinates: analyse a channel relative to it) reads so too; ",
           short_of_scale);
+    } else if (a == AmplitudeTrend::persists && std::isnan(r.envelope_rate) && !r.mean_period.map) {
+      // Chaos is an attractor the motion keeps returning to; a run of fewer than 8 mean periods (too
+      // short for the envelope's windows) returns too few times for neighbours from different passes,
+      // and its pairs sit a fraction of a period apart. Two tones of unrelated frequencies (a torus,
+      // largest exponent 0: sin t + 0.5 sin(sqrt 2 t)) over 3-6 periods read lambda = +0.07 .. +0.25
+      // 1/s and "chaotic" until this clause; over 10 periods and more they read neutral.
+      return undetermined(fmt::format(
+          "lambda > 0 on a motion of steady amplitude over only {:.3g} mean periods (fewer than 8): too few returns "
+          "to show a chaotic attractor, and a quasi-periodic motion (a torus, largest exponent 0) reads so too; "
+          "analyse a longer run; {}",
+          static_cast<double>(r.n_points) * r.dt / T, numbers + noise));
     } else if (a == AmplitudeTrend::persists) {
       out.motion = "chaotic";
       out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";

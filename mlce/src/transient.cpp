@@ -497,6 +497,74 @@ double amplitude_ratio(const Series& s) {
   return sums[0] > 0.0 ? std::sqrt(sums[2] / sums[0]) : std::numeric_limits<double>::quiet_NaN();
 }
 
+namespace {
+/// Sum of squares about their own (weighted) mean of x[from .. from + whole) / peak and share x the
+/// next sample: a window of whole + share samples.
+double window_square_sum(const std::vector<double>& x, double peak, std::size_t from, std::size_t whole, double share) {
+  const double width = static_cast<double>(whole) + share;
+  double mean = share * x[from + whole] / peak;
+  for (std::size_t i = from; i < from + whole; ++i) mean += x[i] / peak;
+  mean /= width;
+  const double last = x[from + whole] / peak - mean;
+  double sum = share * last * last;
+  for (std::size_t i = from; i < from + whole; ++i) sum += (x[i] / peak - mean) * (x[i] / peak - mean);
+  return sum;
+}
+}  // namespace
+
+double ends_amplitude_rate(const Series& s, double period_samples) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::size_t n = s.size();
+  if (!(period_samples > 0.0) || !std::isfinite(period_samples) || n < 4) return nan;
+  const double periods_in_third = std::floor(static_cast<double>(n) / 3.0 / period_samples);
+  const double w = std::max(1.0, periods_in_third) * period_samples;  // samples, fractional
+  if (w < 2.0 || 2.0 * w + 2.0 > static_cast<double>(n)) return nan;
+  // The window's whole samples and the share of one more sample that completes its period (a
+  // period between two samples: 628.3 at 628 would leave the RMS of a steady sine uneven by the
+  // 0.3 sample's phase, ~2e-4 per period).
+  const auto whole = static_cast<std::size_t>(w);
+  const double share = w - static_cast<double>(whole);
+  double first = 0.0, last = 0.0;
+  for (const auto& x : s.channels) {
+    const double peak = max_abs(x);
+    if (!(peak > 0.0)) continue;
+    first += window_square_sum(x, peak, 0, whole, share);
+    last += window_square_sum(x, peak, n - whole - 1, whole, share);
+  }
+  if (!(first > 0.0) || !(last > 0.0)) return nan;  // no log 0
+  return 0.5 * std::log(last / first) / (static_cast<double>(n - 1) - w);  // between the windows' centres
+}
+
+ScaledRepeat scaled_repeat(const Series& s, double period_samples) {
+  ScaledRepeat out;
+  const std::size_t n = s.size();
+  if (!(period_samples > 0.0) || !(2.0 * period_samples <= static_cast<double>(n))) return out;
+  out.period = period_samples;
+  const auto lag = static_cast<std::size_t>(period_samples);
+  const double share = period_samples - static_cast<double>(lag);  // of the sample after x(t + lag)
+  const std::size_t count = n - lag - 1;                            // t with t + lag + 1 < n
+  // x(t + P) = a x(t) + b per channel: the intercept b = c (1 - a) carries an offset c the mode
+  // oscillates about (a decaying mode's mean over the record is not c).
+  double uu = 0.0, uv = 0.0, vv = 0.0;
+  for (const auto& x : s.channels) {
+    const double peak = max_abs(x);
+    if (!(peak > 0.0)) continue;
+    auto later = [&](std::size_t t) { return ((1.0 - share) * x[t + lag] + share * x[t + lag + 1]) / peak; };
+    double mean_u = 0.0, mean_v = 0.0;
+    for (std::size_t t = 0; t < count; ++t) mean_u += x[t] / peak, mean_v += later(t);
+    mean_u /= static_cast<double>(count), mean_v /= static_cast<double>(count);
+    for (std::size_t t = 0; t < count; ++t) {
+      const double u = x[t] / peak - mean_u, v = later(t) - mean_v;
+      uu += u * u, uv += u * v, vv += v * v;
+    }
+  }
+  if (!(uu > 0.0) || !(vv > 0.0)) return out;
+  out.scale = uv / uu;
+  // sum (v - a u)^2 = vv - 2 a uv + a^2 uu = vv - uv^2 / uu at the least-squares a
+  out.difference = std::sqrt(std::max(0.0, vv - uv * uv / uu) / vv);
+  return out;
+}
+
 Drift linear_drift(const Series& s) {
   Drift d;
   std::vector<double> scaled;

@@ -16,6 +16,7 @@
 #include "mlce/progress.hpp"
 #include "mlce/recurrence.hpp"
 #include "mlce/rosenstein.hpp"
+#include "mlce/transient.hpp"
 
 namespace mlce {
 
@@ -183,6 +184,12 @@ struct MlceResult {
   /// The same over the signal's second half: whether it still grows at its end, as a linear
   /// instability's response does and a growth that settles on a limit cycle does not.
   double end_envelope_rate = std::numeric_limits<double>::quiet_NaN();
+  /// The amplitude's change between the run's first and last whole periods, per sample
+  /// (ends_amplitude_rate, transient.hpp): the reading's rate on a run too short for envelope_rate.
+  double ends_amplitude_rate = std::numeric_limits<double>::quiet_NaN();
+  /// On that short run, how closely the record repeats itself one period on, scaled (scaled_repeat,
+  /// transient.hpp), over the same period: whether its amplitude's rate is one mode's.
+  ScaledRepeat short_run_repeat;
   /// RMS of the analysed signal's last third over its first third's (amplitude_ratio, transient.hpp):
   /// ~1 for a motion that persists; NaN when the first third has zero RMS.
   double amplitude_ratio = std::numeric_limits<double>::quiet_NaN();

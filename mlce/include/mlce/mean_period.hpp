@@ -91,5 +91,10 @@ struct EndRepeat {
 };
 inline constexpr std::size_t kEndRepeatMaxSamples = std::size_t{1} << 18;
 EndRepeat end_repeat(const Series& series);
+/// The same rule over the whole record (at most its first kEndRepeatMaxSamples), lags up to half
+/// of it: the period at which a record of a few periods repeats itself, its fundamental where the
+/// spectrum's mean period is not (a van der Pol cycle's harmonics shorten its mean period), for
+/// ends_amplitude_rate's whole periods (transient.hpp). NaN as end_repeat, for fewer than 16 samples.
+EndRepeat whole_record_repeat(const Series& series);
 
 }  // namespace mlce

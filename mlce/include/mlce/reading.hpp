@@ -14,7 +14,7 @@
 //  - The signal's own amplitude (AmplitudeTrend) tells a growth from chaos and a decay from a
 //    contraction onto a persisting motion: it grows when its last third's RMS is at least
 //    kPersistentAmplitude x its first third's or its envelope rate (on a run too short for its
-//    windows, the rate the thirds' RMS ratio says) at least persist_share x lambda
+//    windows, the change between its first and last whole periods) at least persist_share x lambda
 //    (lambda > 0); it decays in the mirror case; it is steady when neither and the rate is below
 //    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
 //    oscillation (an instability such as ground resonance); unstable + steady: chaos, when the curve
@@ -31,7 +31,13 @@
 //    motion decayed to rest before it, and lambda measures the solver's residue.
 //  - A curve the fit rule found bounded or flat (the neighbours never separate to the attractor
 //    scale) on a motion that does not decay is a limit cycle or torus: neutral, whatever residual
-//    slope was fitted.
+//    slope was fitted. Except on a run of fewer than 8 mean periods that is one mode (it repeats
+//    itself one period on, scaled: ScaledRepeat::difference below 0.1): there the slope is the
+//    residue of the curve's swing, and the amplitude's change between the first and last whole
+//    periods (MlceResult::ends_amplitude_rate) beyond the band decides: stable when it decays,
+//    unstable (a growing oscillation) when it grows.
+//  - lambda > 0 on a steady amplitude over fewer than 8 mean periods is undetermined, not chaos:
+//    too few returns to show an attractor, and a torus over a few periods reads so.
 //  - A curve held level by measurement noise (flagged, MlceResult::noise_level, on a curve that
 //    grows to no plateau) cannot show a decay slower than the noise: when the amplitude decays
 //    and the interval does not already say stable, the motion, itself a perturbation of its
