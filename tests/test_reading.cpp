@@ -236,10 +236,12 @@ TEST(Reading, AGrowthOfAFewPeriodsIsReadFromWholePeriods) {
 TEST(Reading, AShortRecordOfOneDecayingModeIsReadFromItsAmplitude) {
   // e^{-0.005 t} sin t over 15 s (2.4 periods, dt = 0.01): stable, lambda = -0.005 1/s, 0.031 per
   // period (truth). Too short for neighbours a period apart: its curve swings with their phase offset
-  // and returns (bounded), the fitted slope is that swing's residue (-0.40), and the reading was
+  // and returns (bounded), the fitted slope is that swing's residue (-0.29), and the reading was
   // "neutral, limit cycle". The record repeats itself one period on, scaled: one mode, whose
   // amplitude's change between its first and last whole periods is its exponent.
   const MlceResult m = estimate_mlce(make_series_with_step({exponential_sine(1500, 0.01, -0.005, 1.0)}, 0.01), {});
+  std::printf("e^{-0.005 t} sin t over 2.4 periods: lambda %+.4f (the residue), ends %+.5f 1/s, repeats to %.2g\n",
+              m.lambda, m.ends_amplitude_rate / m.dt, m.short_run_repeat.difference);
   EXPECT_LT(m.short_run_repeat.difference, 0.01);
   EXPECT_NEAR(m.ends_amplitude_rate / m.dt, -0.005, 5e-4);  // one period at each end: the growth within a window weighs its phases, O(sigma / omega)
   const Reading r = read_stability(m);

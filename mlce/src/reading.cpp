@@ -203,7 +203,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // their phase, so the fitted slope is that swing's residue, not a rate. When the record is one
   // mode (it repeats itself one period on, scaled, to within kOneModeRepeat) the amplitude's change
   // between its first and last whole periods is that mode's rate, its exponent: beyond the band it
-  // decides. e^{-0.005 t} sin t over 2.4 periods read "neutral, limit cycle" with lambda = -0.42, the
+  // decides. e^{-0.005 t} cos t over 2.4 periods read "neutral, limit cycle" with lambda = -0.42, the
   // residue (bench/oscillator_readings.sh: 8 of 560 damped records); its ends say -0.005, 0.031 per
   // period. A limit cycle repeats with scale 1 (van der Pol over 2.25 periods: 1e-6 per period); two
   // modes (a beat, a torus) do not repeat and keep the rules below.

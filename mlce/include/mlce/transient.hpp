@@ -182,14 +182,15 @@ EnvelopeRates envelope_rates(const Series& series, std::size_t period);
 double amplitude_ratio(const Series& series);
 
 /// Rate at which the signal's amplitude changes between its ends, per sample (natural log): the log
-/// RMS ratio of its last k whole periods to its first k, over the N - W samples between the two
+/// RMS ratio of its last k whole periods to its first k, over the N - 1 - W samples between the two
 /// windows' centres (W = k x period_samples, k = the most whole periods that fit in a third, at
 /// least 1, the sample that completes a fractional W weighted by its share; RMS about each window's
 /// own mean, which over whole periods is the level the motion oscillates about; channels summed, each
 /// divided by its peak |x|).
 /// Whole periods because a window that cuts a period short weighs its phases unevenly: the thirds
-/// of e^{0.005 t} sin t over 4.8 periods have an RMS ratio of 1.041, where the growth between their
-/// centres is e^{0.1 x 2/3} = 1.069. For a run too short for envelope_rates (fewer than 8 periods).
+/// of e^{0.005 t} cos t over 4.8 periods have an RMS ratio of 1.041, those of e^{0.005 t} sin t
+/// 1.172, where the growth between their centres is e^{0.1 x 2/3} = 1.069 (test_series). For a run
+/// too short for envelope_rates (fewer than 8 periods).
 /// NaN when the period is not positive, two windows do not fit (fewer than 2 periods) or either
 /// window has zero RMS.
 double ends_amplitude_rate(const Series& series, double period_samples);
@@ -197,10 +198,11 @@ double ends_amplitude_rate(const Series& series, double period_samples);
 /// How closely a record repeats itself one period on, scaled: the least-squares a with
 /// x(t + P) ~ a x(t) + b over the whole record (b per channel: a mode about a level c repeats with
 /// b = c (1 - a); channels over their peaks and summed, x(t + P) linearly interpolated for a period
-/// between two samples) and the RMS of the rest over the RMS deviation of x(t + P). A single mode decaying or growing, e^{sigma t} sin(omega t), repeats so
-/// exactly (a = e^{sigma P}, difference 0); a limit cycle with a = 1; two modes of unrelated
-/// frequencies (a torus, a beat) do not: sin t + 0.5 sin(sqrt 2 t) leaves 0.35 over its best lag
-/// (test_series). The reading takes the amplitude's rate as the motion's on a short run only when
+/// between two samples) and the RMS of the rest over the RMS deviation of x(t + P). A single mode,
+/// decaying or growing, e^{sigma t} sin(omega t), repeats so exactly (a = e^{sigma P}, difference 0);
+/// a limit cycle with a = 1; two modes of unrelated frequencies (a torus, a beat) do not:
+/// sin t + 0.5 sin(sqrt 2 t + 0.3) leaves more than 0.3 at the first tone's period and more than
+/// 0.1 at every lag of 1-10 s (test_series). The reading takes the amplitude's rate as the motion's on a short run only when
 /// it is one mode's (reading.hpp). NaN when P is not in (0, n/2] or nothing varies.
 struct ScaledRepeat {
   double period = std::numeric_limits<double>::quiet_NaN();  ///< samples, as given
