@@ -95,7 +95,7 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
 /// A record that repeats itself one period on, scaled, to within this (ScaledRepeat::difference) is
 /// one mode. e^{-0.02 omega t} sin(omega t) over 4.5 periods leaves the interpolation's residual,
 /// 1e-4 .. 2e-3 at 20-200 samples per period; with white noise of 1 % (3 %) of its amplitude 0.025
-/// (0.077). Two tones of unrelated frequencies leave 0.14 and more (sin t + a sin(r t + 0.3), r = sqrt 2,
+/// (0.077) (scratch: Python-written series through mlce estimate --json). Two tones of unrelated frequencies leave 0.14 and more (sin t + a sin(r t + 0.3), r = sqrt 2,
 /// golden ratio, sqrt 5, 1 / sqrt 2, a = 0.2 and 0.5, 15-40 s).
 constexpr double kOneModeRepeat = 0.1;
 
