@@ -112,6 +112,26 @@ TEST_F(Cli, EstimateJsonHasEveryField) {
   EXPECT_EQ(j["n_points"].get<int>(), 5000);
 }
 
+// A map's settled cycle in the JSON (map_cycle.hpp): the logistic map at r = 3.83 from x0 = 0.1, its
+// approach to the 3-cycle in the record. Hénon's chaotic x has none (null).
+TEST_F(Cli, AMapsCycleIsInTheJsonWithItsApproach) {
+  std::vector<double> x(2000);
+  double v = 0.1;
+  for (double& s : x) s = v, v = 3.83 * v * (1.0 - v);
+  const auto j = nlohmann::json::parse(run("estimate " + series_file(x, 1.0) + " --column 2 --time-column 1 --json").out);
+  ASSERT_TRUE(j["map_cycle"].is_object()) << j.dump();
+  EXPECT_EQ(j["map_cycle"]["period"].get<int>(), 3);
+  EXPECT_EQ(j["lambda"].get<double>(), j["map_cycle"]["approach_rate"].get<double>());
+  EXPECT_NEAR(j["lambda"].get<double>(), -0.3697, 0.001);  // the cycle's exponent (test_map_cycle computes it)
+  EXPECT_TRUE(j["map_cycle"]["curve_lambda"].is_number());
+  EXPECT_EQ(j["map_cycle"]["approach_samples"].size(), 2u);
+  EXPECT_EQ(j["reading"]["stability"], "stable");
+  EXPECT_EQ(j["reading"]["motion"], "periodic orbit");
+  const auto chaotic =
+      nlohmann::json::parse(run("estimate " + series_file(mlce::reference::henon_x(5000), 1.0) + " --column 2 --json").out);
+  EXPECT_TRUE(chaotic["map_cycle"].is_null());
+}
+
 // A level that creeps beneath the neighbour pairs, in the JSON and in the summary: Roessler x plus
 // 0.0005 t (time column in s, dt = 0.1). The rate is per time unit, seen with its sign and at most
 // at the true creep (the search prefers pairs whose own separation offsets it).

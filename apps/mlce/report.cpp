@@ -113,6 +113,18 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_period"] = r.mean_period.mean_period;
   j["fast_share"] = r.mean_period.fast_share;
   j["treated_as_map"] = r.mean_period.map;
+  // A map's settled cycle (map_cycle.hpp): null when none; lambda is its approach's rate when measured.
+  if (const MapCycle& c = r.map_cycle; c.found())
+    j["map_cycle"] = {{"period", c.period},
+                      {"from", c.from},
+                      {"approach_rate", finite_or_null(c.approach_rate)},
+                      {"approach_ci95", {finite_or_null(c.approach_ci_low), finite_or_null(c.approach_ci_high)}},
+                      {"approach_samples", c.approach_measured() ? nlohmann::json{c.approach_first, c.approach_last}
+                                                                 : nlohmann::json(nullptr)},
+                      {"rate_bound", finite_or_null(c.rate_bound)},
+                      {"curve_lambda", finite_or_null(r.curve_lambda)}};
+  else
+    j["map_cycle"] = nullptr;
   if (r.ami) j["delay_rule"] = to_string(r.ami->rule);
   if (r.fnn) j["fnn_fraction"] = r.fnn->fraction;
   if (r.dim_widened_from) {

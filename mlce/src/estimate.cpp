@@ -640,6 +640,41 @@ void express_per_time(MlceResult& r, double dt) {
   r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
 }
 
+/// A map settled on a cycle (map_cycle.hpp): lambda from its approach when the record shows it,
+/// and a warning either way (the curve's neighbours are the cycle's other points).
+void take_map_cycle(MlceResult& r) {
+  const MapCycle& c = r.map_cycle;
+  if (!c.found()) return;
+  const std::string settled = fmt::format(
+      "the series settles on a cycle of {} sample(s), repeating it from sample {} to its end (to {:g} of its range): "
+      "a map's periodic orbit, whose nearest neighbours are the cycle's other points",
+      c.period, c.from, c.tolerance);
+  if (!c.approach_measured()) {
+    r.warnings.push_back(fmt::format(
+        "{}; the record shows no approach to it ({} whole cycle(s) between {:g} of the range and its resolution), so "
+        "its exponent is not measured: lambda ({:.6g} per sample) is the divergence curve's and measures no "
+        "divergence. A cycle computed in floating point that holds over {} steps is no unstable one (exponent at most "
+        "{:.3g} per sample); start the record before the orbit settles to measure it",
+        settled, c.approach_cycles, kApproachCeiling, r.lambda_per_sample, r.n_points - c.from - c.period,
+        c.rate_bound));
+    if (r.unreliable.empty()) r.unreliable = "a map settled on a cycle, with no approach to it in the record";
+    return;
+  }
+  r.curve_lambda = r.lambda;
+  r.lambda_per_sample = c.approach_rate;
+  r.lambda = c.approach_rate / r.dt;
+  r.ci95_low = c.approach_ci_low / r.dt;
+  r.ci95_high = c.approach_ci_high / r.dt;
+  r.r2 = c.approach_r2;
+  r.lyapunov_time = r.lambda > 0 ? 1.0 / r.lambda : std::numeric_limits<double>::infinity();
+  r.warnings.push_back(fmt::format(
+      "{}; lambda is the cycle's exponent, read from the approach: ln |x(t + {}) - x(t)| falls at {:.6g} per sample "
+      "(R^2 = {:.4f}) over samples {}..{} ({} whole cycles; a deviation from the cycle shrinks by its multiplier every "
+      "cycle), not the divergence curve's slope ({:.6g} per sample)",
+      settled, c.period, c.approach_rate, c.approach_r2, c.approach_first, c.approach_last, c.approach_cycles,
+      r.curve_lambda * r.dt));
+}
+
 }  // namespace
 
 Embedding choose_embedding(const Series& series, const MlceOptions& options, const MeanPeriodResult& mean_period) {
@@ -773,6 +808,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   const std::size_t period = r.mean_period.mean_period;
   const Span span = span_of(series, r.mean_period);
   r.end_repeat = end_repeat(series);
+  if (r.mean_period.map) r.map_cycle = map_cycle(series, options.map_cycle);
   const bool persisting = persists(r.amplitude_ratio);
   check_span(series, options, span, persisting, drift_warning, r);
   Embedding e = choose_embedding(series, options, r.mean_period);
@@ -783,7 +819,8 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   // the whole estimate (mean period, embedding, curve) redone on the rest, as with --from. Only
   // for a motion that persists: a decay's or a growth's turns are each visited once, and are what
   // it measures. Judged on the first curve's neighbour pairs (no search of its own).
-  const bool judge_start = options.skip_nonrecurrent_start && persisting;
+  // Not a map's approach to its cycle: that approach is what measures the cycle's exponent.
+  const bool judge_start = options.skip_nonrecurrent_start && persisting && !r.map_cycle.found();
   auto estimate_without_start = [&](const NeighbourPairs& first_pairs) -> std::optional<MlceResult> {
     const std::size_t admissible = DelayEmbedding::max_points(series.size(), r.dim, r.delay) - first_pairs.horizon;
     std::vector<std::span<const double>> channels(series.channels.begin(), series.channels.end());
@@ -944,6 +981,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   flag_map_noise(series, ro, pairs, r);  // after every verdict that makes lambda unreliable
   warn_about_rate_beyond_envelope(r);
   express_per_time(r, series.dt);
+  take_map_cycle(r);
   report(options, "done", 1.0);
   return r;
 }

@@ -158,6 +158,39 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     return out;
   }
   if (!std::isfinite(T)) return undetermined("the spectrum has no mean frequency to measure the rate against");
+  // A map settled on a cycle (map_cycle.hpp): a periodic orbit without a neutral direction, read from
+  // its approach when the record shows one. The logistic map's cycles as `build/make_series logistic
+  // 10000 R` writes them read "neutral, limit cycle" at r = 3.5 and 3.74 and "undetermined" at r = 3.2
+  // and 3.83 (lambda 0 and +0.234 per iteration) before this clause; the cycles' exponents are -0.916,
+  // -0.873, -0.112 and -0.370 (test_map_cycle).
+  if (const MapCycle& c = r.map_cycle; c.found()) {
+    out.motion = "periodic orbit";
+    const std::string cycle = fmt::format("a map settled on a cycle of {} sample(s) (it repeats from sample {} on)",
+                                          c.period, c.from);
+    if (!c.approach_measured()) {
+      out.stability = Stability::stable;
+      out.summary = fmt::format(
+          "stable: {}; the record shows no approach to it, so the cycle's exponent is not measured and lambda, the "
+          "divergence curve's, measures no divergence; but a cycle computed in floating point that holds over {} steps "
+          "is no unstable one (its exponent is at most {:.3g} per sample), and a map's cycle is neutral only at "
+          "isolated parameters: it attracts (start the record before the orbit settles to measure its rate)",
+          cycle, r.n_points - c.from - c.period, c.rate_bound);
+      return out;
+    }
+    const std::string from_approach = fmt::format(
+        "{}; lambda is its exponent, read from the approach (ln |x(t + {}) - x(t)| over samples {}..{}); {}", cycle,
+        c.period, c.approach_first, c.approach_last, numbers);
+    if (out.ci_high_per_period < -band) {
+      out.stability = Stability::stable;
+      out.summary = "stable: the cycle attracts: " + from_approach;
+    } else if (out.ci_low_per_period > band) {
+      return undetermined("the approach to the cycle grows: " + from_approach);
+    } else {
+      out.stability = Stability::neutral;
+      out.summary = "neutral: the approach is slower than the band resolves: " + from_approach;
+    }
+    return out;
+  }
   if (!r.unreliable.empty()) return undetermined(r.unreliable + ": lambda does not measure a divergence (see the warnings)");
   // Measurement noise biases lambda (the warnings say how much) but does not make a clear sign
   // unclear: the reading stands, and says so.

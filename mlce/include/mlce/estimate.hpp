@@ -12,6 +12,7 @@
 #include "mlce/ami.hpp"
 #include "mlce/fit.hpp"
 #include "mlce/fnn.hpp"
+#include "mlce/map_cycle.hpp"
 #include "mlce/mean_period.hpp"
 #include "mlce/progress.hpp"
 #include "mlce/recurrence.hpp"
@@ -96,6 +97,8 @@ struct MlceOptions {
   AmiOptions ami;
   FnnOptions fnn;
   FitOptions fit;
+  /// What repeats as a map's settled cycle (map_cycle.hpp); maps only (MeanPeriodResult::map).
+  MapCycleOptions map_cycle;
   /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
   /// error of the mean curve negligible while bounding the cost for very long series.
   std::size_t max_references = 20000;
@@ -196,6 +199,16 @@ struct MlceResult {
   /// How closely the analysed signal's last third repeats itself one period on (end_repeat,
   /// mean_period.hpp): a motion that ends periodic is no chaotic attractor (reading.hpp).
   EndRepeat end_repeat;
+  /// A map's series (MeanPeriodResult::map) that ends repeating a cycle (map_cycle.hpp): its
+  /// nearest neighbours are the cycle's other points, which never separate. When the record shows
+  /// the approach to the cycle (MapCycle::approach_measured), lambda, lambda_per_sample, ci95 and r2
+  /// are the approach's, the cycle's exponent, and curve_lambda keeps the curve's slope; otherwise
+  /// they are the curve's, which measures no divergence (the reading says so). period 0: not found
+  /// (a flow, or a map that does not settle on a cycle).
+  MapCycle map_cycle;
+  /// The divergence curve's fitted slope per time unit when lambda is a map cycle's approach; NaN
+  /// otherwise.
+  double curve_lambda = std::numeric_limits<double>::quiet_NaN();
   /// Why lambda does not measure the motion's divergence, when one of the warnings says so (the
   /// first such): a series that drifts, an angle that wraps, an embedding window of several mean
   /// periods, a curve that reaches its plateau within one embedding window (uncorrelated noise),

@@ -43,6 +43,11 @@
 //    and the interval does not already say stable, the motion, itself a perturbation of its
 //    equilibrium, dies out: stable. Not when the estimator compensated the curve for the noise
 //    (MlceResult::noise_compensated): lambda is then the decay's rate, read as any other.
+//  - A map settled on a cycle (MlceResult::map_cycle, map_cycle.hpp) is a periodic orbit without a
+//    neutral direction: with its approach in the record, lambda is the approach's rate and the
+//    interval decides (stable below the band, neutral within it); without it the cycle holds through
+//    the record's rounding, so it is no unstable one, and a map's cycle is neutral only at isolated
+//    parameters: stable, its rate unmeasured.
 //  - Undetermined when a warning says lambda does not measure the motion's divergence
 //    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
 //    mean periods, a plateau within one embedding window as uncorrelated noise gives, a resolution
@@ -97,7 +102,8 @@ struct Reading {
   Stability stability = Stability::undetermined;
   AmplitudeTrend amplitude = AmplitudeTrend::unknown;
   /// What the motion is, in words: "decays to rest", "growing oscillation", "chaotic",
-  /// "diverging", "limit cycle", "lightly damped", "slowly growing" or "undetermined" (the summary
+  /// "diverging", "limit cycle", "periodic orbit" (a map's settled cycle), "lightly damped", "slowly
+  /// growing" or "undetermined" (the summary
   /// says why).
   std::string motion;
   double mean_period = 0.0;  ///< T, time units (NaN when the spectrum has no mean frequency)
