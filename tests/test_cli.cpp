@@ -132,6 +132,22 @@ TEST_F(Cli, AMapsCycleIsInTheJsonWithItsApproach) {
   EXPECT_TRUE(chaotic["map_cycle"].is_null());
 }
 
+// The surrogate test (--surrogates K) in the JSON and the text; a bad count is one error line.
+TEST_F(Cli, SurrogatesAreInTheJsonAndABadCountIsOneError) {
+  const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
+  const auto j = nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet --surrogates 19").out);
+  ASSERT_TRUE(j["surrogates"].is_object()) << j.dump();
+  EXPECT_EQ(j["surrogates"]["count"].get<int>(), 19);
+  EXPECT_EQ(j["surrogates"]["surrogate_slopes"].size(), 19u);
+  EXPECT_TRUE(j["surrogates"]["distinguished"].get<bool>());
+  EXPECT_DOUBLE_EQ(j["surrogates"]["p_value"].get<double>(), 0.05);
+  EXPECT_TRUE(nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet").out)["surrogates"].is_null());
+  const CliRun text = run("estimate " + f + " --column 2 --quiet --surrogates 19");
+  EXPECT_NE(text.out.find("surrogates      slope"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("told from linear noise"), std::string::npos) << text.out;
+  expect_one_line_error(run("estimate " + f + " --column 2 --surrogates many"), "--surrogates 'many': expected a count", 2);
+}
+
 // A level that creeps beneath the neighbour pairs, in the JSON and in the summary: Roessler x plus
 // 0.0005 t (time column in s, dt = 0.1). The rate is per time unit, seen with its sign and at most
 // at the true creep (the search prefers pairs whose own separation offsets it).

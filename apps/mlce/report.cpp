@@ -113,6 +113,17 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_period"] = r.mean_period.mean_period;
   j["fast_share"] = r.mean_period.fast_share;
   j["treated_as_map"] = r.mean_period.map;
+  // The surrogate test (surrogate.hpp): null when not asked for (--surrogates) or not run.
+  if (const auto& t = r.surrogates)
+    j["surrogates"] = {{"count", t->surrogate_slopes.size()},
+                       {"series_slope", t->series_slope},
+                       {"surrogate_slopes", t->surrogate_slopes},
+                       {"p_value", t->p_value},
+                       {"sigmas", finite_or_null(t->sigmas)},  // null: the surrogates' slopes all equal
+                       {"distinguished", t->distinguished},
+                       {"steps", {t->first, t->last}}};
+  else
+    j["surrogates"] = nullptr;
   // A map's settled cycle (map_cycle.hpp): null when none; lambda is its approach's rate when measured.
   if (const MapCycle& c = r.map_cycle; c.found())
     j["map_cycle"] = {{"period", c.period},
@@ -207,6 +218,13 @@ std::string to_text(const MlceResult& r) {
                        100.0 * r.noise_variance_error, r.noise_lambda_stderr, u);
   }
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
+  if (const auto& t = r.surrogates)
+    s += fmt::format("surrogates      slope {:.6g} per step over {}..{}; {} IAAFT surrogates' {:.6g} .. {:.6g}: p = {:.3g}, "
+                     "{:.3g} standard deviations above their mean: {}\n",
+                     t->series_slope, t->first, t->last, t->surrogate_slopes.size(),
+                     *std::min_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()),
+                     *std::max_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()), t->p_value, t->sigmas,
+                     t->distinguished ? "told from linear noise" : "not told from linear noise");
   for (const auto& w : r.warnings) s += "warning: " + w + "\n";
   return s;
 }

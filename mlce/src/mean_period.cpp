@@ -9,41 +9,15 @@
 #include <mutex>
 #include <numbers>
 
+#include "fftw_plan.hpp"
 #include "mlce/numerics.hpp"
 
 namespace mlce {
 namespace {
 
-std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe; execution is.
-  static std::mutex m;
-  return m;
-}
-
-/// An FFTW plan made and destroyed under the planner's lock; executed without it.
-class Plan {
- public:
-  explicit Plan(fftw_plan plan) : plan_(plan) {}
-  ~Plan() {
-    std::lock_guard lock(planner_mutex());
-    fftw_destroy_plan(plan_);
-  }
-  Plan(const Plan&) = delete;
-  Plan& operator=(const Plan&) = delete;
-  void execute() const { fftw_execute(plan_); }
-
- private:
-  fftw_plan plan_;
-};
-
-/// Real-to-complex (n reals into n / 2 + 1 complex) and complex-to-real (back) plans.
-Plan forward_plan(std::size_t n, double* in, fftw_complex* out) {
-  std::lock_guard lock(planner_mutex());
-  return Plan(fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE));
-}
-Plan backward_plan(std::size_t n, fftw_complex* in, double* out) {
-  std::lock_guard lock(planner_mutex());
-  return Plan(fftw_plan_dft_c2r_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE));
-}
+using detail::backward_plan;
+using detail::forward_plan;
+using detail::Plan;
 
 struct ChannelSpectrum {
   double mean_frequency = 0.0;  ///< power-weighted mean, cycles per sample

@@ -291,6 +291,16 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
       out.summary += numbers + noise;
       return out;
     }
+    // Linear noise diverges too (surrogate.hpp): when the surrogate test was run and did not set the
+    // divergence apart from its surrogates', no chaos (nor divergence on a steady amplitude) is
+    // claimed. An AR(2) resonance (a lightly damped mode driven by noise) read "chaotic" before.
+    if (const auto& t = r.surrogates; t && !t->distinguished && a == AmplitudeTrend::persists)
+      return undetermined(fmt::format(
+          "lambda > 0 on a motion of steady amplitude, but its divergence is not told from linear noise's: {} "
+          "surrogates with its spectrum and values (IAAFT) diverge as fast or nearly (p = {:.2g}, {:.2g} standard "
+          "deviations above their mean; chaos needs p <= 0.05 and 3): a motion driven by noise through linear "
+          "dynamics (a lightly damped mode excited by turbulence) reads so; {}",
+          t->surrogate_slopes.size(), t->p_value, t->sigmas, numbers + noise));
     out.stability = Stability::unstable;
     if (a == AmplitudeTrend::grows) {
       out.motion = "growing oscillation";
@@ -321,6 +331,12 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     } else if (a == AmplitudeTrend::persists) {
       out.motion = "chaotic";
       out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";
+      out.summary += r.surrogates ? fmt::format("its divergence exceeds that of {} linear surrogates (p = {:.2g}, {:.3g} "
+                                                "standard deviations above their mean); ",
+                                                r.surrogates->surrogate_slopes.size(), r.surrogates->p_value,
+                                                r.surrogates->sigmas)
+                                  : std::string("(linear noise through a lightly damped mode reads so too: "
+                                                "--surrogates 19 tests it); ");
     } else {
       out.motion = "diverging";
       out.summary = "unstable: nearby motions diverge while the amplitude changes: a growth and chaos are not told "

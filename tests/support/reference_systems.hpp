@@ -164,6 +164,22 @@ inline std::vector<double> noisy_decay(std::size_t n, double dt, double zeta, do
   return with_white_noise(damped_oscillator(n, dt, zeta, omega), noise, 7);
 }
 
+/// A lightly damped mode driven by white noise, the AR(2) resonance x_t = 2 r cos(w) x_{t-1} -
+/// r^2 x_{t-2} + e_t (e_t standard normal from mt19937_64 seeded `seed`), after 1000 samples of
+/// start-up: a linear stochastic process, whose divergence curve rises and saturates as chaos's does.
+inline std::vector<double> ar2_resonance(std::size_t n, double r, double w, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  std::vector<double> x(n);
+  double x1 = 0.0, x2 = 0.0;
+  for (std::size_t i = 0; i < n + 1000; ++i) {
+    const double v = 2.0 * r * std::cos(w) * x1 - r * r * x2 + e(gen);
+    x2 = x1, x1 = v;
+    if (i >= 1000) x[i - 1000] = v;
+  }
+  return x;
+}
+
 /// Henon x -> 1 - a x^2 + y, y -> 0.3 x, a = 1.4 unless given (lambda_1 = 0.41922 per iteration).
 /// From (x0, y0) after 1000 iterations.
 inline std::vector<double> henon_x(std::size_t n, double x0 = 0.1, double y0 = 0.1, double a = 1.4) {

@@ -17,6 +17,7 @@
 #include "mlce/progress.hpp"
 #include "mlce/recurrence.hpp"
 #include "mlce/rosenstein.hpp"
+#include "mlce/surrogate.hpp"
 #include "mlce/transient.hpp"
 
 namespace mlce {
@@ -99,6 +100,9 @@ struct MlceOptions {
   FitOptions fit;
   /// What repeats as a map's settled cycle (map_cycle.hpp); maps only (MeanPeriodResult::map).
   MapCycleOptions map_cycle;
+  /// The surrogate test of the divergence against linear noise (surrogate.hpp): off by default
+  /// (count 0), since it costs `count` divergence curves; one-channel series only.
+  SurrogateOptions surrogates{.count = 0};
   /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
   /// error of the mean curve negligible while bounding the cost for very long series.
   std::size_t max_references = 20000;
@@ -206,6 +210,9 @@ struct MlceResult {
   /// they are the curve's, which measures no divergence (the reading says so). period 0: not found
   /// (a flow, or a map that does not settle on a cycle).
   MapCycle map_cycle;
+  /// The surrogate test (MlceOptions::surrogates), when asked for and run: the reading
+  /// (reading.hpp) claims chaos only when it distinguishes the divergence from linear noise.
+  std::optional<SurrogateTest> surrogates;
   /// The divergence curve's fitted slope per time unit when lambda is a map cycle's approach; NaN
   /// otherwise.
   double curve_lambda = std::numeric_limits<double>::quiet_NaN();
