@@ -715,6 +715,45 @@ bool grows_while_decaying(const MlceResult& r) {
 }
 }  // namespace
 
+namespace {
+MlceResult estimate_widened(const Series& raw, const MlceOptions& options);
+
+/// The surrogate test (surrogate.hpp) on the part the estimate analysed: the raw series up to a
+/// floor, from a left-out start (estimate_once); with the estimate's embedding and fit region. Not
+/// dithered (MlceOptions::dither): the surrogates take the series' own values.
+void test_against_surrogates(const Series& raw, const MlceOptions& options, MlceResult& r) {
+  if (raw.channels.size() != 1) {
+    r.warnings.push_back("the surrogate test takes one channel; not run on " + std::to_string(raw.channels.size()));
+    return;
+  }
+  if (r.map_cycle.approach_measured()) {
+    r.warnings.push_back("the surrogate test reads the divergence curve, and lambda is a map cycle's approach here; not run");
+    return;
+  }
+  if (r.fit.last <= r.fit.first) {
+    r.warnings.push_back("the surrogate test needs the divergence curve's fit region of two steps or more; not run");
+    return;
+  }
+  Series analysed = raw;
+  const auto first = static_cast<std::ptrdiff_t>(r.skipped_start);
+  analysed.channels[0].assign(raw.channels[0].begin() + first, raw.channels[0].begin() + first + static_cast<std::ptrdiff_t>(r.n_points));
+  SurrogateSetup setup;
+  setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
+  setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
+  r.surrogates = surrogate_test(analysed, setup, options.surrogates, options.progress);
+  append(r.warnings, r.surrogates->warnings);
+}
+}  // namespace
+
+/// The estimate (estimate_widened: estimate_once at the automatic m, or at a wider one), then the
+/// surrogate test of its divergence when asked for (MlceOptions::surrogates).
+MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
+  MlceResult r = estimate_widened(raw, options);
+  if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
+  return r;
+}
+
+namespace {
 /// FNN is Kennel's heuristic, and a decay of several modes can pass its threshold in fewer
 /// dimensions than its modes need: two modes of like damping beating over 93.6 s (e^{-0.2 t}(cos 2 pi t
 /// + cos 2.2 pi t)) leave 3.3 % false at m = 3, and there points of the same amplitude and another
@@ -730,38 +769,6 @@ bool grows_while_decaying(const MlceResult& r) {
 /// with the smallest m that gives three, with a warning. FNN's 5 % threshold passed m = 1 on 10 of
 /// 32 jointly embedded Roessler (x, y) states (3.9-5.0 % false; `build/finite_time_spread channels`),
 /// m = 2 on one Roessler x at c = 14 (`build/other_flows`) and on Lorenz x rounded to integers.
-namespace {
-MlceResult estimate_widened(const Series& raw, const MlceOptions& options);
-
-/// The surrogate test (surrogate.hpp) on the part the estimate analysed: the raw series up to a
-/// floor, from a left-out start (estimate_once); with the estimate's embedding and fit region.
-void test_against_surrogates(const Series& raw, const MlceOptions& options, MlceResult& r) {
-  if (raw.channels.size() != 1) {
-    r.warnings.push_back("the surrogate test takes one channel; not run on " + std::to_string(raw.channels.size()));
-    return;
-  }
-  if (r.fit.last <= r.fit.first || r.map_cycle.approach_measured()) {
-    r.warnings.push_back("the surrogate test needs the divergence curve's fit region of two steps or more; not run");
-    return;
-  }
-  Series analysed = raw;
-  const auto first = static_cast<std::ptrdiff_t>(r.skipped_start);
-  analysed.channels[0].assign(raw.channels[0].begin() + first, raw.channels[0].begin() + first + static_cast<std::ptrdiff_t>(r.n_points));
-  SurrogateSetup setup;
-  setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
-  setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
-  r.surrogates = surrogate_test(analysed, setup, options.surrogates, options.progress);
-  append(r.warnings, r.surrogates->warnings);
-}
-}  // namespace
-
-MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
-  MlceResult r = estimate_widened(raw, options);
-  if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
-  return r;
-}
-
-namespace {
 MlceResult estimate_widened(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_once(raw, options);
   if (options.dim || !r.fnn) return r;

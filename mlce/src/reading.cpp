@@ -298,9 +298,9 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
       return undetermined(fmt::format(
           "lambda > 0 on a motion of steady amplitude, but its divergence is not told from linear noise's: {} "
           "surrogates with its spectrum and values (IAAFT) diverge as fast or nearly (p = {:.2g}, {:.2g} standard "
-          "deviations above their mean; chaos needs p <= 0.05 and 3): a motion driven by noise through linear "
+          "deviations above their mean; chaos needs p <= {:g} and {:g}): a motion driven by noise through linear "
           "dynamics (a lightly damped mode excited by turbulence) reads so; {}",
-          t->surrogate_slopes.size(), t->p_value, t->sigmas, numbers + noise));
+          t->surrogate_slopes.size(), t->p_value, t->sigmas, t->significance, t->min_sigmas, numbers + noise));
     out.stability = Stability::unstable;
     if (a == AmplitudeTrend::grows) {
       out.motion = "growing oscillation";

@@ -112,6 +112,7 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
                : out.series_slope < mean        ? -std::numeric_limits<double>::infinity()
                                                 : 0.0;
   out.p_value = static_cast<double>(1 + out.at_least) / (1.0 + k);
+  out.significance = options.significance, out.min_sigmas = options.min_sigmas;
   out.distinguished = out.p_value <= options.significance && out.sigmas >= options.min_sigmas;
   const auto needed = static_cast<std::size_t>(std::ceil(1.0 / options.significance - 1.0 - 1e-9));
   if (options.count < needed)

@@ -43,6 +43,8 @@
 //    and the interval does not already say stable, the motion, itself a perturbation of its
 //    equilibrium, dies out: stable. Not when the estimator compensated the curve for the noise
 //    (MlceResult::noise_compensated): lambda is then the decay's rate, read as any other.
+//  - With the surrogate test run (MlceResult::surrogates, surrogate.hpp), lambda > 0 on a steady
+//    amplitude is undetermined unless the test tells the divergence from linear noise's.
 //  - A map settled on a cycle (MlceResult::map_cycle, map_cycle.hpp) is a periodic orbit without a
 //    neutral direction: with its approach in the record, lambda is the approach's rate and the
 //    interval decides (stable below the band, neutral within it); without it the cycle holds through

@@ -57,6 +57,7 @@ struct SurrogateTest {
   /// and the series lies above them
   double sigmas = 0.0;
   bool distinguished = false;            ///< p_value <= significance and sigmas >= min_sigmas
+  double significance = 0.0, min_sigmas = 0.0;  ///< the options' bounds, as tested against
   std::size_t first = 0, last = 0;       ///< the curve steps the slopes span (the estimate's fit)
   std::vector<std::string> warnings;
 };
