@@ -22,8 +22,9 @@
 //    (floor, kApproachCeiling]: the floor max(tolerance, kResolutionFactor x the smallest non-zero
 //    d of the record), above the written resolution (a double's rounding of the settled cycle,
 //    ~1e-16; 6 written digits, ~1e-6), where d jumps in its steps; the ceiling where the
-//    multiplier's change with the deviation is still small (1e-2 read the logistic map's cycles
-//    2-7 % off, 1e-4 within 0.1 %). ln d fitted by one slope (per sample) and a level for each phase
+//    multiplier's change with the deviation is still small (a first version cutting at 1e-2, one
+//    mean per cycle, read the logistic map's cycles 4-10 % off in a scratch build; 1e-4 within 0.1 %).
+//    ln d fitted by one slope (per sample) and a level for each phase
 //    of the cycle: its points contract at different rates within a cycle, by the same multiplier
 //    over a whole one. The 95 % interval: Student's t with (points - p - 1) degrees of freedom,
 //    widened by how far the slope over the latest half of the cycles (at least two; the closest to
