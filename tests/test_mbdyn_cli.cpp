@@ -782,7 +782,7 @@ TEST_F(MbdynCli, NetcdfWithoutLogMeasuresFromTheFirstRecordAndSaysSo) {
 }
 
 TEST_F(MbdynCli, EveryCommandHasHelp) {
-  for (const char* c : {"estimate", "ami", "fnn", "simulate", "channels", "extract"}) {
+  for (const char* c : {"estimate", "ami", "fnn", "modes", "simulate", "channels", "extract"}) {
     const CliRun r = run(std::string(c) + " --help");
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_EQ(r.out.rfind(std::string("mlce ") + c, 0), 0u) << r.out;
@@ -847,4 +847,80 @@ TEST_F(MbdynCli, CompareAdHocWithMbdynBladeLagsAndHub) {
   // (the estimator's message alone did not say which of the two runs it came from).
   expect_one_line_error(run("compare " + kC3 + " " + kC3 + " --channel rel:13:4:z --mlce --from 9.85"),
                         "rel:13:4:z: MLCE: " + kC3 + ": series too short", 1);
+}
+
+// mlce modes on the real MBDyn runs against the Jacobian-based references of the same model (mlce eigen
+// for the isotropic rotor, mlce floquet for blade 3 inoperative): the least damped mode read from the
+// time history is the linearisation's largest real part.
+TEST_F(MbdynCli, ModesOfTheRealRunsAreTheLinearisationsLeastDampedMode) {
+  const std::string scenes = std::string(MLCE_DATA_DIR) + "/../scenes/";
+  const auto json_of = [this](const std::string& args) {
+    const CliRun r = run(args + " --json");
+    EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  const double iso = json_of("eigen " + scenes + "isotropic_200rpm.scene")["exponents"][0].get<double>();
+  const double c3 = json_of("floquet " + scenes + "c3zero_242rpm.scene --quiet")["exponents"][0].get<double>();
+  struct Case {
+    std::string args;
+    double truth, tolerance;
+  };
+  const std::string iso5 = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_5s/iso_200rpm";
+  const std::string lag20 = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_rel11_20s.csv --time-column 1 --column 2";
+  for (const Case& c : {Case{iso5 + " --channel node:2:x", iso, 1e-4}, Case{lag20, iso, 0.01},
+                        Case{kC3 + " --channel rel:11:4:z", c3, 0.01}, Case{kC3 + " --channel rel:13:4:z", c3, 0.01},
+                        Case{kC3 + " --channel node:2:x", c3, 0.01}}) {
+    const nlohmann::json j = json_of("modes " + c.args);
+    std::printf("%s: lambda %.7g, the linearisation's %.7g; %s\n", c.args.c_str(), j["lambda"].get<double>(), c.truth,
+                j["reading"].get<std::string>().c_str());
+    EXPECT_NEAR(j["lambda"].get<double>() / c.truth, 1.0, c.tolerance) << c.args;
+    EXPECT_TRUE(j["linear"].get<bool>()) << c.args;
+    EXPECT_EQ(j["reading"].get<std::string>().rfind(c.truth < 0 ? "stable" : "unstable", 0), 0U) << j["reading"];
+  }
+}
+
+// Hammond with nonlinear lag dampers, released from x_h = 0.1 m: a large, fast, nonlinear start, then the
+// decay of the linearisation's least damped mode over seven decades. The hub's modes give that mode's
+// rate (mlce eigen of the scene), where the run's strongest modes decay 7-10 times faster.
+TEST_F(MbdynCli, ModesOfANonlinearDamperRunEndWithTheLinearisationsRate) {
+  const std::string scene = std::string(MLCE_DATA_DIR) + "/../scenes/nonlinear_CLnominal.scene";
+  const std::string out = (dir / "nonlinear").string();
+  ASSERT_EQ(run("simulate " + scene + " --out " + out + " --quiet").status, 0);
+  const CliRun e = run("eigen " + scene + " --json");
+  ASSERT_EQ(e.status, 0) << e.err;
+  const double truth = nlohmann::json::parse(e.out)["exponents"][0].get<double>();
+  for (const char* channel : {"node:2:x", "rel:11:4:z"}) {
+    const CliRun m = run("modes " + out + " --channel " + channel + " --json");
+    ASSERT_EQ(m.status, 0) << m.err;
+    const nlohmann::json j = nlohmann::json::parse(m.out);
+    std::printf("%s: lambda %.7g (halves %s and %s), the linearisation's %.7g\n", channel, j["lambda"].get<double>(),
+                j["first_half_lambda"].dump().c_str(), j["second_half_lambda"].dump().c_str(), truth);
+    EXPECT_NEAR(j["lambda"].get<double>() / truth, 1.0, 0.01) << channel;
+    EXPECT_NEAR(j["second_half_lambda"].get<double>() / truth, 1.0, 0.002) << channel;
+    EXPECT_EQ(j["reading"].get<std::string>().rfind("stable, decaying modes", 0), 0U) << j["reading"];
+  }
+}
+
+TEST_F(MbdynCli, ModesTextCsvPlotAndErrors) {
+  const fs::path csv = dir / "modes.csv", png = dir / "modes.png";
+  const CliRun r = run("modes " + prefix + " --channel node:2:x --csv " + csv.string() + " --plot " + png.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("<- lambda"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("reading         stable, decaying modes"), std::string::npos) << r.out;
+  EXPECT_EQ(lines_of(csv).at(0), "sigma,frequency,damping_ratio,share,peak_share,offset");
+  EXPECT_GT(fs::file_size(png), 1000U);
+  // The hub's y holds rounding noise of 1e-24 m in this run: no mode stands above it, and nothing is read.
+  const CliRun noise = run("modes " + prefix + " --channel node:2:y --json");
+  ASSERT_EQ(noise.status, 0) << noise.err;
+  EXPECT_EQ(nlohmann::json::parse(noise.out)["reading"].get<std::string>().rfind("undetermined", 0), 0U) << noise.out;
+  // A constant record: one error naming it, and no file left behind.
+  const fs::path none = dir / "none.csv";
+  std::string constant;
+  for (int i = 0; i < 100; ++i) constant += "1.5\n";
+  write("constant.txt", constant);
+  expect_one_line_error(run("modes " + (dir / "constant.txt").string() + " --dt 0.1 --csv " + none.string()), "is constant");
+  EXPECT_FALSE(fs::exists(none));
+  expect_one_line_error(run("modes " + prefix + " --channel node:2:x --order 0"), "--order '0': expected auto or 1 .. 40", 2);
+  expect_one_line_error(run("modes " + prefix + " --channel node:2:x --order many"), "--order 'many'", 2);
+  expect_one_line_error(run("modes " + prefix + " --channel node:2:x --to 0.02"), "a modal fit needs at least 12");
 }

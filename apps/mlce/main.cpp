@@ -21,6 +21,7 @@
 #include "mlce/each_channel.hpp"
 #include "mlce/estimate.hpp"
 #include "mlce/kantz.hpp"
+#include "mlce/modes.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
 #include "mlce/models/scene.hpp"
@@ -53,6 +54,7 @@ const char* kUsage =
     "  ami FILE        average mutual information curve and the chosen delay\n"
     "  fnn FILE        false-nearest-neighbour fractions and the chosen dimension (--method cao: Cao's E1, E2)\n"
     "  kantz FILE      Kantz's divergence curves over several radii: a second estimate beside Rosenstein's\n"
+    "  modes FILE      damped modes by the matrix pencil: the least damped one's rate is a linear motion's MLCE\n"
     "  stsp FILE       space-time separation plot: how long points stay correlated (checks the Theiler window)\n"
     "  convergence FILE  MLCE of the run's leading parts: has the estimate settled, is the run long enough?\n"
     "  simulate SCENE  integrate an ad-hoc model (Hammond, flapping) and write its time history\n"
@@ -589,6 +591,56 @@ int cmd_kantz(const std::vector<std::string>& args) {
   return 0;
 }
 
+int cmd_modes(const std::vector<std::string>& args) {
+  cli::SeriesInput in;
+  ModalOptions o;
+  std::string order = "auto", csv_path, plot_path;
+  bool json = false;
+  po::options_description d("mlce modes FILE [options]");
+  d.add(series_options(in));
+  d.add_options()
+      ("order", po::value(&order), "model order (poles, a complex pair counting 2), or auto: the Hankel matrix's singular "
+                                   "values above 4 x its noise floor")
+      ("json", po::bool_switch(&json), "print one JSON object")
+      ("csv", po::value(&csv_path), "write the modes as CSV (sigma,frequency,damping_ratio,share,peak_share,offset)")
+      ("plot", po::value(&plot_path), "write the record and its modal fit as PNG (gnuplot)");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  finish_series_options(vm, in);
+  o.order = auto_or_count(order, "order");
+  if (o.order && (*o.order < 1 || *o.order > o.max_order))
+    throw po::error(fmt::format("--order '{}': expected auto or 1 .. {}", order, o.max_order));
+  const cli::LoadedSeries loaded = cli::load_series(in);
+  ModalResult r = cli::on_file(in, [&] { return identify_modes(loaded.series, o); });
+  r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
+  if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::modes_csv(r));
+  if (!plot_path.empty()) {
+    // The record and its modal fit; a long record every k-th sample (at most 20000 rows drawn).
+    const auto fitted = modal_reconstruction(r);
+    const Series& s = loaded.series;
+    std::string data = "time";
+    for (std::size_t c = 0; c < s.channel_count(); ++c) data += "," + channel_name(s, c) + ",modes of " + channel_name(s, c);
+    data += "\n";
+    const std::size_t every = (s.size() + 19999) / 20000;
+    for (std::size_t i = 0; i < s.size(); i += every) {
+      data += fmt::format("{:.10g}", s.time(i));
+      for (std::size_t c = 0; c < s.channel_count(); ++c) data += fmt::format(",{:.10g},{:.10g}", s.channels[c][i], fitted[c][i]);
+      data += "\n";
+    }
+    const std::string unit = s.time_unit.empty() ? "sample" : "time (" + s.time_unit + ")";
+    cli::plot_columns_png(data, fmt::format("modes of {}: residual {:.3g}", in.file, r.residual), unit, "value", plot_path);
+  }
+  if (json) {
+    auto j = cli::to_json(r);
+    add_input(j, in, loaded, loaded.series.t0);
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << input_lines(in, loaded) << cli::to_text(r);
+  }
+  return 0;
+}
+
 int cmd_convergence(const std::vector<std::string>& args) {
   cli::SeriesInput in;
   ConvergenceOptions o;
@@ -831,6 +883,7 @@ int run_command(const std::string& cmd, const std::vector<std::string>& args) {
     if (cmd == "ami") return cmd_ami(args);
     if (cmd == "fnn") return cmd_fnn(args);
     if (cmd == "kantz") return cmd_kantz(args);
+    if (cmd == "modes") return cmd_modes(args);
     if (cmd == "stsp") return cmd_stsp(args);
     if (cmd == "convergence") return cmd_convergence(args);
     if (cmd == "channels") return cmd_channels(args);

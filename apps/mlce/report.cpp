@@ -323,6 +323,90 @@ CurveTable curve_table(const MlceResult& r) {
 
 std::string curve_csv(const MlceResult& r) { return curve_table(r).csv; }
 
+namespace {
+nlohmann::json optional_json(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
+}  // namespace
+
+nlohmann::json to_json(const ModalResult& r) {
+  nlohmann::json modes = nlohmann::json::array();
+  for (const Mode& m : r.modes)
+    modes.push_back({{"sigma", m.sigma},
+                     {"frequency", m.frequency},
+                     {"damping_ratio", m.damping_ratio},
+                     {"share", m.share},
+                     {"peak_share", m.peak_share},
+                     {"offset", m.offset},
+                     {"nyquist", m.nyquist}});
+  const std::string rate = r.time_unit.empty() ? "1/sample" : "1/" + r.time_unit;
+  const std::string cycles = r.time_unit.empty() ? "cycles/sample" : "cycles/" + r.time_unit;
+  return {{"method", "matrix pencil"},
+          {"lambda", optional_json(r.lambda)},
+          {"lambda_per_sample", optional_json(r.lambda_per_sample)},
+          {"lambda_mode", r.lambda_mode ? nlohmann::json(*r.lambda_mode) : nlohmann::json()},
+          {"lambda_mode_frequency", r.lambda_mode_frequency},
+          {"lambda_from_second_half", r.lambda_from_second_half},
+          {"first_half_lambda", optional_json(r.first_half_lambda)},
+          {"second_half_lambda", optional_json(r.second_half_lambda)},
+          {"halves_agree", r.halves_agree},
+          {"linear", r.linear},
+          {"reading", r.reading},
+          {"modes", modes},
+          {"order", r.order},
+          {"order_automatic", r.order_automatic},
+          {"order_capped", r.order_capped},
+          {"residual", r.residual},
+          {"residual_correlation", r.residual_correlation},
+          {"noise_left", r.noise_left},
+          {"channel_residual", r.channel_residual},
+          {"map", r.map},
+          {"singular_values", r.singular_values},
+          {"noise_floor", r.noise_floor},
+          {"stride", r.stride},
+          {"columns", r.columns},
+          {"rows", r.rows},
+          {"n_points", r.n_points},
+          {"dt", r.dt},
+          {"time_unit", r.time_unit},
+          {"units", {{"sigma", rate}, {"frequency", cycles}}},
+          {"warnings", r.warnings}};
+}
+
+std::string to_text(const ModalResult& r) {
+  const std::string rate = r.time_unit.empty() ? "1/sample" : "1/" + r.time_unit;
+  const std::string freq = r.time_unit.empty() ? "cycles/sample" : (r.time_unit == "s" ? "Hz" : "cycles/" + r.time_unit);
+  std::string s = fmt::format("# modes by the matrix pencil: order {}{}, stride {} samples, {} x {} Hankel matrix\n", r.order,
+                              r.order_automatic ? " (automatic)" : "", r.stride, r.rows, r.columns);
+  s += fmt::format("# {:>14} {:>14} {:>10} {:>10} {:>10}\n", "sigma (" + rate + ")", "freq (" + freq + ")", "zeta", "share",
+                   "peak share");
+  for (std::size_t k = 0; k < r.modes.size(); ++k) {
+    const Mode& m = r.modes[k];
+    s += fmt::format("  {:>14.7g} {:>14.7g} {:>10.4g} {:>10.3g} {:>10.3g}{}{}\n", m.sigma, m.frequency, m.damping_ratio, m.share,
+                     m.peak_share, m.offset ? "  offset" : (m.nyquist ? "  at the strided Nyquist frequency" : ""),
+                     r.lambda_mode && *r.lambda_mode == k ? "  <- lambda" : "");
+  }
+  s += fmt::format("residual        {:.3g} of the record (RMS){}\n", r.residual,
+                   r.noise_left ? fmt::format(", white (lag-one correlation {:.2f}): measurement noise", r.residual_correlation)
+                                : std::string());
+  if (r.lambda)
+    s += fmt::format("lambda          {:.7g} {} ({:.7g} per sample): the least damped mode{}\n", *r.lambda, rate,
+                     *r.lambda_per_sample, r.lambda_from_second_half ? ", from the record's second half" : "");
+  const auto half_text = [](const std::optional<double>& v) { return v ? fmt::format("{:.7g}", *v) : std::string("-"); };
+  if (r.first_half_lambda || r.second_half_lambda)
+    s += fmt::format("halves          {} and {} {}{}\n", half_text(r.first_half_lambda), half_text(r.second_half_lambda), rate,
+                     r.halves_agree ? "" : " (they differ)");
+  s += "reading         " + r.reading + "\n";
+  for (const auto& w : r.warnings) s += "warning: " + w + "\n";
+  return s;
+}
+
+std::string modes_csv(const ModalResult& r) {
+  std::string s = "sigma,frequency,damping_ratio,share,peak_share,offset\n";
+  for (const Mode& m : r.modes)
+    s += fmt::format("{:.10g},{:.10g},{:.10g},{:.6g},{:.6g},{}\n", m.sigma, m.frequency, m.damping_ratio, m.share, m.peak_share,
+                     m.offset ? 1 : 0);
+  return s;
+}
+
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit) {
   nlohmann::json contours = nlohmann::json::object();
   for (std::size_t k = 0; k < r.fractions.size(); ++k) contours[fmt::format("{:g}", r.fractions[k])] = r.contour[k];

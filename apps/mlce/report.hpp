@@ -8,6 +8,7 @@
 
 #include "mlce/estimate.hpp"
 #include "mlce/kantz.hpp"
+#include "mlce/modes.hpp"
 #include "mlce/space_time.hpp"
 #include "mlce/convergence.hpp"
 #include "mlce/each_channel.hpp"
@@ -51,6 +52,11 @@ std::string to_text(const KantzResult& r);
 /// "step,time,S_radius_<eps>...": S(eps, i) of every radius (natural log, the curves' units); without the
 /// step column for a plot against time.
 std::string kantz_csv(const KantzResult& r, bool with_step = true);
+/// Linear modal identification (mlce modes): the modes, lambda, the fit's residual and the reading.
+nlohmann::json to_json(const ModalResult& r);
+std::string to_text(const ModalResult& r);
+/// "sigma,frequency,damping_ratio,share,peak_share,offset": a mode a row, largest share first.
+std::string modes_csv(const ModalResult& r);
 /// Space-time separation plot; `dt` and `time_unit` convert separations to time.
 nlohmann::json to_json(const SpaceTimeResult& r, double dt, const std::string& time_unit);
 std::string to_text(const SpaceTimeResult& r, double dt, const std::string& time_unit);

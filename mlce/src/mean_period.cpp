@@ -22,11 +22,12 @@ using detail::Plan;
 struct ChannelSpectrum {
   double mean_frequency = 0.0;  ///< power-weighted mean, cycles per sample
   double fast_share = 0.0;      ///< share of the power above a quarter of the sampling rate
+  double band_edge = 0.0;       ///< the lowest frequency below which `band_share` of the power lies, cycles per sample
 };
 
 /// Power-weighted mean frequency of one channel, cycles per sample, and the share of its power
 /// above a quarter of the sampling rate.
-ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow window) {
+ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow window, double band_share = 1.0) {
   const std::size_t n = x.size();
   CompensatedSum mean_sum;
   for (double v : x) mean_sum.add(v);
@@ -45,15 +46,26 @@ ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow wi
   plan.execute();
   // One-sided periodogram P_k, k = 1..n/2 (DC excluded); the scale factor cancels in the ratio.
   CompensatedSum power, moment, fast;
+  std::vector<double> periodogram(nc, 0.0);
   for (std::size_t k = 1; k < nc; ++k) {
     const double re = out.get()[k][0], im = out.get()[k][1];
     const double p = re * re + im * im;
+    periodogram[k] = p;
     power.add(p);
     moment.add(p * static_cast<double>(k) / static_cast<double>(n));
     if (4 * k > n) fast.add(p);  // f_k = k / n > 1/4 per sample
   }
   if (!(power.value() > 0.0)) return {};
-  return {moment.value() / power.value(), fast.value() / power.value()};
+  ChannelSpectrum c{moment.value() / power.value(), fast.value() / power.value(), 0.5};
+  CompensatedSum below;
+  for (std::size_t k = 1; k < nc; ++k) {
+    below.add(periodogram[k]);
+    if (below.value() >= band_share * power.value()) {
+      c.band_edge = static_cast<double>(k) / static_cast<double>(n);
+      break;
+    }
+  }
+  return c;
 }
 
 }  // namespace
@@ -95,6 +107,16 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
   r.mean_period = static_cast<std::size_t>(std::max(1.0, period));
   r.map = r.mean_period < kMinFlowPeriod || r.fast_share >= options.map_fast_share;
   return r;
+}
+
+double band_edge_frequency(const Series& series, double share) {
+  if (!(share > 0.0 && share <= 1.0)) throw OptionError(fmt::format("band edge share = {:g}: expected 0 < value <= 1", share));
+  validate_series(series);
+  if (series.size() < 4) throw InputError("a spectrum needs at least 4 samples, the series has " + std::to_string(series.size()));
+  const Series s = standardized(series);
+  double edge = 0.0;
+  for (const auto& x : s.channels) edge = std::max(edge, channel_spectrum(x, SpectralWindow::hann, share).band_edge);
+  return edge;
 }
 
 namespace {

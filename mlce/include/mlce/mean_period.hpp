@@ -69,6 +69,11 @@ struct MeanPeriodResult {
 
 MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOptions& options);
 
+/// The lowest frequency below which `share` of the power lies (cycles per sample; the Hann-tapered
+/// one-sided periodogram of each channel less its mean, DC excluded, the largest over the channels): how
+/// coarsely the series may be subsampled before its power folds (modes.hpp's stride). 0.5 when no power.
+double band_edge_frequency(const Series& series, double share);
+
 /// How closely the end of a series repeats itself one period on: over its last third (at most
 /// kEndRepeatMaxSamples), D(L) = mean over t of (x[t + L] - x[t])^2 over the variance, per channel
 /// (each about its own mean; channels of zero variance left out) and averaged over the channels,
