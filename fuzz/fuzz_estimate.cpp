@@ -6,7 +6,7 @@
 // OptionError (one message, no result), or a result whose lambda, per-sample lambda and 95 %
 // interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing;
 // Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error, and so
-// Kantz's curves with the estimate's parameters (mlce kantz).
+// Kantz's curves with the estimate's parameters (mlce kantz), and the record's damped modes (mlce modes).
 //
 // Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
 // byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
@@ -23,6 +23,7 @@
 #include "mlce/estimate.hpp"
 #include "mlce/fnn.hpp"
 #include "mlce/kantz.hpp"
+#include "mlce/modes.hpp"
 #include "mlce/reading.hpp"
 #include "mlce/series.hpp"
 
@@ -68,6 +69,19 @@ void check_kantz(const mlce::Series& series, const mlce::MlceResult& estimate) {
   }
 }
 
+/// The record's damped modes (mlce modes): numbers, or one clear error.
+void check_modes(const mlce::Series& series) {
+  try {
+    mlce::ModalOptions m;
+    m.max_columns = 40, m.max_rows = 400;  // the fuzzer's time goes to many inputs, not to one large pencil
+    const auto r = mlce::identify_modes(series, m);
+    if ((r.lambda && !number(*r.lambda)) || !number(r.residual)) broken("the modes' lambda or residual is NaN");
+    for (const auto& m : r.modes)
+      if (!number(m.sigma) || !number(m.frequency) || !number(m.share) || !number(m.peak_share)) broken("a mode holds a NaN");
+  } catch (const mlce::InputError&) {
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -98,6 +112,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const auto series = mlce::make_series_with_step(std::move(samples), dt);
     check_cao(series, o.delay.value_or(1), o.theiler.value_or(0));
+    check_modes(series);
     const auto r = mlce::estimate_mlce(series, o);
     if (!number(r.lambda) || !number(r.lambda_per_sample)) broken("lambda is NaN");
     if (!number(r.ci95_low) || !number(r.ci95_high)) broken("the 95 % interval is NaN");

@@ -612,6 +612,7 @@ int cmd_modes(const std::vector<std::string>& args) {
   if (o.order && (*o.order < 1 || *o.order > o.max_order))
     throw po::error(fmt::format("--order '{}': expected auto or 1 .. {}", order, o.max_order));
   const cli::LoadedSeries loaded = cli::load_series(in);
+  o.record_deviation = loaded.record_deviation;  // a --from/--to window is judged against its record's floor
   ModalResult r = cli::on_file(in, [&] { return identify_modes(loaded.series, o); });
   r.warnings.insert(r.warnings.begin(), loaded.warnings.begin(), loaded.warnings.end());
   if (!csv_path.empty()) cli::write_file_atomically(csv_path, cli::modes_csv(r));
@@ -622,8 +623,8 @@ int cmd_modes(const std::vector<std::string>& args) {
     std::string data = "time";
     for (std::size_t c = 0; c < s.channel_count(); ++c) data += "," + channel_name(s, c) + ",modes of " + channel_name(s, c);
     data += "\n";
-    const std::size_t every = (s.size() + 19999) / 20000;
-    for (std::size_t i = 0; i < s.size(); i += every) {
+    const std::size_t every = (r.n_points + 19999) / 20000;
+    for (std::size_t i = 0; i < r.n_points; i += every) {  // the samples analysed (up to a floor cut off)
       data += fmt::format("{:.10g}", s.time(i));
       for (std::size_t c = 0; c < s.channel_count(); ++c) data += fmt::format(",{:.10g},{:.10g}", s.channels[c][i], fitted[c][i]);
       data += "\n";

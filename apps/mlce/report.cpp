@@ -365,6 +365,7 @@ nlohmann::json to_json(const ModalResult& r) {
           {"columns", r.columns},
           {"rows", r.rows},
           {"n_points", r.n_points},
+          {"floor_start", r.floor_start},
           {"dt", r.dt},
           {"time_unit", r.time_unit},
           {"units", {{"sigma", rate}, {"frequency", cycles}}},

@@ -57,10 +57,21 @@ ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow wi
   }
   if (!(power.value() > 0.0)) return {};
   ChannelSpectrum c{moment.value() / power.value(), fast.value() / power.value(), 0.5};
+  if (band_share >= 1.0 || nc < 8) return c;
+  // The band edge of the power above a white floor: white noise folds onto itself and changes nothing,
+  // a signal's harmonics fold onto other frequencies. A white periodogram's bins are exponentially
+  // distributed about their mean (the median / ln 2 of the upper half of the band, where a sampled flow's
+  // signal has died out): above 10 x that mean lies one bin in e^10 of the noise.
+  const double floor_mean =
+      median(std::vector<double>(periodogram.begin() + static_cast<std::ptrdiff_t>(nc / 2), periodogram.end())) /
+      std::numbers::ln2;
+  const double threshold = 10.0 * floor_mean;
+  CompensatedSum excess;
+  for (std::size_t k = 1; k < nc; ++k) excess.add(std::max(0.0, periodogram[k] - threshold));
   CompensatedSum below;
   for (std::size_t k = 1; k < nc; ++k) {
-    below.add(periodogram[k]);
-    if (below.value() >= band_share * power.value()) {
+    below.add(std::max(0.0, periodogram[k] - threshold));
+    if (below.value() >= band_share * excess.value()) {
       c.band_edge = static_cast<double>(k) / static_cast<double>(n);
       break;
     }

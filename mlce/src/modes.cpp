@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <numeric>
 
 #include "mlce/mean_period.hpp"
 #include "mlce/numerics.hpp"
+#include "mlce/transient.hpp"
 
 namespace mlce {
 
@@ -29,11 +31,16 @@ void ModalOptions::validate() const {
   positive(offset_change, "offset_change");
   positive(max_residual, "max_residual");
   positive(halves_tolerance, "halves_tolerance");
+  positive(second_half_margin, "second_half_margin");
   positive(max_noise_residual, "max_noise_residual");
   positive(max_residual_correlation, "max_residual_correlation");
   positive(neutral_per_period, "neutral_per_period");
   if (!(alias_share > 0.0 && alias_share < 1.0))
     throw OptionError(fmt::format("modes.alias_share = {:g}: expected 0 < value < 1", alias_share));
+  if (!(amplitude_range >= 1.0 && std::isfinite(amplitude_range)))
+    throw OptionError(fmt::format("modes.amplitude_range = {:g}: expected a finite value >= 1", amplitude_range));
+  if (!(floor_ratio >= 0.0 && floor_ratio < 1.0))
+    throw OptionError(fmt::format("modes.floor_ratio = {:g}: expected 0 <= value < 1", floor_ratio));
   if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0))
     throw OptionError(fmt::format("modes.rank_tolerance = {:g}: expected 0 < value < 1", rank_tolerance));
   if (!(min_share >= 0.0 && min_share < 1.0))
@@ -101,6 +108,16 @@ Eigen::BDCSVD<Eigen::MatrixXd> right_singular(const Eigen::MatrixXd& hankel) {
   return Eigen::BDCSVD<Eigen::MatrixXd>(r_factor, Eigen::ComputeFullV);
 }
 
+/// The largest row norm over the 10th percentile of them: how many decades the record's amplitude spans.
+double row_norm_range(const Eigen::MatrixXd& hankel) {
+  std::vector<double> norms(static_cast<std::size_t>(hankel.rows()));
+  for (Eigen::Index row = 0; row < hankel.rows(); ++row) norms[static_cast<std::size_t>(row)] = hankel.row(row).norm();
+  const auto tenth = norms.begin() + static_cast<std::ptrdiff_t>(norms.size() / 10);
+  std::nth_element(norms.begin(), tenth, norms.end());
+  const double low = *tenth, high = *std::max_element(norms.begin(), norms.end());
+  return low > 0.0 ? high / low : std::numeric_limits<double>::infinity();
+}
+
 struct Pole {
   std::complex<double> s;  ///< per time unit
   bool real = false, nyquist = false;
@@ -129,7 +146,8 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
   out.rows = rows_per_channel * channels;
   const Eigen::Index l = static_cast<Eigen::Index>(columns);
   Eigen::BDCSVD<Eigen::MatrixXd> svd = right_singular(hankel);
-  if (o.weighting == RowWeighting::amplitude) {
+  if (o.weighting == RowWeighting::amplitude ||
+      (o.weighting == RowWeighting::automatic && row_norm_range(hankel) > o.amplitude_range)) {
     // Every row scaled to unit norm, down to a floor: a row is a sum of the mode patterns z^{jD} whatever its
     // weight, so the poles stay; a decay over decades then weighs its late rows (its least damped modes)
     // as much as its start. The floor, noise_factor x a noise-only row's norm (the median of the lower half
@@ -264,11 +282,14 @@ void fit_amplitudes(const Normalised& data, std::size_t first, std::size_t count
     const Eigen::MatrixXd part = basis.middleCols(col, static_cast<Eigen::Index>(width)) *
                                  coefficients.middleRows(col, static_cast<Eigen::Index>(width));
     m.share = variation(part) / total;
-    // A growing mode can hold little of the whole record and most of its end: the largest share of any quarter.
+    // A growing mode can hold little of the whole record and most of its end: the largest share of any
+    // quarter where the mode stands out of what the fit leaves there (RMS 3x: a pole fitted to a quarter's
+    // floor, rounding or noise, holds much of a quiet quarter and no more than its floor).
     for (std::size_t quarter = 0; quarter < 4; ++quarter) {
       const auto from = static_cast<Eigen::Index>(quarter * q_count / 4), to = static_cast<Eigen::Index>((quarter + 1) * q_count / 4);
-      const double there = variation(y.middleRows(from, to - from));
-      if (there > 0.0) m.peak_share = std::max(m.peak_share, variation(part.middleRows(from, to - from)) / there);
+      const double there = variation(y.middleRows(from, to - from)), mine = variation(part.middleRows(from, to - from));
+      if (there > 0.0 && mine >= 9.0 * left.middleRows(from, to - from).squaredNorm())
+        m.peak_share = std::max(m.peak_share, mine / there);
     }
     for (std::size_t c = 0; c < channels; ++c) {
       m.cos_coefficient.push_back(coefficients(col, static_cast<Eigen::Index>(c)));
@@ -299,9 +320,8 @@ std::optional<std::size_t> lambda_mode(const std::vector<Mode>& modes, double mi
 
 }  // namespace
 
-ModalResult identify_modes(const Series& series, const ModalOptions& options) {
-  options.validate();
-  if (series.channel_count() == 0) throw InputError("a modal fit needs at least one channel");
+/// Steps 1-7 over the whole of `series` (identify_modes has cut any floor off).
+ModalResult identify_record(const Series& series, const ModalOptions& options) {
   const Normalised data = normalise(series);
   const std::size_t n = series.size();
   ModalResult r;
@@ -379,14 +399,22 @@ ModalResult identify_modes(const Series& series, const ModalOptions& options) {
     try {
       const Identified a = identify(data, 0, half, r.stride, series.dt, options.order, options);
       const Identified b = identify(data, n - half, half, r.stride, series.dt, options.order, options);
+      // A half's lambda counts when its modes describe it and it spans two periods of its lambda mode (an
+      // e-fold of a real one): over less, a noisy half fits a pole to the noise as readily as to the motion.
+      const double half_span = static_cast<double>(half - 1) * series.dt;
       const auto half_lambda = [&](const Identified& h) -> std::optional<std::size_t> {
         if (h.residual > options.max_residual) return std::nullopt;
-        return lambda_mode(h.modes, options.min_share);
+        const auto k = lambda_mode(h.modes, options.min_share);
+        if (!k) return std::nullopt;
+        const Mode& hm = h.modes[*k];
+        const bool spanned = hm.frequency > 0.0 ? hm.frequency * half_span >= 2.0 : std::abs(hm.sigma) * half_span >= 1.0;
+        return spanned ? k : std::nullopt;
       };
       const auto la = half_lambda(a), lb = half_lambda(b);
       if (la) r.first_half_lambda = a.modes[*la].sigma;
       if (lb) r.second_half_lambda = b.modes[*lb].sigma;
-      if (lb && (!r.lambda || b.modes[*lb].sigma > *r.lambda + band_of(b.modes[*lb]))) {
+      if (lb && (!r.lambda || b.modes[*lb].sigma > *r.lambda + std::max(options.second_half_margin * std::abs(*r.lambda),
+                                                                         0.1 * band_of(b.modes[*lb])))) {
         r.lambda = b.modes[*lb].sigma;
         r.lambda_mode_frequency = b.modes[*lb].frequency;
         r.lambda_from_second_half = true;
@@ -400,7 +428,12 @@ ModalResult identify_modes(const Series& series, const ModalOptions& options) {
       r.warnings.push_back("the record's halves are too short to identify on their own: lambda is the whole record's");
     }
   }
-  if (r.lambda) r.lambda_per_sample = *r.lambda * series.dt;
+  if (r.lambda) {
+    r.lambda_per_sample = *r.lambda * series.dt;
+    if (r.lambda_mode_frequency > 0.0 && r.lambda_mode_frequency * record < 1.0)
+      r.warnings.push_back(fmt::format("the record spans {:.2f} periods of its least damped mode: over less than one, noise "
+                                       "moves its rate far (bench/modal_accuracy short)", r.lambda_mode_frequency * record));
+  }
   if (r.map) {
     r.reading = fmt::format("undetermined: a mean period of {} samples: a map, noise, or a flow sampled too coarsely (modes "
                             "are a sampled flow's)", period.mean_period);
@@ -423,6 +456,33 @@ ModalResult identify_modes(const Series& series, const ModalOptions& options) {
   if (!r.linear && r.order > 0 && !r.map)
     r.warnings.push_back(fmt::format("the {} modes leave {:.1f} % of the record (RMS): the modal rates do not describe it",
                                      r.order, 100.0 * r.residual));
+  return r;
+}
+
+ModalResult identify_modes(const Series& series, const ModalOptions& options) {
+  options.validate();
+  if (series.channel_count() == 0) throw InputError("a modal fit needs at least one channel");
+  (void)normalise(series);  // a non-finite sample or a constant channel: one error naming it, before anything else
+  if (series.size() < 12) throw InputError(fmt::format("{} samples: a modal fit needs at least 12", series.size()));
+  // A decay written into its floor (rounding, the solver's tolerance, measurement noise) ends in what no
+  // mode of the motion describes, and weighed by amplitude that end would count as much as the motion:
+  // analysed up to the floor, as the estimate is (detect_floor, MlceOptions::floor_ratio).
+  const Floor floor = detect_floor(series, options.floor_ratio, options.record_deviation);
+  if (floor.whole)
+    throw InputError("the record lies within the floor of a decay that ended before it (rounding, solver tolerance): no "
+                     "motion to fit");
+  if (floor.index == 0) return identify_record(series, options);
+  if (floor.index < 12)
+    throw InputError(fmt::format("the record reaches its floor after {} samples: a modal fit needs at least 12 before it",
+                                 floor.index));
+  Series cut = series;
+  for (auto& channel : cut.channels) channel.resize(floor.index);
+  ModalResult r = identify_record(cut, options);
+  r.floor_start = floor.index;
+  r.warnings.insert(r.warnings.begin(),
+                    fmt::format("the record decays into a {} floor at t = {:.6g} ({:.2g} of its largest RMS): analysed "
+                                "up to it", floor.white_noise ? "white-noise" : (floor.resolution ? "resolution" : "rounding/tolerance"),
+                                series.time(floor.index), floor.level));
   return r;
 }
 

@@ -69,9 +69,11 @@ struct MeanPeriodResult {
 
 MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOptions& options);
 
-/// The lowest frequency below which `share` of the power lies (cycles per sample; the Hann-tapered
-/// one-sided periodogram of each channel less its mean, DC excluded, the largest over the channels): how
-/// coarsely the series may be subsampled before its power folds (modes.hpp's stride). 0.5 when no power.
+/// The lowest frequency below which `share` of the power above a white floor lies (cycles per sample; the
+/// Hann-tapered one-sided periodogram of each channel less its mean, DC excluded, less 10 x the floor's
+/// mean, the median of the upper half of the band over ln 2; the largest over the channels): how coarsely
+/// the series may be subsampled before a signal's power folds (modes.hpp's stride); white noise folds
+/// onto itself. 0.5 when no power stands above the floor.
 double band_edge_frequency(const Series& series, double share);
 
 /// How closely the end of a series repeats itself one period on: over its last third (at most
