@@ -153,7 +153,8 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
     // as much as its start. The floor, noise_factor x a noise-only row's norm (the median of the lower half
     // of the unweighted singular values over sqrt(rows), times sqrt(L)), keeps rows at a measurement
     // noise floor from being raised to the signal's weight.
-    const double floor_value = svd.singularValues()(static_cast<Eigen::Index>(columns - 1 - (columns - 1) / 4));
+    const Eigen::VectorXd& unweighted = svd.singularValues();
+    const double floor_value = median(std::vector<double>(unweighted.data() + columns / 2, unweighted.data() + columns));
     const double floor_norm = o.noise_factor * floor_value / std::sqrt(static_cast<double>(hankel.rows())) *
                               std::sqrt(static_cast<double>(columns));
     for (Eigen::Index row = 0; row < hankel.rows(); ++row) {
@@ -164,6 +165,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
   }
   const Eigen::VectorXd& values = svd.singularValues();
   const double largest = values(0);
+  if (!(largest > 0.0)) return {};  // a stretch that sits at the record's mean throughout: no mode, order 0
   out.singular_values.resize(columns);
   for (std::size_t j = 0; j < columns; ++j) out.singular_values[j] = values(static_cast<Eigen::Index>(j)) / largest;
   out.noise_floor = median(std::vector<double>(out.singular_values.begin() + static_cast<std::ptrdiff_t>(columns / 2),
@@ -257,10 +259,10 @@ void fit_amplitudes(const Normalised& data, std::size_t first, std::size_t count
   out.channel_residual.resize(channels);
   for (std::size_t c = 0; c < channels; ++c) {
     const double sc = variation(y.col(static_cast<Eigen::Index>(c))), rc = left.col(static_cast<Eigen::Index>(c)).squaredNorm();
-    out.channel_residual[c] = std::sqrt(rc / sc);
+    out.channel_residual[c] = sc > 0.0 ? std::sqrt(rc / sc) : 0.0;
     total += sc, rest += rc;
   }
-  out.residual = std::sqrt(rest / total);
+  out.residual = total > 0.0 ? std::sqrt(rest / total) : 0.0;
   // What the fit leaves: measurement noise (white: its neighbours on the fit grid uncorrelated) or motion.
   CompensatedSum lagged, squares;
   for (Eigen::Index c = 0; c < left.cols(); ++c)
@@ -281,7 +283,7 @@ void fit_amplitudes(const Normalised& data, std::size_t first, std::size_t count
     const auto col = static_cast<Eigen::Index>(column_of[p]);
     const Eigen::MatrixXd part = basis.middleCols(col, static_cast<Eigen::Index>(width)) *
                                  coefficients.middleRows(col, static_cast<Eigen::Index>(width));
-    m.share = variation(part) / total;
+    m.share = total > 0.0 ? variation(part) / total : 0.0;
     // A growing mode can hold little of the whole record and most of its end: the largest share of any
     // quarter where the mode stands out of what the fit leaves there (RMS 3x: a pole fitted to a quarter's
     // floor, rounding or noise, holds much of a quiet quarter and no more than its floor).
@@ -437,11 +439,11 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
   if (r.map) {
     r.reading = fmt::format("undetermined: a mean period of {} samples: a map, noise, or a flow sampled too coarsely (modes "
                             "are a sampled flow's)", period.mean_period);
-  } else if (r.order == 0 || !r.lambda) {
-    r.reading = "undetermined: no mode stands above the noise floor";
-  } else if (!r.linear) {
+  } else if (r.order > 0 && !r.linear) {
     r.reading = fmt::format("undetermined: the modes leave {:.1f} % of the record (not a sum of few damped modes: read "
                             "Rosenstein's estimate)", 100.0 * r.residual);
+  } else if (r.order == 0 || !r.lambda) {
+    r.reading = "undetermined: no mode stands above the noise floor";
   } else {
     const double band = options.neutral_per_period * (r.lambda_mode_frequency > 0.0 ? r.lambda_mode_frequency : 1.0 / record);
     const int sign = *r.lambda > band ? 1 : (*r.lambda < -band ? -1 : 0);
