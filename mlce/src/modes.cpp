@@ -375,22 +375,8 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
     return options.neutral_per_period * (m.frequency > 0.0 ? m.frequency : 1.0 / record);
   };
   if (r.lambda_mode) {
-    const Mode& m = r.modes[*r.lambda_mode];
-    std::size_t faster = 0;
-    const Mode* fastest = nullptr;
-    for (const Mode& weak : r.modes)
-      if (!weak.offset && weak.peak_share >= options.warn_share && weak.peak_share < options.min_share && weak.sigma > m.sigma) {
-        ++faster;
-        if (!fastest || weak.sigma > fastest->sigma) fastest = &weak;
-      }
-    if (fastest)
-      r.warnings.push_back(fmt::format("{} weaker mode{} grow{} faster than lambda, the fastest {:.6g} at {:.6g} cycles per time "
-                                       "unit, holding {:.2g} of a quarter of the record (under {:g}: a mode still small, or "
-                                       "the fit's correction of a rate that changes)", faster, faster > 1 ? "s" : "",
-                                       faster > 1 ? "" : "s", fastest->sigma, fastest->frequency, fastest->peak_share,
-                                       options.min_share));
-    r.lambda = m.sigma;
-    r.lambda_mode_frequency = m.frequency;
+    r.lambda = r.modes[*r.lambda_mode].sigma;
+    r.lambda_mode_frequency = r.modes[*r.lambda_mode].frequency;
   }
   // Step 7: each half on its own. A half its modes describe (a decay gone into its noise floor is not) gives
   // its own lambda; the second half's replaces the whole record's when it is larger beyond the neutral band:
@@ -420,6 +406,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
         r.lambda = b.modes[*lb].sigma;
         r.lambda_mode_frequency = b.modes[*lb].frequency;
         r.lambda_from_second_half = true;
+        r.lambda_mode.reset();  // no mode of the whole record's list
       }
       if (la && lb) {
         const double x = *r.first_half_lambda, y = *r.second_half_lambda;
@@ -431,6 +418,19 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
     }
   }
   if (r.lambda) {
+    std::size_t faster = 0;
+    const Mode* fastest = nullptr;
+    for (const Mode& weak : r.modes)
+      if (!weak.offset && weak.peak_share >= options.warn_share && weak.peak_share < options.min_share && weak.sigma > *r.lambda) {
+        ++faster;
+        if (!fastest || weak.sigma > fastest->sigma) fastest = &weak;
+      }
+    if (fastest)
+      r.warnings.push_back(fmt::format("{} weaker mode{} grow{} faster than lambda, the fastest {:.6g} at {:.6g} cycles per time "
+                                       "unit, holding {:.2g} of a quarter of the record (under {:g}: a mode still small, or "
+                                       "the fit's correction of a rate that changes)", faster, faster > 1 ? "s" : "",
+                                       faster > 1 ? "" : "s", fastest->sigma, fastest->frequency, fastest->peak_share,
+                                       options.min_share));
     r.lambda_per_sample = *r.lambda * series.dt;
     if (r.lambda_mode_frequency > 0.0 && r.lambda_mode_frequency * record < 1.0)
       r.warnings.push_back(fmt::format("the record spans {:.2f} periods of its least damped mode: over less than one, noise "

@@ -17,8 +17,9 @@
 // The method, in the record's own sampling (dt, time unit):
 //  1. Each channel less its mean, in units of its RMS deviation (every channel weighs alike; the scale of
 //     the data never enters: x and 1e200 x give the same poles).
-//  2. Hankel matrix H (rows weighed by RowWeighting), rows k = 0, r, 2r, ... (all k when they fit in max_rows), columns x(k + jD),
-//     j = 0..L-1, the channels' rows stacked: a mode is a column pattern z^{jD} whatever k or channel.
+//  2. Hankel matrix H, rows k = 0, r, 2r, ... (all k when they fit in max_rows), columns x(k + jD),
+//     j = 0..L-1, the channels' rows stacked: a mode is a column pattern z^{jD} whatever k or channel,
+//     whatever a row's weight (RowWeighting).
 //     D (`stride`) puts samples_per_mean_period columns in the spectrum's mean period (eq. 19), and fewer
 //     when power above the strided Nyquist frequency would fold (alias_share): poles of a finely sampled
 //     record are otherwise crowded near z = 1, where their rates are ill-conditioned.
@@ -37,11 +38,12 @@
 //     offsets: real poles that change by less than offset_change over the record (what is left of the
 //     mean removal and of a static equilibrium: not motion).
 //  7. Each half of a record the modes describe identified on its own (same D): its own lambda. The second
-//     half's replaces the whole's when larger beyond the neutral band (a motion ends with its least damped
-//     mode; a large, fast or nonlinear start hides it from the whole record's strongest modes: Hammond's
-//     hub with nonlinear lag dampers, -2.5 1/s over the whole run, -0.342 over its second half, the
-//     linearisation's -0.341); halves that differ beyond halves_tolerance are named in the reading (a rate
-//     that changes with the amplitude, a nonlinear damper, or a mode that emerges late).
+//     half's replaces the whole's when larger by more than second_half_margin (a motion ends with its
+//     least damped mode; a large, fast or nonlinear start hides it from the whole record's strongest
+//     modes: Hammond's hub with nonlinear lag dampers, whose start's modes decay at -2.5 .. -3.9 1/s, reads
+//     -0.354 over the whole run, -3.16 over its first half, -0.3416 over its second, the linearisation's
+//     -0.3413); halves that differ beyond halves_tolerance are named in the reading (a rate that changes
+//     with the amplitude, a nonlinear damper, or a mode that emerges late).
 // A record that decays into a floor (rounding, the solver's tolerance, white measurement noise) is
 // analysed up to it (detect_floor, as the estimate): the floor is no motion of the modes.
 // Units: sigma and lambda per time unit (1/s for MBDyn output; per sample without a time axis), frequency
@@ -159,17 +161,20 @@ struct ModalResult {
   /// The largest sigma among the modes that hold min_share and are no offset (per time unit, per sample);
   /// nullopt when no mode does.
   std::optional<double> lambda, lambda_per_sample;
-  std::optional<std::size_t> lambda_mode;  ///< its index in modes
+  std::optional<std::size_t> lambda_mode;  ///< its index in modes (empty when lambda_from_second_half)
   /// Each half's own lambda (step 7), when its modes describe it (residual <= max_residual) and it spans two
   /// periods of that mode (one e-fold of a real one).
   std::optional<double> first_half_lambda, second_half_lambda;
-  /// The second half's lambda exceeds the whole record's beyond the neutral band and is taken: the least
-  /// damped mode emerges late (lambda_mode then indexes no mode of `modes`: lambda_mode_frequency is its).
+  /// The second half's lambda exceeds the whole record's by more than second_half_margin and is taken: the
+  /// least damped mode emerges late (lambda_mode is then empty, no mode of `modes` being it;
+  /// lambda_mode_frequency is its frequency).
   bool lambda_from_second_half = false;
   double lambda_mode_frequency = 0.0;  ///< cycles per time unit
   /// The halves' lambdas within max(halves_tolerance x the larger magnitude, the neutral band).
   bool halves_agree = true;
-  bool linear = false;         ///< residual <= max_residual: the record is a sum of `modes`
+  /// The record is a sum of `modes`: residual <= max_residual, or what is left is white noise (noise_left);
+  /// never on a map.
+  bool linear = false;
   /// "stable, decaying modes", "unstable, growing mode", "neutral, undamped mode", or "undetermined: ...".
   std::string reading;
   double dt = 1.0;
