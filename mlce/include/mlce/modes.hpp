@@ -41,7 +41,7 @@
 //     half's replaces the whole's when larger by more than second_half_margin (a motion ends with its
 //     least damped mode; a large, fast or nonlinear start hides it from the whole record's strongest
 //     modes: Hammond's hub with nonlinear lag dampers, whose start's modes decay at -2.5 .. -3.9 1/s, reads
-//     -0.354 over the whole run, -3.16 over its first half, -0.3416 over its second, the linearisation's
+//     -2.48 over the whole run, -3.16 over its first half, -0.3416 over its second, the linearisation's
 //     -0.3413); halves that differ beyond halves_tolerance are named in the reading (a rate that changes
 //     with the amplitude, a nonlinear damper, or a mode that emerges late).
 // A record that decays into a floor (rounding, the solver's tolerance, white measurement noise) is
