@@ -186,6 +186,11 @@ TEST(Modes, BadInputIsOneError) {
     EXPECT_EQ(e.index(), 17U);
     EXPECT_NE(std::string(e.what()).find("sample 17"), std::string::npos) << e.what();
   }
+  // Channels of unequal length (a library caller's series): one error, never a read past the shorter one.
+  EXPECT_THROW(identify_modes(series_of({reference::damped_oscillator(200, 0.01, 0.05, kTwoPi),
+                                         reference::damped_oscillator(150, 0.01, 0.05, kTwoPi)},
+                                        0.01)),
+               mlce::InputError);
   ModalOptions o;
   o.order = 0;
   EXPECT_THROW(identify_modes(series_of({reference::damped_oscillator(200, 0.01, 0.05, kTwoPi)}, 0.01), o), mlce::OptionError);

@@ -57,13 +57,11 @@ struct Normalised {
   std::vector<double> mean, deviation;
 };
 
+/// `series` passed validate_series (finite samples, equal lengths, no constant channel).
 Normalised normalise(const Series& series) {
   Normalised out;
   for (std::size_t c = 0; c < series.channel_count(); ++c) {
     const std::vector<double>& x = series.channels[c];
-    for (std::size_t i = 0; i < x.size(); ++i)
-      if (!std::isfinite(x[i]))
-        throw InputError(fmt::format("{}: sample {} is {}: expected a finite number", channel_name(series, c), i, x[i]), i);
     // Divide by the largest magnitude first: the squares of 1e200 x would overflow, of 1e-200 x underflow.
     const double scale = max_abs(x);
     CompensatedSum sum;
@@ -72,8 +70,8 @@ Normalised normalise(const Series& series) {
     CompensatedSum squares;
     for (double v : x) squares.add((v / scale - mean) * (v / scale - mean));
     const double deviation = std::sqrt(squares.value() / static_cast<double>(x.size()));
-    if (!(deviation > 0.0) || scale == 0.0)
-      throw InputError(fmt::format("{} is constant: a modal fit needs a motion", channel_name(series, c)));
+    if (!(deviation > 0.0))  // not constant, yet no spread in doubles: nothing to divide by
+      throw InputError(fmt::format("{} is constant to rounding: a modal fit needs a motion", channel_name(series, c)));
     std::vector<double> y(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) y[i] = (x[i] / scale - mean) / deviation;
     out.y.push_back(std::move(y));
@@ -371,8 +369,8 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
   r.lambda_mode = lambda_mode(r.modes, options.min_share);
   const double record = static_cast<double>(n - 1) * series.dt;
   // Rates within the neutral band of the mode's period (the record's length for a real mode) read neutral.
-  const auto band_of = [&](const Mode& m) {
-    return options.neutral_per_period * (m.frequency > 0.0 ? m.frequency : 1.0 / record);
+  const auto band_of = [&](double frequency) {
+    return options.neutral_per_period * (frequency > 0.0 ? frequency : 1.0 / record);
   };
   if (r.lambda_mode) {
     r.lambda = r.modes[*r.lambda_mode].sigma;
@@ -402,7 +400,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
       if (la) r.first_half_lambda = a.modes[*la].sigma;
       if (lb) r.second_half_lambda = b.modes[*lb].sigma;
       if (lb && (!r.lambda || b.modes[*lb].sigma > *r.lambda + std::max(options.second_half_margin * std::abs(*r.lambda),
-                                                                         0.1 * band_of(b.modes[*lb])))) {
+                                                                         0.1 * band_of(b.modes[*lb].frequency)))) {
         r.lambda = b.modes[*lb].sigma;
         r.lambda_mode_frequency = b.modes[*lb].frequency;
         r.lambda_from_second_half = true;
@@ -411,7 +409,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
       if (la && lb) {
         const double x = *r.first_half_lambda, y = *r.second_half_lambda;
         r.halves_agree = std::abs(x - y) <= std::max(options.halves_tolerance * std::max(std::abs(x), std::abs(y)),
-                                                     band_of(b.modes[*lb]));
+                                                     band_of(b.modes[*lb].frequency));
       }
     } catch (const InputError&) {
       r.warnings.push_back("the record's halves are too short to identify on their own: lambda is the whole record's");
@@ -445,7 +443,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
   } else if (r.order == 0 || !r.lambda) {
     r.reading = "undetermined: no mode stands above the noise floor";
   } else {
-    const double band = options.neutral_per_period * (r.lambda_mode_frequency > 0.0 ? r.lambda_mode_frequency : 1.0 / record);
+    const double band = band_of(r.lambda_mode_frequency);
     const int sign = *r.lambda > band ? 1 : (*r.lambda < -band ? -1 : 0);
     r.reading = sign < 0 ? "stable, decaying modes" : (sign > 0 ? "unstable, growing mode" : "neutral, undamped mode");
     if (r.lambda_from_second_half)
@@ -463,8 +461,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
 
 ModalResult identify_modes(const Series& series, const ModalOptions& options) {
   options.validate();
-  if (series.channel_count() == 0) throw InputError("a modal fit needs at least one channel");
-  (void)normalise(series);  // a non-finite sample or a constant channel: one error naming it, before anything else
+  validate_series(series);  // equal lengths, a normal dt, finite samples, no constant channel: one error naming it
   if (series.size() < 12) throw InputError(fmt::format("{} samples: a modal fit needs at least 12", series.size()));
   // A decay written into its floor (rounding, the solver's tolerance, measurement noise) ends in what no
   // mode of the motion describes, and weighed by amplitude that end would count as much as the motion:

@@ -185,8 +185,9 @@ struct ModalResult {
   std::vector<std::string> warnings;
 };
 
-/// Throws InputError on a series too short for the pencil (fewer than 3 x 4 strided samples), a constant
-/// channel, or a non-finite sample; OptionError on bad options.
+/// Throws InputError on what validate_series refuses (channels of unequal length, a bad dt, a non-finite
+/// sample, a constant channel), a series too short for the pencil (fewer than 3 x 4 strided samples) or one
+/// that lies within a decay's floor; OptionError on bad options.
 ModalResult identify_modes(const Series& series, const ModalOptions& options = {});
 
 /// The record as the identified modes give it: channel c at samples 0..n_points-1, the channel's mean plus
