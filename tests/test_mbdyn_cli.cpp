@@ -926,7 +926,7 @@ TEST_F(MbdynCli, ModesTextCsvPlotAndErrors) {
 
 // The ad-hoc isotropic rotor over 20 s decays to 1e-10 of its start, where the integrator's error is all
 // that is left: analysed up to that floor, each coordinate reads the linearisation's least damped mode
-// (the airframe's y read +0.915 1/s with its floor, at 579ddba).
+// (an early build of mlce modes that fitted the floor too read the airframe's y at +0.915 1/s).
 TEST_F(MbdynCli, ModesOfADecayIntoItsSolverFloorAreReadUpToIt) {
   const std::string out = (dir / "iso").string();
   ASSERT_EQ(run("simulate " + std::string(MLCE_DATA_DIR) + "/../scenes/isotropic_200rpm.scene --format columns --out " + out +
