@@ -74,8 +74,12 @@ void check_modes(const mlce::Series& series) {
   try {
     mlce::ModalOptions m;
     m.max_columns = 40, m.max_rows = 400;  // the fuzzer's time goes to many inputs, not to one large pencil
+    m.interval_replicates = 4;              // the interval's code path (noise model, replicates), not its precision
     const auto r = mlce::identify_modes(series, m);
     if ((r.lambda && !number(*r.lambda)) || !number(r.residual)) broken("the modes' lambda or residual is NaN");
+    if (!number(r.lambda_spread) || (r.lambda_low && !(number(*r.lambda_low) && number(*r.lambda_high))))
+      broken("the modes' interval holds a NaN");
+    if (r.lambda_low && !(*r.lambda_low <= *r.lambda && *r.lambda <= *r.lambda_high)) broken("lambda outside its interval");
     for (const auto& m : r.modes)
       if (!number(m.sigma) || !number(m.frequency) || !number(m.share) || !number(m.peak_share)) broken("a mode holds a NaN");
   } catch (const mlce::InputError&) {

@@ -875,9 +875,19 @@ TEST_F(MbdynCli, ModesOfTheRealRunsAreTheLinearisationsLeastDampedMode) {
                         Case{kC3 + " --channel rel:11:4:z", c3, 0.01}, Case{kC3 + " --channel rel:13:4:z", c3, 0.01},
                         Case{kC3 + " --channel node:2:x", c3, 0.01}}) {
     const nlohmann::json j = json_of("modes " + c.args);
-    std::printf("%s: lambda %.7g, the linearisation's %.7g; %s\n", c.args.c_str(), j["lambda"].get<double>(), c.truth,
-                j["reading"].get<std::string>().c_str());
+    std::printf("%s: lambda %.7g, interval %s, the linearisation's %.7g; %s\n", c.args.c_str(), j["lambda"].get<double>(),
+                j["ci95"].dump().c_str(), c.truth, j["reading"].get<std::string>().c_str());
     EXPECT_NEAR(j["lambda"].get<double>() / c.truth, 1.0, c.tolerance) << c.args;
+    ASSERT_TRUE(j["ci95"].is_array()) << c.args;
+    EXPECT_LT(j["ci95"][0].get<double>(), j["lambda"].get<double>()) << c.args;
+    EXPECT_GT(j["ci95"][1].get<double>(), j["lambda"].get<double>()) << c.args;
+    // The isotropic hub is a sum of the linearisation's modes to the solver's error: its noise interval (step 8
+    // of modes.hpp), 3e-5 wide, holds the eigenvalue. (The rotating lags' and the growing run's intervals need
+    // not: their halves differ by more than their noise moves them, a misfit the interval does not cover.)
+    if (c.tolerance < 1e-3) {
+      EXPECT_LE(j["ci95"][0].get<double>(), c.truth) << c.args;
+      EXPECT_GE(j["ci95"][1].get<double>(), c.truth) << c.args;
+    }
     EXPECT_TRUE(j["linear"].get<bool>()) << c.args;
     EXPECT_EQ(j["reading"].get<std::string>().rfind(c.truth < 0 ? "stable" : "unstable", 0), 0U) << j["reading"];
   }
@@ -906,6 +916,7 @@ TEST_F(MbdynCli, ModesTextCsvPlotAndErrors) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("<- lambda"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("reading         stable, decaying modes"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("interval        ["), std::string::npos) << r.out;
   EXPECT_EQ(lines_of(csv).at(0), "sigma,frequency,damping_ratio,share,peak_share,offset");
   EXPECT_GT(fs::file_size(png), 1000U);
   // The hub's y holds rounding noise of 1e-24 m in this run: no mode stands above it, and nothing is read.
@@ -921,6 +932,11 @@ TEST_F(MbdynCli, ModesTextCsvPlotAndErrors) {
   EXPECT_FALSE(fs::exists(none));
   expect_one_line_error(run("modes " + prefix + " --channel node:2:x --order 0"), "--order '0': expected auto or 1 .. 40", 2);
   expect_one_line_error(run("modes " + prefix + " --channel node:2:x --order many"), "--order 'many'", 2);
+  expect_one_line_error(run("modes " + prefix + " --channel node:2:x --replicates 1"),
+                        "--replicates 1: expected 0 (no interval) or 2 .. 100000", 2);
+  const CliRun plain = run("modes " + prefix + " --channel node:2:x --replicates 0 --json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_TRUE(nlohmann::json::parse(plain.out)["ci95"].is_null()) << plain.out;
   expect_one_line_error(run("modes " + prefix + " --channel node:2:x --to 0.02"), "a modal fit needs at least 12");
 }
 

@@ -2,9 +2,11 @@
 // Rosenstein's reading of the same records, and on motions that are no sum of modes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <random>
 
 #include "mlce/estimate.hpp"
 #include "mlce/modes.hpp"
@@ -102,17 +104,40 @@ TEST(Modes, ASmallGrowingModeSetsLambda) {
   EXPECT_LT(worst, 1e-7);
 }
 
+// Step 9: van der Pol x'' - mu (1 - x^2) x' + x = 0 (mu = 0.2) released from x = 1e-3 grows at the linearisation's
+// mu / 2 = 0.1 (eigenvalues mu/2 +- i sqrt(1 - mu^2/4) at the origin) into its limit cycle (amplitude 2) after ~75 time
+// units; over 150 the modes do not describe the record's end, and the growth is read over its leading part.
+TEST(Modes, ASaturatingGrowthIsReadWhileItIsSmall) {
+  const double mu = 0.2, dt = 0.05;
+  const auto f = [mu](const std::array<double, 2>& s) { return std::array<double, 2>{s[1], mu * (1.0 - s[0] * s[0]) * s[1] - s[0]}; };
+  const auto x = reference::sample_flow<2>(f, {1e-3, 0.0}, dt, 3001, 0.0, 10);
+  const ModalResult r = identify_modes(series_of({x}, dt));
+  print("van der Pol from 1e-3", r);
+  for (const auto& w : r.warnings) std::printf("   warning: %s\n", w.c_str());
+  ASSERT_TRUE(r.lambda.has_value());
+  EXPECT_TRUE(r.leading_part);
+  EXPECT_LT(r.n_points, x.size());
+  EXPECT_NEAR(*r.lambda, mu / 2.0, 0.002);
+  EXPECT_EQ(r.reading.rfind("unstable, growing mode", 0), 0U) << r.reading;
+  // Its limit cycle alone (the last 50 time units) is neutral, not read over a leading part.
+  const ModalResult cycle = identify_modes(series_of({std::vector<double>(x.end() - 1000, x.end())}, dt));
+  EXPECT_FALSE(cycle.leading_part);
+  EXPECT_EQ(cycle.reading.rfind("neutral", 0), 0U) << cycle.reading;
+}
+
 // The record's scale never enters: x 1e-200 and x 1e200 give the same rates to 1e-9 relative.
 TEST(Modes, ScaleInvariantTo1e200) {
   const auto x = reference::damped_oscillator(2000, 0.01, 0.05, kTwoPi);
-  const double reference = *identify_modes(series_of({x}, 0.01)).lambda;
+  ModalOptions o;
+  o.interval_replicates = 0;  // the rates' invariance (the interval's noise model works on the same normalised record)
+  const double reference = *identify_modes(series_of({x}, 0.01), o).lambda;
   for (const double scale : {1e-200, 1e200}) {
     std::vector<double> y = x;
     for (double& v : y) v *= scale;
-    const ModalResult r = identify_modes(series_of({y}, 0.01));
+    const ModalResult r = identify_modes(series_of({y}, 0.01), o);
     ASSERT_TRUE(r.lambda.has_value());
     EXPECT_NEAR(*r.lambda / reference, 1.0, 1e-9) << "scale " << scale;
-    EXPECT_NEAR(r.channel_mean[0] / scale, identify_modes(series_of({x}, 0.01)).channel_mean[0], 1e-12);
+    EXPECT_NEAR(r.channel_mean[0] / scale, identify_modes(series_of({x}, 0.01), o).channel_mean[0], 1e-12);
   }
 }
 
@@ -138,9 +163,13 @@ TEST(Modes, ChannelsShareTheirPoles) {
   const double dt = 0.01;
   const auto a = reference::decaying_modes(3000, dt, {{-0.1, 0.5, 1.0}, {-0.3, 1.3, 0.2}});
   const auto b = reference::decaying_modes(3000, dt, {{-0.1, 0.5, 0.1, 1.0}, {-0.3, 1.3, 2.0, 0.5}});
-  const ModalResult r = identify_modes(series_of({a, b}, dt));
+  ModalOptions o;
+  o.interval_replicates = 20;  // the two channels' noise models: an exact record's interval is rounding-wide
+  const ModalResult r = identify_modes(series_of({a, b}, dt), o);
   print("two channels", r);
   EXPECT_NEAR(*r.lambda, -0.1, 1e-7);
+  ASSERT_TRUE(r.lambda_low && r.lambda_high);
+  EXPECT_LT(*r.lambda_high - *r.lambda_low, 1e-6);
   EXPECT_NEAR(nearest(r, 1.3).sigma, -0.3, 1e-7);
   ASSERT_EQ(r.channel_residual.size(), 2U);
   EXPECT_LT(r.channel_residual[1], 1e-6);
@@ -197,6 +226,72 @@ TEST(Modes, BadInputIsOneError) {
   o = {};
   o.noise_factor = -1.0;
   EXPECT_THROW(o.validate(), mlce::OptionError);
+  o = {};
+  o.interval_replicates = 1;  // no spread from one replicate
+  EXPECT_THROW(o.validate(), mlce::OptionError);
+}
+
+// Step 8's interval against the known rate: the damped oscillator over 3 periods (zeta = 0.05, omega = 2 pi) with
+// 1 % white noise, 20 seeds. A 95 % interval holds -zeta omega on about 19 of 20; the replicates' spread is the
+// estimator's own scatter over the seeds (independent truth: the seeds are independent records).
+TEST(Modes, IntervalHoldsTheTrueRate) {
+  const double truth = -0.05 * kTwoPi;
+  int covered = 0;
+  double spread = 0.0, squares = 0.0;
+  const int seeds = 20;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    const auto x = reference::with_white_noise(reference::damped_oscillator(301, 0.01, 0.05, kTwoPi), 0.01,
+                                               static_cast<std::uint64_t>(seed));
+    const ModalResult r = identify_modes(series_of({x}, 0.01));
+    ASSERT_TRUE(r.lambda && r.lambda_low && r.lambda_high) << seed;
+    EXPECT_EQ(r.interval_replicates, 100U);
+    EXPECT_LT(*r.lambda_low, *r.lambda);
+    EXPECT_GT(*r.lambda_high, *r.lambda);
+    covered += *r.lambda_low <= truth && truth <= *r.lambda_high;
+    spread += r.lambda_spread / seeds;
+    squares += (*r.lambda - truth) * (*r.lambda - truth) / seeds;
+  }
+  std::printf("covered %d of %d; mean spread %.5f, rms error %.5f\n", covered, seeds, spread, std::sqrt(squares));
+  EXPECT_GE(covered, 17);
+  EXPECT_GT(spread / std::sqrt(squares), 0.6);
+  EXPECT_LT(spread / std::sqrt(squares), 1.6);
+}
+
+// The interval follows the noise: four times the noise, about four times the spread; an exact record's interval
+// is rounding-wide and holds the rate. Red noise (AR(1), lag-one correlation 0.9) moves the rate more than white
+// noise of the same variance, and the interval says so (the residual's spectrum is kept, not only its variance).
+TEST(Modes, IntervalFollowsTheNoise) {
+  ModalOptions o;
+  o.interval_replicates = 40;  // the spread within ~11 %: enough for the ratios below, and a test's time
+  const auto clean = reference::decaying_modes(4001, 0.01, {{-0.02, 2.0 / kTwoPi, 1.0}, {-0.05, 2.4 / kTwoPi, 1.0}});
+  const ModalResult exact = identify_modes(series_of({clean}, 0.01), o);
+  ASSERT_TRUE(exact.lambda_low && exact.lambda_high);
+  EXPECT_LE(*exact.lambda_low, -0.02 + 1e-9);
+  EXPECT_GE(*exact.lambda_high, -0.02 - 1e-9);
+  EXPECT_LT(exact.lambda_spread, 1e-8);
+  const double low = identify_modes(series_of({reference::with_white_noise(clean, 0.01, 5)}, 0.01), o).lambda_spread;
+  const double high = identify_modes(series_of({reference::with_white_noise(clean, 0.04, 5)}, 0.01), o).lambda_spread;
+  std::printf("spread at 1 %% noise %.3g, at 4 %% %.3g (ratio %.2f)\n", low, high, high / low);
+  EXPECT_GT(high / low, 2.5);
+  EXPECT_LT(high / low, 6.0);
+  // The same record and options give the same interval (the replicates are seeded by their index).
+  const Series noisy = series_of({reference::with_white_noise(clean, 0.01, 5)}, 0.01);
+  EXPECT_EQ(identify_modes(noisy, o).lambda_spread, identify_modes(noisy, o).lambda_spread);
+  // Red noise of the same 3 % RMS: a wider interval than white noise's.
+  std::mt19937_64 random(11);
+  std::normal_distribution<double> gauss(0.0, 0.03 * std::sqrt(1.0 - 0.81));
+  std::vector<double> red = clean;
+  double e = 0.0;
+  for (double& v : red) v += (e = 0.9 * e + gauss(random));
+  const ModalResult r = identify_modes(series_of({red}, 0.01), o);
+  const double white = identify_modes(series_of({reference::with_white_noise(clean, 0.03, 11)}, 0.01), o).lambda_spread;
+  std::printf("spread with 3 %% red noise %.3g, white %.3g\n", r.lambda_spread, white);
+  EXPECT_GT(r.lambda_spread, 2.0 * white);
+  ModalOptions none;
+  none.interval_replicates = 0;
+  const ModalResult plain = identify_modes(noisy, none);
+  EXPECT_FALSE(plain.lambda_low.has_value());
+  EXPECT_EQ(plain.interval_replicates, 0U);
 }
 
 }  // namespace

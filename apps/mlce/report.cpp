@@ -342,9 +342,14 @@ nlohmann::json to_json(const ModalResult& r) {
   return {{"method", "matrix pencil"},
           {"lambda", optional_json(r.lambda)},
           {"lambda_per_sample", optional_json(r.lambda_per_sample)},
+          {"ci95", r.lambda_low ? nlohmann::json::array({*r.lambda_low, *r.lambda_high}) : nlohmann::json()},
+          {"lambda_spread", r.lambda_spread},
+          {"interval_replicates", r.interval_replicates},
+          {"replicates_without_lambda", r.replicates_without_lambda},
           {"lambda_mode", r.lambda_mode ? nlohmann::json(*r.lambda_mode) : nlohmann::json()},
           {"lambda_mode_frequency", r.lambda_mode_frequency},
           {"lambda_from_second_half", r.lambda_from_second_half},
+          {"leading_part", r.leading_part},
           {"first_half_lambda", optional_json(r.first_half_lambda)},
           {"second_half_lambda", optional_json(r.second_half_lambda)},
           {"halves_agree", r.halves_agree},
@@ -390,7 +395,12 @@ std::string to_text(const ModalResult& r) {
                                 : std::string());
   if (r.lambda)
     s += fmt::format("lambda          {:.7g} {} ({:.7g} per sample): the least damped mode{}\n", *r.lambda, rate,
-                     *r.lambda_per_sample, r.lambda_from_second_half ? ", from the record's second half" : "");
+                     *r.lambda_per_sample,
+                     r.lambda_from_second_half ? ", from the record's second half"
+                                               : (r.leading_part ? fmt::format(", over the growth's first {} samples", r.n_points) : ""));
+  if (r.lambda_low)
+    s += fmt::format("interval        [{:.7g}, {:.7g}] {} (95 %: lambda +- 1.96 x the spread of {} records of these modes and "
+                     "noise like the residual)\n", *r.lambda_low, *r.lambda_high, rate, r.interval_replicates);
   const auto half_text = [](const std::optional<double>& v) { return v ? fmt::format("{:.7g}", *v) : std::string("-"); };
   if (r.first_half_lambda || r.second_half_lambda)
     s += fmt::format("halves          {} and {} {}{}\n", half_text(r.first_half_lambda), half_text(r.second_half_lambda), rate,

@@ -19,6 +19,7 @@
 
 #include "cli_common.hpp"
 #include "mlce/estimate.hpp"
+#include "mlce/modes.hpp"
 #include "mlce/reading.hpp"
 #include "mlce/transient.hpp"
 #include "mlce/models/dynamics.hpp"
@@ -43,21 +44,23 @@ struct Preset {
   double rtol;                ///< integrator tolerance (every method)
   std::size_t max_references; ///< rosenstein: reference points of the divergence curve
   double qr_run_factor;       ///< qr: run length = this x the scene's t_end
+  std::size_t modal_replicates; ///< modes: replicates of lambda's interval (modes.hpp step 8)
 };
 
 Preset preset_named(const std::string& name) {
   // From bench/speed_accuracy.sh (README): the run length decides the limit-cycle points, a
   // coarser output step costs less and loses nothing down to ~50 samples per limit-cycle period,
   // the integrator tolerance and the reference count hardly matter.
-  if (name == "fast") return {"fast", 4.0, 2.0, 1e-6, 2000, 3.0};
-  if (name == "balanced") return {"balanced", 4.0, 3.0, 1e-8, 5000, 5.0};
-  if (name == "accurate") return {"accurate", 2.0, 6.0, 1e-10, 20000, 20.0};
+  if (name == "fast") return {"fast", 4.0, 2.0, 1e-6, 2000, 3.0, 20};
+  if (name == "balanced") return {"balanced", 4.0, 3.0, 1e-8, 5000, 5.0, 50};
+  if (name == "accurate") return {"accurate", 2.0, 6.0, 1e-10, 20000, 20.0, 100};
   throw po::error("--preset '" + name + "': expected fast, balanced or accurate");
 }
 
 std::string describe(const Preset& p) {
-  return fmt::format("preset {}: rosenstein output step x{}, run x{}, {} references; integrator rtol {}; qr run {} x t_end",
-                     p.name, p.output_step_factor, p.run_factor, p.max_references, p.rtol, p.qr_run_factor);
+  return fmt::format("preset {}: rosenstein output step x{}, run x{}, {} references; integrator rtol {}; qr run {} x t_end; "
+                     "modes {} replicates",
+                     p.name, p.output_step_factor, p.run_factor, p.max_references, p.rtol, p.qr_run_factor, p.modal_replicates);
 }
 
 std::string cell(double v) { return fmt::format("{:.10g}", v); }
@@ -68,6 +71,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 Stability stability_from_string(const std::string& text) {
   for (const Stability s : {Stability::stable, Stability::neutral, Stability::unstable})
     if (text == to_string(s)) return s;
+  return Stability::undetermined;
+}
+
+/// The Stability a modal reading ("stable, decaying modes", "unstable, ...", "neutral, ...", "undetermined: ...") names.
+Stability modal_stability(const std::string& reading) {
+  for (const Stability s : {Stability::stable, Stability::neutral, Stability::unstable})
+    if (reading.rfind(std::string(to_string(s)) + ",", 0) == 0) return s;
   return Stability::undetermined;
 }
 
@@ -106,15 +116,15 @@ int cmd_sweep(const std::vector<std::string>& args) {
   po::options_description d("mlce sweep SCENE --param NAME=a:b:step [--param ...] --out RESULT.csv [options]");
   d.add_options()
       ("param", po::value(&params)->composing(), "swept scene parameter NAME=first:last:step (repeatable; the grid is their product)")
-      ("method", po::value(&method), "rosenstein | qr | floquet | eigen (default floquet)")
+      ("method", po::value(&method), "rosenstein | modes | qr | floquet | eigen (default floquet)")
       ("preset", po::value(&preset_name), "fast | balanced | accurate (default balanced; see README)")
       ("jobs", po::value(&jobs), "points computed at once (default: all cores); results do not depend on it")
       ("out", po::value(&out_path), "result CSV (written at the end; OUT.partial keeps finished points for resuming)")
       ("plot", po::value(&plot_path), "PNG: lines for one parameter, a colour map of lambda_1 for two")
       ("sensitivity", po::value(&sensitivity), "qr, floquet: comma-separated parameters; adds columns dlambda_i/dP (paper 000 eqs. 12-28)")
       ("count", po::value(&count), "qr: only the K largest exponents (K tangent vectors; 1 = the MLCE); default all")
-      ("channel", po::value(&channel), "rosenstein: state to estimate on (default: lag of the weakest-damped blade; flapping: beta)")
-      ("from", po::value(&from), "rosenstein: start of the analysed window (default: auto, the end of the transient as 'mlce estimate --from auto' finds it)")
+      ("channel", po::value(&channel), "rosenstein, modes: state to estimate on (default: lag of the weakest-damped blade; flapping: beta)")
+      ("from", po::value(&from), "rosenstein: start of the analysed window (default: auto, the end of the transient as 'mlce estimate --from auto' finds it); modes: default 0")
       ("max-points", po::value(&max_points), "compute at most this many new points, then stop (exit 3; rerun to continue)")
       ("json", po::bool_switch(&json), "print one JSON object (settings, columns, rows)")
       ("quiet", po::bool_switch(&quiet), "no progress messages");
@@ -124,8 +134,8 @@ int cmd_sweep(const std::vector<std::string>& args) {
   if (params.empty()) throw po::error("give at least one --param NAME=first:last:step");
   if (out_path.empty()) throw po::error("give --out RESULT.csv");
   if (jobs == 0) throw po::error("--jobs: expected at least 1");
-  if (method != "rosenstein" && method != "qr" && method != "floquet" && method != "eigen")
-    throw po::error("--method '" + method + "': expected rosenstein, qr, floquet or eigen");
+  if (method != "rosenstein" && method != "modes" && method != "qr" && method != "floquet" && method != "eigen")
+    throw po::error("--method '" + method + "': expected rosenstein, modes, qr, floquet or eigen");
   const Preset preset = preset_named(preset_name);
   if (!plot_path.empty() && params.size() > 2)
     throw po::error("--plot: a plot needs one or two swept parameters (" + std::to_string(params.size()) + " given)");
@@ -187,6 +197,9 @@ int cmd_sweep(const std::vector<std::string>& args) {
   if (method == "rosenstein") {
     channel_state = channel_index(base, sys0.state_names, channel);
     plan.result_columns = {"lambda", "ci95_low", "ci95_high", "curve_end", "n_points", "amplitude", "stability", "motion", "in_decay_floor", "note"};
+  } else if (method == "modes") {
+    channel_state = channel_index(base, sys0.state_names, channel);
+    plan.result_columns = {"lambda", "ci95_low", "ci95_high", "frequency", "residual", "analysed_to", "stability", "reading", "note"};
   } else {
     for (int i = 0; i < exponents; ++i) plan.result_columns.push_back(fmt::format("lambda_{}", i + 1));
     if (!sensitivity.empty() && method == "eigen") throw po::error("--sensitivity: with --method qr or floquet");
@@ -206,6 +219,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
   const std::string unit = base.model == "flapping" ? "rad of azimuth" : "s";
   std::string settings = fmt::format("method {}, {}", method, describe(preset));
   if (method == "rosenstein") settings += fmt::format(", channel {}, from {}", channel, from < 0 ? "auto" : cell(from));
+  if (method == "modes") settings += fmt::format(", channel {}, from {}", channel, cell(std::max(from, 0.0)));
   if (count > 0) settings += fmt::format(", count {} (the largest exponents only)", count);
   plan.header_comment = "# mlce sweep of " + base.source + ": " + settings + "; exponents in 1/" + unit + ", natural log\n";
   std::istringstream scene_text(models::describe_scene(base));
@@ -271,6 +285,31 @@ int cmd_sweep(const std::vector<std::string>& args) {
       cells = {cell(r.lambda), cell(r.ci95_low), cell(r.ci95_high), to_string(r.fit.end), std::to_string(r.n_points),
                cell(0.5 * (*hi - *lo)), to_string(reading.stability), reading.motion, r.in_decay_floor ? "1" : "0"};
       warnings = r.warnings;
+    } else if (method == "modes") {
+      // The run as the scene gives it (no longer run, no coarser output: a growth saturates, a decay reaches
+      // its floor, and the modes need neither more periods nor fewer samples), from --from (default 0: the
+      // release is the motion's clearest part).
+      const double t0 = std::max(from, 0.0);
+      Series s;
+      s.dt = scene.dt_out;
+      s.time_unit = unit;
+      s.names = {channel};
+      s.channels.emplace_back();
+      models::simulate(scene, [&s, t0, &scene, channel_state](std::size_t, double t, const Eigen::VectorXd& x) {
+        if (t < t0 - 1e-9 * scene.dt_out) return;
+        if (s.channels[0].empty()) s.t0 = t;
+        s.channels[0].push_back(x(static_cast<Eigen::Index>(channel_state)));
+      });
+      ModalOptions o;
+      o.interval_replicates = preset.modal_replicates;
+      // A growth that saturates is read over its leading part, a decay up to its floor (modes.hpp steps 8-9):
+      // n_points samples from the window's start.
+      const ModalResult r = identify_modes(s, o);
+      const double analysed_to = s.time(r.n_points - 1);
+      const auto optional_cell = [](const std::optional<double>& v) { return v ? cell(*v) : std::string(); };
+      cells = {optional_cell(r.lambda), optional_cell(r.lambda_low), optional_cell(r.lambda_high), cell(r.lambda_mode_frequency),
+               cell(r.residual), cell(analysed_to), to_string(modal_stability(r.reading)), r.reading};
+      warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;
       Eigen::MatrixXd sens;
@@ -322,8 +361,10 @@ int cmd_sweep(const std::vector<std::string>& args) {
   }
 
   if (!plot_path.empty()) {
-    const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel : method + " exponents";
-    if (method == "rosenstein") {
+    const std::string what = method == "rosenstein" ? "MLCE (Rosenstein) on " + channel
+                             : method == "modes"    ? "least damped mode (matrix pencil) of " + channel
+                                                    : method + " exponents";
+    if (method == "rosenstein" || method == "modes") {  // both: lambda, ci95_low, ci95_high, ..., stability at 6
       // Points drawn by their reading; one in the floor of a decay is not drawn at its residue lambda.
       std::vector<PlottedReading> points;
       for (std::size_t k = 0; k < outcome.points; ++k) {
@@ -336,7 +377,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
                          .low = parse_finite(cells[1]).value_or(kNaN),
                          .high = parse_finite(cells[2]).value_or(kNaN),
                          .stability = stability_from_string(cells[6]),
-                         .in_decay_floor = cells[8] == "1"};
+                         .in_decay_floor = method == "rosenstein" && cells[8] == "1"};
         points.push_back(p);
       }
       if (plan.axes.size() == 1)
