@@ -104,6 +104,19 @@ TEST(Modes, ASmallGrowingModeSetsLambda) {
   EXPECT_LT(worst, 1e-7);
 }
 
+// A time axis of 1e-300 units per sample (rates near 1e298 per time unit): the same rate per sample and a finite
+// interval (its squares are taken in units of the largest rate, never of 1e596).
+TEST(Modes, TinyTimeStepGivesTheSameRatePerSample) {
+  const auto x = reference::with_white_noise(reference::damped_oscillator(2000, 0.01, 0.05, kTwoPi), 0.01, 3);
+  ModalOptions o;
+  o.interval_replicates = 20;
+  const ModalResult usual = identify_modes(series_of({x}, 0.01), o), tiny = identify_modes(series_of({x}, 1e-300), o);
+  ASSERT_TRUE(usual.lambda_per_sample && tiny.lambda_per_sample && tiny.lambda_low && tiny.lambda_high);
+  EXPECT_NEAR(*tiny.lambda_per_sample / *usual.lambda_per_sample, 1.0, 1e-9);
+  EXPECT_TRUE(std::isfinite(*tiny.lambda_low) && std::isfinite(*tiny.lambda_high));
+  EXPECT_NEAR(tiny.lambda_spread * 1e-300 / (usual.lambda_spread * 0.01), 1.0, 1e-6);
+}
+
 // Step 9: van der Pol x'' - mu (1 - x^2) x' + x = 0 (mu = 0.2) released from x = 1e-3 grows at the linearisation's
 // mu / 2 = 0.1 (eigenvalues mu/2 +- i sqrt(1 - mu^2/4) at the origin) into its limit cycle (amplitude 2) after ~75 time
 // units; over 150 the modes do not describe the record's end, and the growth is read over its leading part.

@@ -450,11 +450,14 @@ void lambda_interval(const Normalised& data, std::size_t first, std::size_t coun
   r.interval_replicates = replicates;
   r.replicates_without_lambda = replicates - found.size();
   if (found.size() < 2) return;
+  // In units of the largest rate found: rates near the largest double (a tiny dt) neither overflow the squares
+  // nor the sum.
+  const double scale = max_abs(found);
   CompensatedSum sum, squares;
-  for (double v : found) sum.add(v);
+  for (double v : found) sum.add(v / scale);
   const double mean = sum.value() / static_cast<double>(found.size());
-  for (double v : found) squares.add((v - mean) * (v - mean));
-  r.lambda_spread = std::sqrt(squares.value() / static_cast<double>(found.size() - 1));
+  for (double v : found) squares.add((v / scale - mean) * (v / scale - mean));
+  r.lambda_spread = scale > 0.0 ? scale * std::sqrt(squares.value() / static_cast<double>(found.size() - 1)) : 0.0;
   // More than the tails' 2.5 % without a lambda: noise like the residual can hide the mode, and no interval
   // of the found ones covers that.
   if (static_cast<double>(r.replicates_without_lambda) > 0.025 * static_cast<double>(replicates)) {
@@ -466,8 +469,13 @@ void lambda_interval(const Normalised& data, std::size_t first, std::size_t coun
   // The normal interval about lambda: of the three bootstrap intervals measured it held the true rate most
   // often (bench/modal_accuracy coverage; the percentile and basic intervals' quantiles come from the 2nd/3rd
   // and 97th/98th of 100 replicates and scatter more).
-  r.lambda_low = *r.lambda - 1.96 * r.lambda_spread;
-  r.lambda_high = *r.lambda + 1.96 * r.lambda_spread;
+  const double low = *r.lambda - 1.96 * r.lambda_spread, high = *r.lambda + 1.96 * r.lambda_spread;
+  if (!std::isfinite(low) || !std::isfinite(high)) {
+    r.warnings.push_back("lambda's interval exceeds the range of doubles: none given");
+    return;
+  }
+  r.lambda_low = low;
+  r.lambda_high = high;
 }
 
 }  // namespace
