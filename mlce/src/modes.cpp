@@ -628,9 +628,10 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
 
 namespace {
 
-/// Step 9 (modes.hpp): a growth whose record the modes do not describe to its end (not `linear`, or its second
-/// half no sum of modes) is read over its leading half, quarter or eighth, the longest that grows at one rate
-/// (both halves read, and they agree): a growth that saturates into a limit cycle is linear while it is small.
+/// Step 9 (modes.hpp): a growth whose record the modes do not describe to its end (not `linear`, its second half
+/// no sum of modes, or its second half growing more slowly than its first) is read over its leading half, quarter
+/// or eighth, the longest that grows at one rate (both halves read, and they agree): a growth that saturates into
+/// a limit cycle is linear while it is small.
 ModalResult read_growth_before_saturation(const Series& series, ModalResult whole, const ModalOptions& options) {
   if (!options.read_leading_growth || !options.check_halves || whole.map) return whole;
   const double band = neutral_band(options, whole.lambda_mode_frequency, static_cast<double>(series.size() - 1) * series.dt);
