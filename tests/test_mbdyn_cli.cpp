@@ -934,6 +934,8 @@ TEST_F(MbdynCli, ModesTextCsvPlotAndErrors) {
   expect_one_line_error(run("modes " + prefix + " --channel node:2:x --order many"), "--order 'many'", 2);
   expect_one_line_error(run("modes " + prefix + " --channel node:2:x --replicates 1"),
                         "--replicates 1: expected 0 (no interval) or 2 .. 100000", 2);
+  expect_one_line_error(run("modes " + prefix + " --channel node:2:x --replicates -1"),
+                        "--replicates -1: expected 0 (no interval) or 2 .. 100000", 2);
   const CliRun plain = run("modes " + prefix + " --channel node:2:x --replicates 0 --json");
   ASSERT_EQ(plain.status, 0) << plain.err;
   EXPECT_TRUE(nlohmann::json::parse(plain.out)["ci95"].is_null()) << plain.out;

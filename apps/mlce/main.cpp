@@ -596,12 +596,13 @@ int cmd_modes(const std::vector<std::string>& args) {
   ModalOptions o;
   std::string order = "auto", csv_path, plot_path;
   bool json = false, quiet = false;
+  long long replicates = 100;  // signed: "-1" is refused as -1, not wrapped to 2^64 - 1
   po::options_description d("mlce modes FILE [options]");
   d.add(series_options(in));
   d.add_options()
       ("order", po::value(&order), "model order (poles, a complex pair counting 2), or auto: the Hankel matrix's singular "
                                    "values above 4 x its noise floor")
-      ("replicates", po::value(&o.interval_replicates), "records of the fitted modes plus noise like the residual whose "
+      ("replicates", po::value(&replicates), "records of the fitted modes plus noise like the residual whose "
                                                          "spread gives lambda's 95 % interval (default 100; 0 = no interval)")
       ("quiet", po::bool_switch(&quiet), "no progress messages")
       ("json", po::bool_switch(&json), "print one JSON object")
@@ -614,8 +615,9 @@ int cmd_modes(const std::vector<std::string>& args) {
   o.order = auto_or_count(order, "order");
   if (o.order && (*o.order < 1 || *o.order > o.max_order))
     throw po::error(fmt::format("--order '{}': expected auto or 1 .. {}", order, o.max_order));
-  if (o.interval_replicates == 1 || o.interval_replicates > 100000)
-    throw po::error(fmt::format("--replicates {}: expected 0 (no interval) or 2 .. 100000", o.interval_replicates));
+  if (replicates < 0 || replicates == 1 || replicates > 100000)
+    throw po::error(fmt::format("--replicates {}: expected 0 (no interval) or 2 .. 100000", replicates));
+  o.interval_replicates = static_cast<std::size_t>(replicates);
   const cli::LoadedSeries loaded = cli::load_series(in);
   o.record_deviation = loaded.record_deviation;  // a --from/--to window is judged against its record's floor
   o.progress = progress_printer(quiet);
