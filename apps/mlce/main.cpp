@@ -64,7 +64,7 @@ const char* kUsage =
     "  channels SET    what an MBDyn output set (prefix or .nc) or column file holds\n"
     "  extract SET     write the selected channels with their time as CSV\n"
     "  compare A B     two runs side by side on the same channels (max/RMS difference, ranges)\n"
-    "  sweep SCENE     exponents over a parameter grid (rosenstein|qr|floquet|eigen), parallel, resumable\n"
+    "  sweep SCENE     exponents over a parameter grid (rosenstein|modes|qr|floquet|eigen), parallel, resumable\n"
     "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
     "Channels (--channel, repeatable): node:L:x|y|z|r1..r9|vx..|wx.., joint:L:K, EXT:L:K (ine:11:2),\n"
     "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
