@@ -132,10 +132,12 @@ TEST(Modes, ASaturatingGrowthIsReadWhileItIsSmall) {
   EXPECT_LT(r.n_points, x.size());
   EXPECT_NEAR(*r.lambda, mu / 2.0, 0.002);
   EXPECT_EQ(r.reading.rfind("unstable, growing mode", 0), 0U) << r.reading;
+  EXPECT_EQ(r.stability, mlce::Stability::unstable);
   // Its limit cycle alone (the last 50 time units) is neutral, not read over a leading part.
   const ModalResult cycle = identify_modes(series_of({std::vector<double>(x.end() - 1000, x.end())}, dt));
   EXPECT_FALSE(cycle.leading_part);
   EXPECT_EQ(cycle.reading.rfind("neutral", 0), 0U) << cycle.reading;
+  EXPECT_EQ(cycle.stability, mlce::Stability::neutral);
 }
 
 // The record's scale never enters: x 1e-200 and x 1e200 give the same rates to 1e-9 relative.
@@ -195,6 +197,7 @@ TEST(Modes, ChaosIsNotASumOfModes) {
   EXPECT_FALSE(r.linear);
   EXPECT_GT(r.residual, 0.05);
   EXPECT_EQ(r.reading.rfind("undetermined", 0), 0U) << r.reading;
+  EXPECT_EQ(r.stability, mlce::Stability::undetermined);
 }
 
 // A map's samples are no sampled flow's: no modal reading, whatever the fit leaves.

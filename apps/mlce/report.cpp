@@ -355,6 +355,7 @@ nlohmann::json to_json(const ModalResult& r) {
           {"halves_agree", r.halves_agree},
           {"linear", r.linear},
           {"reading", r.reading},
+          {"stability", to_string(r.stability)},
           {"modes", modes},
           {"order", r.order},
           {"order_automatic", r.order_automatic},

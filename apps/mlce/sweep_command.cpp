@@ -74,13 +74,6 @@ Stability stability_from_string(const std::string& text) {
   return Stability::undetermined;
 }
 
-/// The Stability a modal reading ("stable, decaying modes", "unstable, ...", "neutral, ...", "undetermined: ...") names.
-Stability modal_stability(const std::string& reading) {
-  for (const Stability s : {Stability::stable, Stability::neutral, Stability::unstable})
-    if (reading.rfind(std::string(to_string(s)) + ",", 0) == 0) return s;
-  return Stability::undetermined;
-}
-
 /// The channel a rosenstein sweep estimates on: a state name, by default the lag of the blade
 /// with the weakest damper (the failed one; blade 1 when all are equal) or flapping's beta.
 std::size_t channel_index(const models::Scene& scene, const std::vector<std::string>& names, std::string& channel) {
@@ -308,7 +301,7 @@ int cmd_sweep(const std::vector<std::string>& args) {
       const double analysed_to = s.time(r.n_points - 1);
       const auto optional_cell = [](const std::optional<double>& v) { return v ? cell(*v) : std::string(); };
       cells = {optional_cell(r.lambda), optional_cell(r.lambda_low), optional_cell(r.lambda_high), cell(r.lambda_mode_frequency),
-               cell(r.residual), cell(analysed_to), to_string(modal_stability(r.reading)), r.reading};
+               cell(r.residual), cell(analysed_to), to_string(r.stability), r.reading};
       warnings = r.warnings;
     } else {
       Eigen::VectorXd ex;

@@ -613,6 +613,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
     const double band = band_of(r.lambda_mode_frequency);
     const int sign = *r.lambda > band ? 1 : (*r.lambda < -band ? -1 : 0);
     r.reading = sign < 0 ? "stable, decaying modes" : (sign > 0 ? "unstable, growing mode" : "neutral, undamped mode");
+    r.stability = sign < 0 ? Stability::stable : (sign > 0 ? Stability::unstable : Stability::neutral);
     if (r.lambda_from_second_half)
       r.reading += fmt::format(" (the least damped mode from the record's second half: the whole record's strongest modes "
                                "decay faster)");

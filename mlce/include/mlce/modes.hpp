@@ -70,6 +70,7 @@
 #include <vector>
 
 #include "mlce/progress.hpp"
+#include "mlce/reading.hpp"  // Stability
 #include "mlce/series.hpp"
 
 namespace mlce {
@@ -211,6 +212,7 @@ struct ModalResult {
   bool linear = false;
   /// "stable, decaying modes", "unstable, growing mode", "neutral, undamped mode", or "undetermined: ...".
   std::string reading;
+  Stability stability = Stability::undetermined;  ///< the reading's first word, for scripts and sweeps
   double dt = 1.0;
   std::string time_unit;
   std::size_t n_points = 0;    ///< samples analysed (from the first; up to the floor when one was cut)
