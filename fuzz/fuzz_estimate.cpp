@@ -6,7 +6,8 @@
 // OptionError (one message, no result), or a result whose lambda, per-sample lambda and 95 %
 // interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing;
 // Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error, and so
-// Kantz's curves with the estimate's parameters (mlce kantz), and the record's damped modes (mlce modes).
+// Kantz's curves with the estimate's parameters (mlce kantz), and the record's damped modes (mlce modes);
+// the isolated spikes the command line refuses or replaces lie where their definition puts them.
 //
 // Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
 // byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
@@ -17,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -86,6 +88,29 @@ void check_modes(const mlce::Series& series) {
   }
 }
 
+/// Isolated spikes (what the command line refuses or, with --despike, replaces where it reads a
+/// record): inside the record by the margin, at most max_length long, and replaced by finite
+/// samples on the line between their neighbours.
+void check_spikes(const mlce::Series& series) {
+  const mlce::SpikeOptions o;
+  const auto spikes = mlce::find_isolated_spikes(series, o);
+  for (const auto& s : spikes)
+    if (s.first < o.max_length + 1 || s.last + o.max_length + 1 >= series.size() || s.last < s.first ||
+        s.last - s.first >= o.max_length || !(s.jump_ratio > o.jump_ratio))
+      broken("an isolated spike outside its definition");
+  mlce::Series replaced = series;
+  if (mlce::replace_isolated_spikes(replaced, o).size() != spikes.size()) broken("a spike found but not replaced");
+  for (const auto& s : spikes)
+    for (std::size_t i = s.first; i <= s.last; ++i) {
+      const double v = replaced.channels[s.channel][i];
+      const double lo = std::min(s.before, s.after), hi = std::max(s.before, s.after);
+      const double rounding = 4.0 * std::numeric_limits<double>::epsilon() * std::max(std::abs(lo), std::abs(hi)) +
+                              std::numeric_limits<double>::denorm_min();
+      if (!std::isfinite(v) || v < lo - rounding || v > hi + rounding)
+        broken("a replaced spike is not on the line between its neighbours");
+    }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -115,6 +140,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.max_references = 500;  // the fuzzer's time goes to many inputs, not to one long curve
   try {
     const auto series = mlce::make_series_with_step(std::move(samples), dt);
+    check_spikes(series);
     check_cao(series, o.delay.value_or(1), o.theiler.value_or(0));
     check_modes(series);
     const auto r = mlce::estimate_mlce(series, o);

@@ -786,6 +786,28 @@ TEST_F(Cli, RunThatDivergesAfterTheWindowIsAnalysedUpToTo) {
                         "inside.txt:1002: column 2: 'inf': expected a finite number");
 }
 
+TEST_F(Cli, AnIsolatedSpikeIsRefusedNamingItsLineAndDespikeReplacesIt) {
+  std::vector<double> x = mlce::reference::lorenz_x(10000);
+  const std::string clean = columns_file("clean.txt", "# time value", 0.01, {x});
+  x[5000] = 1000.0;  // one glitched sample: read as it is, lambda was 18.6 1/s, "chaotic"
+  const std::string spiked = columns_file("spiked.txt", "# time value", 0.01, {x});
+  const std::string refused = "spiked.txt:5002: value: sample 5000 (t = 50 s) is an isolated spike: 1000 between";
+  for (const char* command : {"estimate", "ami", "fnn", "kantz", "modes", "stsp", "convergence"})
+    expect_one_line_error(run(std::string(command) + " " + spiked + " --time-column 1 --column 2"), refused);
+  auto lambda_of = [&](const std::string& args) {
+    const CliRun r = run("estimate " + args + " --time-column 1 --column 2 --json --quiet");
+    EXPECT_EQ(r.status, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  const double reference = lambda_of(clean)["lambda"].get<double>();
+  const auto despiked = lambda_of(spiked + " --despike");
+  EXPECT_NEAR(despiked["lambda"].get<double>(), reference, 5e-3 * reference);
+  EXPECT_NE(despiked["warnings"].dump().find("value: sample 5000 (t = 50 s) was an isolated spike (1000 between"),
+            std::string::npos) << despiked["warnings"];
+  // A window that starts after the glitch does not need it replaced.
+  EXPECT_GT(lambda_of(spiked + " --from 50.01")["lambda"].get<double>(), 0.0);
+}
+
 TEST_F(Cli, NonUniformTime) {
   std::string s;
   for (int i = 0; i < 100; ++i) s += std::to_string(i < 50 ? 0.1 * i : 0.1 * i + 0.05) + " " + std::to_string(std::sin(i)) + "\n";
@@ -797,6 +819,13 @@ TEST_F(Cli, ConstantSeries) {
   std::string t;
   for (int i = 0; i < 200; ++i) t += "3.5\n";
   expect_one_line_error(run("estimate " + write("c.txt", t).string()), "c.txt: column 1 is constant");
+  // Constant on each side of a step: the floor rule cuts the record at the step, and the error says
+  // the constant part is the part analysed (it read "all 100 samples" of a 200-sample file).
+  std::string step;
+  for (int i = 0; i < 200; ++i) step += i < 100 ? "0\n" : "1\n";
+  expect_one_line_error(run("estimate " + write("step.txt", step).string()),
+                        "step.txt: column 1 is constant (all 100 samples equal 0): no dynamics to analyse (the part "
+                        "analysed, samples 0..99, ends where the floor rule cut the record: ");
   // One sample is no history (it was reported as a constant series of 1 sample).
   expect_one_line_error(run("estimate " + write("one.txt", "3.5\n").string()),
                         "one.txt: the series has a single sample: expected a time history");

@@ -637,3 +637,166 @@ TEST(WrappedAngle, AzimuthPrintedModuloATurnIsFoundAndSmoothOrMapSignalsAreNot) 
   for (const auto& x : {unwrapped, reference::lorenz_x(5000), reference::henon_x(5000), sine})
     EXPECT_EQ(wrapped_angle(make_series_with_step({x}, 0.01)).count, 0u);
 }
+
+// Isolated spikes (find_isolated_spikes): a glitch of one to three samples, told from motion by its
+// two jumps standing alone. Truth: where the glitch was written, and brute-force jump ratios.
+namespace {
+using namespace mlce::reference;
+
+Series one_channel(std::vector<double> x, double dt = 0.01) { return make_series_with_step({std::move(x)}, dt); }
+
+/// The largest |x[i+1] - x[i]| over jumps that neither enter nor leave samples first..last.
+double largest_other_jump(const std::vector<double>& x, std::size_t first, std::size_t last) {
+  double largest = 0.0;
+  for (std::size_t i = 0; i + 1 < x.size(); ++i)
+    if (i + 1 < first || i > last) largest = std::max(largest, std::abs(x[i + 1] - x[i]));
+  return largest;
+}
+}  // namespace
+
+TEST(Spikes, AGlitchInsideAFlowsRangeIsFoundByItsJumps) {
+  std::vector<double> x = lorenz_x(10000);
+  x[5000] = 10.0;  // inside x's range (-18 .. 19): only its two jumps give it away
+  const auto spikes = find_isolated_spikes(one_channel(x));
+  ASSERT_EQ(spikes.size(), 1u);
+  const IsolatedSpike& s = spikes.front();
+  EXPECT_EQ(s.channel, 0u);
+  EXPECT_EQ(s.first, 5000u);
+  EXPECT_EQ(s.last, 5000u);
+  EXPECT_EQ(s.peak, 10.0);
+  EXPECT_EQ(s.before, x[4999]);
+  EXPECT_EQ(s.after, x[5001]);
+  const double ratio = std::min(std::abs(x[5000] - x[4999]), std::abs(x[5001] - x[5000])) / largest_other_jump(x, 5000, 5000);
+  EXPECT_GT(ratio, SpikeOptions{}.jump_ratio);
+  EXPECT_NEAR(s.jump_ratio, ratio, 1e-12 * ratio);
+}
+
+TEST(Spikes, SeveralSpikesOfUpToThreeSamplesInEveryChannel) {
+  std::vector<double> x = lorenz_x(10000), y = lorenz_x(10000, 0.01, {2.0, -1.0, 20.0});
+  x[3000] = 40.0, x[3001] = -30.0, x[3002] = 35.0;
+  x[7000] = -60.0;
+  y[100] = 1e6;
+  const auto spikes = find_isolated_spikes(make_series_with_step({x, y}, 0.01));
+  ASSERT_EQ(spikes.size(), 3u);
+  EXPECT_EQ(spikes[0].first, 3000u);
+  EXPECT_EQ(spikes[0].last, 3002u);
+  double farthest = -1.0, peak = 0.0;  // the run's sample farthest from the line across it
+  for (std::size_t i = 3000; i <= 3002; ++i) {
+    const double off = std::abs(x[i] - (x[2999] + (x[3003] - x[2999]) * static_cast<double>(i - 2999) / 4.0));
+    if (off > farthest) farthest = off, peak = x[i];
+  }
+  EXPECT_EQ(spikes[0].peak, peak);
+  EXPECT_EQ(spikes[1].first, 7000u);
+  EXPECT_EQ(spikes[1].last, 7000u);
+  EXPECT_EQ(spikes[2].channel, 1u);
+  EXPECT_EQ(spikes[2].first, 100u);
+}
+
+TEST(Spikes, MotionHasNone) {
+  std::vector<std::pair<std::string, std::vector<double>>> motions = {
+      {"Lorenz x", lorenz_x(10000)},
+      {"Roessler x", roessler_x(10000)},
+      {"Henon x", henon_x(10000)},
+      {"logistic", logistic(10000)},
+      {"van der Pol", van_der_pol_x(10000)},
+      {"relaxation oscillation (van der Pol mu = 10, dt = 0.05)", van_der_pol_x(4000, 0.05, 10.0)},
+      {"damped oscillator", damped_oscillator(2000, 0.01, 0.05, 2.0 * std::numbers::pi)},
+      {"noisy decay", noisy_decay(2000, 0.01, 0.05, 2.0 * std::numbers::pi, 0.01)},
+      {"logistic r = 2.8 approaching its fixed point", logistic(500, 0.01, 2.8)},
+  };
+  std::vector<double> quantised, step, start_up, impacts;
+  for (int i = 0; i < 5000; ++i) {
+    const double t = 0.01 * i;
+    quantised.push_back(std::round(100.0 * std::sin(t)) / 100.0);  // a coarsely written sine: jumps of 0 or 0.01
+    step.push_back(std::sin(t) + (i >= 2500 ? 50.0 : 0.0));          // one jump that does not come back
+    start_up.push_back(35.0 * std::sin(t));
+    impacts.push_back(std::sin(t) + (i % 1000 == 500 ? 10.0 : 0.0));  // five one-sample impacts: a feature
+  }
+  start_up[1] = -6036.0, start_up[2] = 1649.0, start_up[3] = -276.0;  // an MBDyn joint reaction's start-up
+  motions.push_back({"quantised sine", quantised});
+  motions.push_back({"step", step});
+  motions.push_back({"solver start-up ringing", start_up});
+  motions.push_back({"five impacts", impacts});
+  for (const auto& [name, x] : motions) EXPECT_TRUE(find_isolated_spikes(one_channel(x)).empty()) << name;
+}
+
+TEST(Spikes, FoundAtTheEndsOfTheDoubleRange) {
+  std::vector<double> x = lorenz_x(4000);
+  x[2000] = 100.0;
+  for (const double scale : {1e-300, 1e300}) {
+    std::vector<double> y = x;
+    for (double& v : y) v *= scale;
+    const auto spikes = find_isolated_spikes(one_channel(y));
+    ASSERT_EQ(spikes.size(), 1u) << scale;
+    EXPECT_EQ(spikes.front().first, 2000u) << scale;
+  }
+  // A glitch at the largest double in a series of order 1: no jump overflows.
+  std::vector<double> z = lorenz_x(4000);
+  z[2000] = std::numeric_limits<double>::max();
+  z[2500] = -std::numeric_limits<double>::max();
+  Series s = one_channel(z);
+  ASSERT_EQ(find_isolated_spikes(s).size(), 2u);
+  replace_isolated_spikes(s);
+  for (const double v : s.channels[0]) ASSERT_TRUE(std::isfinite(v));
+  EXPECT_NEAR(s.channels[0][2000], 0.5 * (z[1999] + z[2001]), 1e-12);
+}
+
+TEST(Spikes, ReplacedByTheLineBetweenTheirNeighbours) {
+  std::vector<double> x = lorenz_x(10000);
+  const std::vector<double> clean = x;
+  x[6000] = 70.0, x[6001] = 90.0;
+  Series s = one_channel(x);
+  const auto messages = replace_isolated_spikes(s);
+  ASSERT_EQ(messages.size(), 1u);
+  EXPECT_NE(messages.front().find("samples 6000..6001 (t = 60 .. 60.01 s) was an isolated spike (90 between"),
+            std::string::npos) << messages.front();
+  EXPECT_NEAR(s.channels[0][6000], x[5999] + (x[6002] - x[5999]) / 3.0, 1e-12);
+  EXPECT_NEAR(s.channels[0][6001], x[5999] + 2.0 * (x[6002] - x[5999]) / 3.0, 1e-12);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i != 6000 && i != 6001) {
+      ASSERT_EQ(s.channels[0][i], x[i]) << i;
+    }
+  }
+  EXPECT_TRUE(find_isolated_spikes(s).empty());
+  // Over 0.02 time units the line is the flow to within its curvature: 1e-2 of x's range.
+  EXPECT_NEAR(s.channels[0][6000], clean[6000], 0.2);
+}
+
+TEST(Spikes, RefusalNamesTheSampleAndLeavesThoseBeforeTheWindow) {
+  std::vector<double> x = lorenz_x(10000);
+  x[5000] = 25.0;
+  x[8000] = -50.0;
+  const Series s = one_channel(x);
+  try {
+    refuse_isolated_spikes(s);
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.index(), 5000u);
+    EXPECT_NE(what.find("channel 1: sample 5000 (t = 50 s) is an isolated spike: 25 between"), std::string::npos) << what;
+    EXPECT_NE(what.find("1 more: channel 1 sample 8000 (t = 80 s)"), std::string::npos) << what;
+    EXPECT_NE(what.find("--despike"), std::string::npos) << what;
+  }
+  try {
+    refuse_isolated_spikes(s, {}, 5001);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.index(), 8000u);
+  }
+  EXPECT_NO_THROW(refuse_isolated_spikes(s, {}, 8001));
+}
+
+TEST(Spikes, OptionsAreChecked) {
+  const Series s = one_channel(lorenz_x(1000));
+  for (const double ratio : {1.0, 0.5, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    SpikeOptions o;
+    o.jump_ratio = ratio;
+    EXPECT_THROW(find_isolated_spikes(s, o), OptionError) << ratio;
+  }
+  SpikeOptions o;
+  o.max_length = 0;
+  EXPECT_THROW(find_isolated_spikes(s, o), OptionError);
+  o = {};
+  o.max_count = 0;
+  EXPECT_THROW(find_isolated_spikes(s, o), OptionError);
+}

@@ -125,6 +125,7 @@ po::options_description series_options(cli::SeriesInput& in) {
       ("dt", po::value<double>(), "sampling step when the file has no time column")
       ("time-unit", po::value(&in.time_unit)->default_value("s"), "name of the time unit")
       ("resample", po::bool_switch(&in.resample), "resample a non-uniform time column linearly (explicit opt-in)")
+      ("despike", po::bool_switch(&in.despike), "replace isolated spikes (1-3 samples jumped into and out of by more than 8 times any other jump: a glitch) by the line between their neighbours, with a warning each; without it they are an error")
       ("from", po::value(&in.from), "start of the analysed window (time units), or 'auto' to skip the transient")
       ("to", po::value<double>(), "end of the analysed window (time units); later samples are not read, so a run that diverged after it can be analysed");
   return d;

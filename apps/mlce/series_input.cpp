@@ -32,6 +32,26 @@ reader::ChannelSet load_channels(const std::string& file, const std::vector<std:
 
 namespace {
 
+/// The loaded samples checked as the command needs them: finite, equal lengths, no constant channel
+/// (unless allowed), no isolated spike from the window's start on (--despike replaces them first).
+/// A spike before a numeric --from is left to the window, which cuts it out.
+void check_loaded(const SeriesInput& in, LoadedSeries& out) {
+  validate_samples(out.series);
+  if (in.despike) {
+    auto replaced = replace_isolated_spikes(out.series);
+    out.warnings.insert(out.warnings.end(), replaced.begin(), replaced.end());
+  }
+  if (!in.constant_channels_allowed)
+    for (std::size_t c = 0; c < out.series.channel_count(); ++c)
+      if (is_constant(out.series, c)) validate_series(out.series);  // its message names the channel
+  std::size_t first = 0;
+  if (const auto from = in.start_is_automatic() ? std::nullopt : parse_finite(in.from)) {
+    const double tol = 1e-9 * out.series.dt;  // as time_window
+    while (first < out.series.size() && out.series.time(first) < *from - tol) ++first;
+  }
+  refuse_isolated_spikes(out.series, {}, first);
+}
+
 /// A solver result set (MBDyn text or NetCDF): time comes with the channels.
 LoadedSeries load_solver_channels(const SeriesInput& in) {
   using reader::ReadError;
@@ -51,7 +71,7 @@ LoadedSeries load_solver_channels(const SeriesInput& in) {
     so.resample = in.resample;
     out.series = make_series_from_time(cs.time, std::move(cs.values), so, &out.warnings, in.time_unit);
     out.series.names = cs.names;
-    in.constant_channels_allowed ? validate_samples(out.series) : validate_series(out.series);
+    check_loaded(in, out);
   } catch (const InputError& e) {
     if (e.index() != InputError::npos && e.index() < cs.time.size())
       throw ReadError(fmt::format("{}: output block {} (t = {}): {}", cs.source, e.index(), cs.time[e.index()], e.what()));
@@ -242,7 +262,7 @@ LoadedSeries load_column_series(const SeriesInput& in) {
         }
     }
     for (std::size_t k : cols) out.series.names.push_back(table.names[k - 1]);
-    in.constant_channels_allowed ? validate_samples(out.series) : validate_series(out.series);
+    check_loaded(in, out);
   } catch (const InputError& e) {
     if (e.index() != InputError::npos) throw ReadError(table.where(e.index()) + ": " + e.what());
     throw ReadError(in.file + ": " + e.what());

@@ -26,6 +26,9 @@ struct SeriesInput {
   /// MBDyn writes as zeros) is that channel's error, not the file's; --from auto then finds the
   /// transient on the channels that move.
   bool constant_channels_allowed = false;
+  /// --despike: isolated spikes (mlce::find_isolated_spikes) are replaced by the line between their
+  /// neighbours, with a warning each, instead of refused.
+  bool despike = false;
   /// The user gave no start time (none, or `--from auto`, itself a transient rule): the estimator
   /// may still leave out a start that does not recur (MlceOptions::skip_nonrecurrent_start).
   bool start_is_automatic() const { return from.empty() || from == "auto"; }

@@ -827,7 +827,14 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   Series storage;
   AnalysedPart part;
   const Series& series = analysed_part(raw, options, storage, r.warnings, part);
-  validate_series(series);
+  try {
+    validate_series(series);
+  } catch (const InputError& e) {  // a step onto a constant is "a floor": say which part is constant
+    if (!part.floor_cut) throw;
+    throw InputError(fmt::format("{} (the part analysed, samples 0..{}, ends where the floor rule cut the record: {})",
+                                 e.what(), series.size() - 1, r.warnings.back()),
+                     e.index());
+  }
   if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
   if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");

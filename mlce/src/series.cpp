@@ -5,8 +5,12 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace mlce {
 namespace {
@@ -218,6 +222,131 @@ void validate_series(const Series& series) {
     if (is_constant(series, c))
       throw InputError(channel_name(series, c) + " is constant (all " + std::to_string(series.channels[c].size()) +
                        " samples equal " + fmt_double(series.channels[c].front()) + "): no dynamics to analyse");
+}
+
+namespace {
+
+void check_spike_options(const SpikeOptions& o) {
+  if (!(o.jump_ratio > 1.0) || !std::isfinite(o.jump_ratio)) throw OptionError("spikes.jump_ratio: expected a finite ratio > 1");
+  if (o.max_length < 1) throw OptionError("spikes.max_length: expected >= 1");
+  if (o.max_count < 1) throw OptionError("spikes.max_count: expected >= 1");
+}
+
+/// find_isolated_spikes for one channel. The r largest jumps are the spikes' when the r-th exceeds
+/// jump_ratio times the (r+1)-th (the largest ordinary one) and they pair up into spikes: runs of
+/// consecutive large jumps at most max_length apart, each entered and left inside the record and
+/// returning near where it left. The largest such r is taken (every spike at once).
+std::vector<IsolatedSpike> spikes_of_channel(const std::vector<double>& x, std::size_t channel, const SpikeOptions& o) {
+  const std::size_t n = x.size();
+  const std::size_t margin = o.max_length + 1;
+  if (n < 2 * margin + 1) return {};
+  double largest = 0.0;
+  for (const double v : x) largest = std::max(largest, std::abs(v));
+  if (!(largest > 0.0)) return {};
+  const auto at = [&](std::size_t i) { return x[i] / largest; };  // in [-1, 1]: a jump is at most 2
+  std::vector<double> jump(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) jump[i] = std::abs(at(i + 1) - at(i));
+  const std::size_t ranked = std::min(n - 1, o.max_count * (o.max_length + 1) + 1);
+  std::vector<std::size_t> order(n - 1);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(ranked), order.end(),
+                    [&](std::size_t a, std::size_t b) { return jump[a] > jump[b] || (jump[a] == jump[b] && a < b); });
+  for (std::size_t r = ranked - 1; r > 0; --r) {
+    const double ordinary = jump[order[r]];
+    if (!(jump[order[r - 1]] > o.jump_ratio * ordinary)) continue;
+    std::vector<std::size_t> large(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(r));
+    std::sort(large.begin(), large.end());
+    std::vector<IsolatedSpike> found;
+    bool pairs_up = true;
+    for (std::size_t g = 0; g < large.size() && pairs_up;) {
+      std::size_t h = g;
+      while (h + 1 < large.size() && large[h + 1] - large[h] <= o.max_length) ++h;
+      const std::size_t in = large[g], out = large[h];  // jumps x[in] -> x[in + 1], x[out] -> x[out + 1]
+      const std::size_t length = out - in;               // samples in + 1 .. out
+      const bool entered_and_left = h > g;               // two large jumps at least
+      g = h + 1;
+      // Within max_length + 1 samples of an end: the record's start-up or end, not a glitch (an
+      // MBDyn run's joint reactions ring through samples 1..3 as the solver starts: -6036, +1649,
+      // -276, then the motion at ~35).
+      if (in + 1 < margin || out + margin > n - 1) continue;
+      pairs_up = entered_and_left && length <= o.max_length &&
+                 std::abs(at(out + 1) - at(in)) <= static_cast<double>(length + 1) * ordinary;
+      if (pairs_up) {
+        IsolatedSpike s;
+        s.channel = channel, s.first = in + 1, s.last = out, s.before = x[in], s.after = x[out + 1];
+        double farthest = -1.0;
+        for (std::size_t i = s.first; i <= s.last; ++i) {
+          const double along = static_cast<double>(i - in) / static_cast<double>(length + 1);
+          const double off = std::abs(at(i) - (at(in) + along * (at(out + 1) - at(in))));
+          if (off > farthest) farthest = off, s.peak = x[i];
+        }
+        s.jump_ratio = ordinary > 0.0 ? std::min(jump[in], jump[out]) / ordinary : std::numeric_limits<double>::infinity();
+        found.push_back(s);
+      }
+    }
+    if (pairs_up && !found.empty() && found.size() <= o.max_count) return found;
+  }
+  return {};
+}
+
+std::string spike_place(const Series& series, const IsolatedSpike& s) {
+  const std::string unit = series.time_unit.empty() ? "" : " " + series.time_unit;
+  if (s.first == s.last) return fmt::format("sample {} (t = {:.10g}{})", s.first, series.time(s.first), unit);
+  return fmt::format("samples {}..{} (t = {:.10g} .. {:.10g}{})", s.first, s.last, series.time(s.first),
+                     series.time(s.last), unit);
+}
+
+std::string spike_shape(const IsolatedSpike& s) {
+  return fmt::format("{:.6g} between {:.6g} and {:.6g}, its jumps in and out {} times any other jump of the record",
+                     s.peak, s.before, s.after,
+                     std::isfinite(s.jump_ratio) ? fmt::format("{:.3g}", s.jump_ratio) : std::string("infinitely many"));
+}
+
+}  // namespace
+
+std::vector<IsolatedSpike> find_isolated_spikes(const Series& series, const SpikeOptions& options) {
+  check_spike_options(options);
+  std::vector<IsolatedSpike> all;
+  for (std::size_t c = 0; c < series.channels.size(); ++c) {
+    auto found = spikes_of_channel(series.channels[c], c, options);
+    all.insert(all.end(), found.begin(), found.end());
+  }
+  return all;
+}
+
+void refuse_isolated_spikes(const Series& series, const SpikeOptions& options, std::size_t first_analysed) {
+  auto spikes = find_isolated_spikes(series, options);
+  std::erase_if(spikes, [&](const IsolatedSpike& s) { return s.first < first_analysed; });
+  if (spikes.empty()) return;
+  const IsolatedSpike& s = spikes.front();
+  std::string more;
+  if (spikes.size() > 1) {
+    std::vector<std::string> places;
+    for (std::size_t k = 1; k < spikes.size(); ++k)
+      places.push_back(channel_name(series, spikes[k].channel) + " " + spike_place(series, spikes[k]));
+    more = fmt::format("; {} more: {}", spikes.size() - 1, fmt::join(places, ", "));
+  }
+  throw InputError(fmt::format("{}: {} is an isolated spike: {} (a corrupt line, an unconverged solver step?){}; "
+                               "a glitch moves the exponent far: correct it, cut it out with --from/--to, or "
+                               "--despike (the straight line between its neighbours)",
+                               channel_name(series, s.channel), spike_place(series, s), spike_shape(s), more),
+                   s.first);
+}
+
+std::vector<std::string> replace_isolated_spikes(Series& series, const SpikeOptions& options) {
+  std::vector<std::string> messages;
+  for (const IsolatedSpike& s : find_isolated_spikes(series, options)) {
+    auto& x = series.channels[s.channel];
+    const double steps = static_cast<double>(s.last - s.first + 2);
+    for (std::size_t i = s.first; i <= s.last; ++i) {
+      const double w = static_cast<double>(i - s.first + 1) / steps;
+      x[i] = (1.0 - w) * s.before + w * s.after;  // no difference of samples: finite for any finite pair
+    }
+    messages.push_back(fmt::format("{}: {} was an isolated spike ({}): replaced by the straight line between its "
+                                   "neighbours (--despike)",
+                                   channel_name(series, s.channel), spike_place(series, s), spike_shape(s)));
+  }
+  return messages;
 }
 
 Series time_window(const Series& series, double from, double to) {

@@ -74,6 +74,58 @@ Series make_series_with_step(std::vector<std::vector<double>> channels, double d
 /// Throws InputError with the index of the first bad sample.
 void validate_series(const Series& series);
 
+/// What makes a few samples an isolated spike (a glitch in the record: a corrupt line, a solver
+/// step written unconverged) rather than motion. A property of the record, checked where it is
+/// read (the CLI refuses or, with --despike, replaces spikes before any window is cut): the
+/// estimators do not look for spikes, because a window of a record cannot tell a glitch from the
+/// record's own motion at the window's scale (a decay's floor, written with 1e-5 degree resolution,
+/// blips by one sample at ten times its other steps). One such sample moves the estimate far: a single
+/// sample of 25 in Lorenz x (range -18 .. 19, N = 10^4) read 0.999 instead of 0.948 (its broadband
+/// power shifts the mean period, 171 -> 136 samples), one of 1000 read 18.8 1/s, "chaotic"
+/// (README, "Isolated spikes", gives the command).
+struct SpikeOptions {
+  /// The jumps into and out of a spike each exceed this many times every other jump of the
+  /// channel (|x[i+1] - x[i]| outside the spikes). On a sampled motion the largest jumps come in
+  /// runs of like size (a flow's fastest stretch spans several samples; a map's jumps reach its
+  /// range again and again); a glitch's two jumps stand alone. 8: the real MBDyn runs' channels
+  /// that are zero to rounding (1e-19, a constrained rotation) blip at one step by 4.4-7.5 times
+  /// their other jumps; a glitch that moves Lorenz x's exponent by 5 % jumps 26.7 times.
+  double jump_ratio = 8.0;
+  /// Longest spike, in samples.
+  std::size_t max_length = 3;
+  /// Most spikes in one channel: more are a feature of the motion (impacts, bursts), not glitches.
+  std::size_t max_count = 4;
+};
+
+/// A run of samples [first, last] of one channel that the series jumps into and back out of.
+struct IsolatedSpike {
+  std::size_t channel = 0;
+  std::size_t first = 0, last = 0;  ///< sample indices, inclusive, each max_length + 1 or more from the ends
+  double before = 0.0, after = 0.0;  ///< the samples either side (first - 1, last + 1)
+  double peak = 0.0;                 ///< the run's sample farthest from the line between them
+  double jump_ratio = 0.0;           ///< the smaller of its two jumps over the largest other jump
+};
+
+/// The isolated spikes of every channel, by channel and position. A spike lies inside the record:
+/// entered by the jump x[first] - x[first - 1] and left by x[last + 1] - x[last], each more than
+/// `jump_ratio` times every jump of the channel outside its spikes, with the series back across
+/// the run no further than that many ordinary jumps (|x[last + 1] - x[first - 1]| <= (length + 1)
+/// x the largest other jump). Nothing within max_length + 1 samples of either end: a fast start (a
+/// map's approach to its cycle, a kick, a solver's start-up ringing) or a growth at the end is
+/// motion the estimators and the transient rule read. Found only when the
+/// channel holds at most max_count such runs, each at most max_length samples long. Jumps are
+/// taken over the channel divided by its largest magnitude (no overflow for any finite samples).
+std::vector<IsolatedSpike> find_isolated_spikes(const Series& series, const SpikeOptions& options = {});
+
+/// Throws InputError naming the first isolated spike (its channel, sample, time, value and jumps;
+/// index = its first sample) and how many more there are. Spikes that start before sample
+/// `first_analysed` are left alone: the caller analyses a window that starts after them.
+void refuse_isolated_spikes(const Series& series, const SpikeOptions& options = {}, std::size_t first_analysed = 0);
+
+/// Replaces every isolated spike by the straight line between the samples either side of it (the
+/// time step stays uniform) and returns one message per spike saying what was replaced.
+std::vector<std::string> replace_isolated_spikes(Series& series, const SpikeOptions& options = {});
+
 /// validate_series but for the constant-channel check: a time history (equal lengths, a normal dt,
 /// finite samples, at least two) in which a channel may hold one value throughout (what a reader
 /// accepts when the channels are estimated one by one: that channel's own error, not the file's).
