@@ -808,6 +808,20 @@ TEST_F(Cli, AnIsolatedSpikeIsRefusedNamingItsLineAndDespikeReplacesIt) {
   EXPECT_GT(lambda_of(spiked + " --from 50.01")["lambda"].get<double>(), 0.0);
 }
 
+TEST_F(Cli, ARunStillWritingItsFileIsReadUpToItsLastCompleteLine) {
+  const std::vector<double> x = mlce::reference::lorenz_x(5000);
+  std::string text = slurp(columns_file("whole.txt", "# time value", 0.01, {x}));
+  const CliRun whole = run("estimate " + write("whole.txt", text).string() + " --time-column 1 --column 2 --json --quiet");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  text += "50.00 -1.2e";  // the solver is writing row 5000: its value cut inside the exponent
+  const CliRun writing = run("estimate " + write("writing.txt", text).string() + " --time-column 1 --column 2 --json --quiet");
+  ASSERT_EQ(writing.status, 0) << writing.err;
+  const auto j = nlohmann::json::parse(writing.out), w = nlohmann::json::parse(whole.out);
+  EXPECT_EQ(j["n_points"], w["n_points"]);
+  EXPECT_EQ(j["lambda"], w["lambda"]);
+  EXPECT_NE(j["warnings"].dump().find("writing.txt:5002: the last line has no line end and "), std::string::npos) << j["warnings"];
+}
+
 TEST_F(Cli, NonUniformTime) {
   std::string s;
   for (int i = 0; i < 100; ++i) s += std::to_string(i < 50 ? 0.1 * i : 0.1 * i + 0.05) + " " + std::to_string(std::sin(i)) + "\n";

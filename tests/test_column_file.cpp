@@ -299,6 +299,26 @@ TEST(ColumnFile, AFileIsStreamedAcrossItsReadBufferAndItsLastLineNeedsNoNewline)
   }
 }
 
+TEST(ColumnFile, ALastLineCutShortWhileTheFileIsWrittenIsLeftOutWithAWarning) {
+  // A run still writing its file (or a copy taken meanwhile) ends in a part of a line: fewer fields
+  // than the rows before it, or a field cut inside its exponent, and no line end.
+  for (const char* tail : {"3", "3 ", "3 4e", "3,"}) {
+    const std::string text = std::string("0 1\n1 2\n# c\n2 3\n") + tail;
+    const Table t = parse_column_text(text, "mem");
+    EXPECT_EQ(t.rows(), 3u) << tail;
+    ASSERT_EQ(t.warnings.size(), 1u) << tail;
+    EXPECT_NE(t.warnings[0].find("mem:5: the last line has no line end and "), std::string::npos) << t.warnings[0];
+    EXPECT_NE(t.warnings[0].find("It is left out"), std::string::npos) << t.warnings[0];
+  }
+  EXPECT_NE(parse_column_text("0 1\n1 2\n3 4e", "mem").warnings.at(0).find("a field that is no number"), std::string::npos);
+  EXPECT_NE(parse_column_text("0 1\n1 2\n3", "mem").warnings.at(0).find("1 of the 2 fields"), std::string::npos);
+  // A complete last line without a line end is a row; a short line with one is an error, as any.
+  EXPECT_EQ(parse_column_text("0 1\n1 2\n3 4", "mem").rows(), 3u);
+  EXPECT_TRUE(parse_column_text("0 1\n1 2\n3 4", "mem").warnings.empty());
+  EXPECT_THROW(parse_column_text("0 1\n1 2\n3\n", "mem"), ReadError);
+  EXPECT_THROW(parse_column_text("0 1\n1 2e\n3 4", "mem"), ReadError);
+}
+
 TEST(ColumnFile, EveryRowKnowsItsLineAcrossCommentsAndBlankLines) {
   // The row-to-line map is kept as runs of consecutive lines: checked against the lines written.
   std::string text = "# run 3\ntime x\n";

@@ -235,6 +235,7 @@ LoadedSeries load_column_series(const SeriesInput& in) {
   refuse_nonfinite(table, used, rows, time_column, in);
 
   LoadedSeries out;
+  out.warnings = table.warnings;  // a partial last line left out
   std::vector<std::vector<double>> channels;
   auto leading = [&](std::size_t column) {
     const auto& v = table.columns[column - 1];

@@ -330,10 +330,20 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
     // "1,2," for a row whose last column is empty); on every row of a file it opens no column.
     const std::size_t expected = ncols != 0 ? ncols : header.size();
     if (split.trailing_separator && fields.size() + 1 == expected) fields.push_back(line.substr(line.size()));  // empty
+    // The last line of a file still being written (a run in progress, copied or read while the
+    // solver writes), or cut short: no line end, and fewer fields than the rows before it or a field
+    // that is no number ("-13.9" cut to "-1" still reads; "1e" does not). Left out with a warning,
+    // as the MBDyn readers leave out a partial last block: the rest of the file is complete.
+    const bool open_tail = src.line_unterminated() && ncols != 0;
+    bool tail_broken = false;
     for (std::size_t field = 1; field <= fields.size(); ++field) {
       double v = std::numeric_limits<double>::quiet_NaN();
       if (options.keep.empty() || std::find(options.keep.begin(), options.keep.end(), field) != options.keep.end()) {
         if (std::string error = read_number(fields[field - 1], options, v, semicolons); !error.empty()) {
+          if (open_tail) {
+            tail_broken = true;
+            break;
+          }
           error = source + ":" + std::to_string(line_no) + ": column " + std::to_string(field) + ": " + error;
           if (!options.text_columns) throw ReadError(error);
           if (field_text.size() < field) field_text.resize(field);
@@ -341,6 +351,13 @@ Table parse_lines(detail::LineSource& src, const std::string& source, const Colu
         }
       }
       row.push_back(v);
+    }
+    if (open_tail && !row.empty() && (tail_broken || row.size() != ncols)) {
+      t.warnings.push_back(source + ":" + std::to_string(line_no) + ": the last line has no line end and " +
+                           (tail_broken ? std::string("a field that is no number")
+                                        : std::to_string(row.size()) + " of the " + std::to_string(ncols) + " fields") +
+                           ": a file still being written, or cut short? It is left out");
+      continue;
     }
     if (row.empty()) {  // blank or comment-only line
       if (ncols == 0 && header.empty() && !comment.empty()) last_comment = comment, comment_line = line_no;

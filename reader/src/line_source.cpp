@@ -121,6 +121,7 @@ bool LineSource::next(std::string_view& line) {
         return false;
       }
       line = memory_.substr(first);
+      unterminated_ = true;
     } else {
       line = memory_.substr(begin_, nl - begin_);
       begin_ = nl + 1;
@@ -144,6 +145,7 @@ bool LineSource::next(std::string_view& line) {
           return false;
         }
         line = std::string_view(buf_.data() + first, end_ - first);
+        unterminated_ = true;
         break;
       }
       // Keep the unfinished line, grow the buffer only for a line longer than it.

@@ -30,6 +30,8 @@ class LineSource {
   void keep_unterminated_tail() { keep_tail_ = true; }
   std::size_t line_number() const { return line_no_; }  ///< 1-based number of the last line returned
   bool partial_tail() const { return partial_tail_; }
+  /// The line last returned is the final line without '\n' (kept by keep_unterminated_tail()).
+  bool line_unterminated() const { return unterminated_; }
   const std::string& name() const { return name_; }
   std::string where() const { return name_ + ":" + std::to_string(line_no_); }
 
@@ -53,6 +55,7 @@ class LineSource {
   bool eof_ = false;
   bool partial_tail_ = false;
   bool keep_tail_ = false;
+  bool unterminated_ = false;
   std::size_t line_no_ = 0;
 };
 
