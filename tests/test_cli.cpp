@@ -822,6 +822,22 @@ TEST_F(Cli, ARunStillWritingItsFileIsReadUpToItsLastCompleteLine) {
   EXPECT_NE(j["warnings"].dump().find("writing.txt:5002: the last line has no line end and "), std::string::npos) << j["warnings"];
 }
 
+TEST_F(Cli, ARestartedRunIsRefusedWithWhereItRestartsAndReadBeforeItWithTo) {
+  // Rows 0..2999, then a restart from t = 25 s that writes 25.00 .. 39.99 again.
+  const std::vector<double> x = mlce::reference::lorenz_x(4000);
+  std::ostringstream s;
+  s.precision(17);
+  for (int i = 0; i < 3000; ++i) s << 0.01 * i << " " << x[static_cast<std::size_t>(i)] << "\n";
+  for (int i = 2500; i < 4000; ++i) s << 0.01 * i << " " << x[static_cast<std::size_t>(i)] << "\n";
+  const std::string f = write("restart.txt", s.str()).string();
+  expect_one_line_error(run("estimate " + f + " --time-column 1 --column 2"),
+                        "restart.txt:3001: time does not increase at sample 3000 (29.99 then 25): expected strictly "
+                        "increasing time; a restarted run, or two runs joined? --to 29.99 analyses the samples before");
+  const CliRun before = run("estimate " + f + " --time-column 1 --column 2 --to 29.99 --json --quiet");
+  ASSERT_EQ(before.status, 0) << before.err;
+  EXPECT_EQ(nlohmann::json::parse(before.out)["n_points"], 3000);
+}
+
 TEST_F(Cli, NonUniformTime) {
   std::string s;
   for (int i = 0; i < 100; ++i) s += std::to_string(i < 50 ? 0.1 * i : 0.1 * i + 0.05) + " " + std::to_string(std::sin(i)) + "\n";

@@ -148,10 +148,15 @@ Series make_series_from_time(const std::vector<double>& time, std::vector<std::v
     return s;
   }
   for (std::size_t i = 1; i < n; ++i)
-    if (!(time[i] > time[i - 1]))
+    if (!(time[i] > time[i - 1])) {
+      // Time that goes back: a run restarted from an earlier time, or two runs' output joined.
+      const std::string hint = time[i] < time[i - 1] ? "; a restarted run, or two runs joined? --to " +
+                                                           fmt_double(time[i - 1]) + " analyses the samples before"
+                                                     : "";
       throw InputError("time does not increase at sample " + std::to_string(i) + " (" + fmt_double(time[i - 1]) +
-                           " then " + fmt_double(time[i]) + "): expected strictly increasing time",
+                           " then " + fmt_double(time[i]) + "): expected strictly increasing time" + hint,
                        i);
+    }
   if (!options.resample)
     throw InputError("non-uniform time step at sample " + std::to_string(worst) + ": step " +
                          fmt_double(time[worst] - time[worst - 1]) + " vs mean " + fmt_double(dt) +

@@ -25,7 +25,9 @@ std::size_t steps_until(const std::vector<double>& time, const ReadOptions& opti
   const double step = time.size() > 1 ? (time.back() - time.front()) / static_cast<double>(time.size() - 1) : 0.0;
   const double limit = until + 1e-6 * std::abs(step);
   std::size_t n = 0;
-  while (n < time.size() && !(time[n] > limit)) ++n;  // a nan time is kept, for the caller to refuse
+  // A nan time is kept, for the caller to refuse. Time that goes back (a run restarted from an
+  // earlier time, two runs joined) ends the steps read: what follows repeats times already read.
+  while (n < time.size() && !(time[n] > limit) && !(n > 0 && time[n] < time[n - 1])) ++n;
   if (n == 0) {
     char text[160];
     std::snprintf(text, sizeof text, ": no output step at t <= %.10g (the first is at t = %.10g)", until, time.front());

@@ -17,7 +17,9 @@ struct ReadOptions {
 
 /// How many of the leading output steps `time` holds at t <= options.until (within a millionth of
 /// the mean step); all of them when until is +inf. A nan time does not end the count (the caller
-/// refuses it with its line). Throws ReadError naming `source` when not one.
+/// refuses it with its line); a time that goes back does (a run restarted from an earlier time, two
+/// runs joined: `--to` just before it reads the first run). Throws ReadError naming `source` when
+/// not one.
 std::size_t steps_until(const std::vector<double>& time, const ReadOptions& options, const std::string& source);
 
 struct ChannelSet {
