@@ -201,6 +201,32 @@ TEST_F(MbdynCli, BladeHingeOfTheGrowingRunIsUnstableNotChaotic) {
   EXPECT_EQ(j["motion"], "diverging") << j.dump();
 }
 
+TEST_F(MbdynCli, BladeCoordinatesWhoseCurveNeverSeparatesReadTheGrowthBeneathTheirCarrier) {
+  // node:12:y and node:13:vx of the growing run carry the rotation (4.04 Hz = 242.4 rpm) over the hub's
+  // growth: their curves never separate for good, and they read "neutral, limit cycle" until the
+  // record's modes were asked. The growth beneath is the linearisation's (Floquet, from the equations).
+  const double floquet = linearisation_exponent("floquet", "c3zero_242rpm.scene");
+  for (const char* channel : {"node:12:y", "node:13:vx"}) {
+    const CliRun r = run("estimate " + kC3 + " --channel " + channel + " --json --quiet");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    std::printf("%s: lambda %+.4f 1/s, carrier %s, Floquet %+.4f\n", channel, j["lambda"].get<double>(),
+                j["carrier"].dump().c_str(), floquet);
+    EXPECT_EQ(j["reading"]["stability"], "unstable") << j["reading"].dump();
+    EXPECT_EQ(j["reading"]["motion"], "growth beneath a steady carrier") << j["reading"].dump();
+    ASSERT_TRUE(j["carrier"].is_object()) << channel;
+    EXPECT_NEAR(j["carrier"]["frequency"].get<double>(), 242.4 / 60.0, 1e-3) << channel;  // the rotation
+    EXPECT_NEAR(j["carrier"]["growth_rate"].get<double>(), floquet, 0.05 * floquet) << channel;
+  }
+  // The limit-cycle run's same channels: a carrier, nothing growing beneath it.
+  const std::string lco = std::string(MLCE_DATA_DIR) + "/mbdyn/c3zero_242rpm_cyhalf_lco/c3zero_242rpm_cyhalf";
+  for (const char* channel : {"node:12:y", "node:13:vx", "rel:13:4:z"}) {
+    const CliRun r = run("estimate " + lco + " --channel " + channel + " --json --quiet");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(nlohmann::json::parse(r.out)["carrier"].is_null()) << channel;
+  }
+}
+
 TEST_F(MbdynCli, ChannelOfRoundingNoiseReadsNoStability) {
   // node:2:y of the limit-cycle run: node 2 is the airframe's x-part, free in absolute x only
   // (../shared/data/mbdyn/README.md), so its y holds MBDyn's rounding, ~1e-22 m, white (lag-1

@@ -124,6 +124,15 @@ nlohmann::json to_json(const MlceResult& r) {
                        {"steps", {t->first, t->last}}};
   else
     j["surrogates"] = nullptr;
+  // A steady carrier over a growing mode (MlceResult::carrier): null when none.
+  if (const auto& c = r.carrier)
+    j["carrier"] = {{"frequency", c->frequency},
+                    {"share", c->share},
+                    {"growth_rate", c->growth_rate},
+                    {"growth_frequency", c->growth_frequency},
+                    {"growth_peak_share", c->growth_peak_share}};
+  else
+    j["carrier"] = nullptr;
   // A map's settled cycle (map_cycle.hpp): null when none; lambda is its approach's rate when measured.
   if (const MapCycle& c = r.map_cycle; c.found())
     j["map_cycle"] = {{"period", c.period},

@@ -1,4 +1,5 @@
 #include "mlce/estimate.hpp"
+#include "mlce/modes.hpp"
 
 #include <fmt/format.h>
 
@@ -747,8 +748,55 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
 
 /// The estimate (estimate_widened: estimate_once at the automatic m, or at a wider one), then the
 /// surrogate test of its divergence when asked for (MlceOptions::surrogates).
+namespace {
+/// MlceResult::carrier: the record's modes (no interval) when the automatic fit found a curve that
+/// never separates for good on a sampled flow. A carrier holds kCarrierShare of the record and
+/// changes by at most kCarrierChange over it (|sigma| x the record's length: a limit cycle's
+/// oscillation is as steady); the mode beneath grows at least kCarrierGrowth-fold over the record and
+/// holds kCarrierGrowthShare of some quarter of it (ModalOptions::warn_share: below that a pole may be
+/// the fit's). On the bundled and shared MBDyn runs (every node coordinate, the lags) only the
+/// growing run's rotating blade coordinates have one; the 30 s limit-cycle run's 76 channels, the
+/// ad-hoc limit cycles at 241, 249, 280, 300 rpm and with nonlinear dampers, van der Pol and a torus
+/// have none (docs/checks.md, "Steady carrier").
+constexpr double kCarrierShare = 0.9;
+constexpr double kCarrierChange = 0.1;
+constexpr double kCarrierGrowth = 4.0;
+constexpr double kCarrierGrowthShare = 1e-3;
+
+std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, const MlceResult& r) {
+  if (!r.fit.automatic || (r.fit.end != CurveEnd::bounded && r.fit.end != CurveEnd::flat) || r.mean_period.map)
+    return std::nullopt;
+  ModalOptions o;
+  o.interval_replicates = 0;       // the modes, not lambda's interval
+  o.read_leading_growth = false;   // nor a saturating growth's leading part
+  ModalResult modal;
+  try {
+    modal = identify_modes(series, o);
+  } catch (const InputError&) {  // too short for a pencil: no carrier to tell
+    return std::nullopt;
+  }
+  if (!modal.linear) return std::nullopt;
+  const double record = static_cast<double>(series.size()) * series.dt;
+  const Mode* carrier = nullptr;
+  for (const Mode& m : modal.modes)
+    if (!m.offset && !m.nyquist && (!carrier || m.share > carrier->share)) carrier = &m;
+  if (!carrier || carrier->frequency <= 0.0 || carrier->share < kCarrierShare ||
+      std::abs(carrier->sigma) * record > kCarrierChange)
+    return std::nullopt;
+  const Mode* growth = nullptr;
+  for (const Mode& m : modal.modes)
+    if (&m != carrier && !m.offset && !m.nyquist && m.sigma * record >= std::log(kCarrierGrowth) &&
+        m.peak_share >= kCarrierGrowthShare && (!growth || m.peak_share > growth->peak_share))
+      growth = &m;
+  if (!growth) return std::nullopt;
+  return MlceResult::SteadyCarrier{carrier->frequency, carrier->share, growth->sigma, growth->frequency,
+                                   growth->peak_share};
+}
+}  // namespace
+
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
+  r.carrier = steady_carrier(raw, r);
   if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
   return r;
 }

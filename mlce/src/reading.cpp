@@ -258,6 +258,27 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
     return out;
   }
   const bool growth_beyond_band = a == AmplitudeTrend::grows && out.ci_low_per_period > band;
+  // A curve that never separates because a steady carrier keeps the neighbours close, over a mode
+  // that grows beneath it (MlceResult::carrier): the record's modes show the growth the curve and
+  // the amplitude do not. The bundled growing MBDyn run's blade coordinates node:12:y and node:13:vx
+  // read "neutral, limit cycle" before this clause; their modes grow at +0.306 and +0.308 1/s
+  // (Floquet +0.2985).
+  if (never_separate && a != AmplitudeTrend::decays && r.carrier) {
+    const auto& c = *r.carrier;
+    const double record = static_cast<double>(r.n_points) * r.dt;
+    const std::string unit = r.time_unit.empty() ? std::string("sample") : r.time_unit;
+    out.stability = Stability::unstable;  // out.amplitude stays the signal's: the carrier's, steady
+    out.motion = "growth beneath a steady carrier";
+    out.summary = fmt::format(
+        "unstable: the neighbours never separate for good (curve end: {}), but {:.3g} % of the signal is one steady "
+        "oscillation ({:.4g} cycles per {}: a rotating part's absolute coordinate carries the rotation so), and "
+        "beneath it a mode grows at {:+.4g} 1/{} ({:.4g} cycles per {}), {:.3g}-fold over the record, which the "
+        "carrier keeps from the curve and the amplitude (the record's damped modes: mlce modes); lambda is not that "
+        "rate: analyse a channel relative to the rotating part; {}",
+        to_string(r.fit.end), 100.0 * c.share, c.frequency, unit, c.growth_rate, unit, c.growth_frequency, unit,
+        std::exp(c.growth_rate * record), numbers + noise);
+    return out;
+  }
   if (never_separate && a != AmplitudeTrend::decays && !growth_beyond_band) {
     out.stability = Stability::neutral;
     out.motion = a == AmplitudeTrend::grows ? "slowly growing" : "limit cycle";

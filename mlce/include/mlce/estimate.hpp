@@ -210,6 +210,21 @@ struct MlceResult {
   /// they are the curve's, which measures no divergence (the reading says so). period 0: not found
   /// (a flow, or a map that does not settle on a cycle).
   MapCycle map_cycle;
+  /// A steady carrier over a growing mode (found only where the curve never separates for good:
+  /// CurveEnd::bounded or flat): one undamped oscillation holds most of the record, and beneath it a
+  /// mode grows that the neighbours, which the carrier keeps close, never show. A rotating part's
+  /// absolute coordinate carries the rotation so: blade 2's hinge node:12:y of the bundled growing
+  /// MBDyn run read "neutral, limit cycle" (lambda 0.459, bounded curve) over a hub growing at
+  /// +0.3 1/s. Judged on the record's damped modes (identify_modes, modes.hpp), the reading's
+  /// evidence of the growth (reading.hpp: unstable).
+  struct SteadyCarrier {
+    double frequency = 0.0;         ///< the carrier's, cycles per time unit
+    double share = 0.0;             ///< its share of the record's sum of squares
+    double growth_rate = 0.0;       ///< the growing mode's sigma, per time unit
+    double growth_frequency = 0.0;  ///< cycles per time unit
+    double growth_peak_share = 0.0;  ///< its largest share over the record's quarters (Mode::peak_share)
+  };
+  std::optional<SteadyCarrier> carrier;
   /// The surrogate test (MlceOptions::surrogates), when asked for and run: the reading
   /// (reading.hpp) claims chaos only when it distinguishes the divergence from linear noise.
   std::optional<SurrogateTest> surrogates;
