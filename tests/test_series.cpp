@@ -786,7 +786,10 @@ TEST(Spikes, RefusalNamesTheSampleAndLeavesThoseBeforeTheWindow) {
   EXPECT_NO_THROW(refuse_isolated_spikes(s, {}, 8001));
 }
 
-TEST(Spikes, OptionsAreChecked) {
+TEST(Spikes, OptionsAndSamplesAreChecked) {
+  std::vector<double> with_nan = lorenz_x(1000);
+  with_nan[500] = std::numeric_limits<double>::quiet_NaN();  // the jumps' ranking would have no order
+  EXPECT_THROW(find_isolated_spikes(one_channel(with_nan)), InputError);
   const Series s = one_channel(lorenz_x(1000));
   for (const double ratio : {1.0, 0.5, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     SpikeOptions o;

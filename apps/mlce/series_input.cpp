@@ -41,9 +41,7 @@ void check_loaded(const SeriesInput& in, LoadedSeries& out) {
     auto replaced = replace_isolated_spikes(out.series);
     out.warnings.insert(out.warnings.end(), replaced.begin(), replaced.end());
   }
-  if (!in.constant_channels_allowed)
-    for (std::size_t c = 0; c < out.series.channel_count(); ++c)
-      if (is_constant(out.series, c)) validate_series(out.series);  // its message names the channel
+  if (!in.constant_channels_allowed) validate_series(out.series);  // a constant channel: named
   std::size_t first = 0;
   if (const auto from = in.start_is_automatic() ? std::nullopt : parse_finite(in.from)) {
     const double tol = 1e-9 * out.series.dt;  // as time_window

@@ -311,6 +311,7 @@ std::string spike_shape(const IsolatedSpike& s) {
 
 std::vector<IsolatedSpike> find_isolated_spikes(const Series& series, const SpikeOptions& options) {
   check_spike_options(options);
+  check_finite(series.channels);  // a nan would leave the jumps' ranking without an order
   std::vector<IsolatedSpike> all;
   for (std::size_t c = 0; c < series.channels.size(); ++c) {
     auto found = spikes_of_channel(series.channels[c], c, options);

@@ -114,7 +114,8 @@ struct IsolatedSpike {
 /// map's approach to its cycle, a kick, a solver's start-up ringing) or a growth at the end is
 /// motion the estimators and the transient rule read. Found only when the
 /// channel holds at most max_count such runs, each at most max_length samples long. Jumps are
-/// taken over the channel divided by its largest magnitude (no overflow for any finite samples).
+/// taken over the channel divided by its largest magnitude (no overflow for any finite samples);
+/// a sample that is not finite is an InputError naming it.
 std::vector<IsolatedSpike> find_isolated_spikes(const Series& series, const SpikeOptions& options = {});
 
 /// Throws InputError naming the first isolated spike (its channel, sample, time, value and jumps;
