@@ -599,6 +599,10 @@ TEST_F(Cli, ConvergenceTableInEveryForm) {
   expect_one_line_error(run("convergence " + f + " --time-column 1 --column 2 --parts 1"), "convergence.parts = 1", 2);
   const auto tiny = series_file(mlce::reference::henon_x(12), 1.0);
   expect_one_line_error(run("convergence " + tiny + " --time-column 1 --column 2"), "series.txt: AMI needs at least 16 samples");
+  // Fewer samples than the default 8 parts: the data's error, as for every command (it was a usage
+  // error, "convergence.parts = 8: more parts than the series has samples (3)", naming no file).
+  expect_one_line_error(run("convergence " + write("three.txt", "1\n2\n3\n").string()),
+                        "three.txt: mean frequency needs at least 4 samples, the series has 3");
 }
 
 TEST_F(Cli, EachChannelInEveryForm) {

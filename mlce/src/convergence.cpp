@@ -36,9 +36,6 @@ double exponent_resolution(double lambda, double mean_frequency, double relative
 ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOptions& options) {
   options.validate();
   const std::size_t n = series.size();
-  if (options.parts > n)
-    throw OptionError("convergence.parts = " + std::to_string(options.parts) + ": more parts than the series has samples (" +
-                      std::to_string(n) + ")");
   ConvergenceResult result;
   MlceOptions quiet = options.estimate;
   quiet.progress = nullptr;  // one progress line per part, not per stage
@@ -48,7 +45,12 @@ ConvergenceResult estimate_convergence(const Series& series, const ConvergenceOp
   };
   // The whole run first: its errors are the caller's, and it is the reference of the verdict.
   report("the whole run", 0);
+  // After the whole run: a series too short to estimate is the data's error (mlce convergence on 3
+  // samples said "convergence.parts = 8: more parts than the series has samples", a usage error).
   const MlceResult whole = estimate_mlce(series, quiet);
+  if (options.parts > n)
+    throw OptionError("convergence.parts = " + std::to_string(options.parts) + ": more parts than the series has samples (" +
+                      std::to_string(n) + ")");
   result.warnings = whole.warnings;
   for (std::size_t k = 1; k < options.parts; ++k) {
     report("part " + std::to_string(k) + " of " + std::to_string(options.parts), k);
