@@ -42,12 +42,8 @@ void check_loaded(const SeriesInput& in, LoadedSeries& out) {
     out.warnings.insert(out.warnings.end(), replaced.begin(), replaced.end());
   }
   if (!in.constant_channels_allowed) validate_series(out.series);  // a constant channel: named
-  std::size_t first = 0;
-  if (const auto from = in.start_is_automatic() ? std::nullopt : parse_finite(in.from)) {
-    const double tol = 1e-9 * out.series.dt;  // as time_window
-    while (first < out.series.size() && out.series.time(first) < *from - tol) ++first;
-  }
-  refuse_isolated_spikes(out.series, {}, first);
+  const auto from = in.start_is_automatic() ? std::nullopt : parse_finite(in.from);
+  refuse_isolated_spikes(out.series, {}, from ? first_sample_from(out.series, *from) : 0);
 }
 
 /// A solver result set (MBDyn text or NetCDF): time comes with the channels.

@@ -719,6 +719,17 @@ bool grows_while_decaying(const MlceResult& r) {
 namespace {
 MlceResult estimate_widened(const Series& raw, const MlceOptions& options);
 
+/// The samples the estimate analysed: `raw` from its left-out start (MlceResult::skipped_start),
+/// n_points long (up to a floor), every channel, not dithered.
+Series analysed_samples(const Series& raw, const MlceResult& r) {
+  Series s;
+  s.dt = raw.dt, s.time_unit = raw.time_unit, s.names = raw.names, s.t0 = raw.time(r.skipped_start);
+  const auto first = static_cast<std::ptrdiff_t>(r.skipped_start);
+  for (const auto& c : raw.channels)
+    s.channels.emplace_back(c.begin() + first, c.begin() + first + static_cast<std::ptrdiff_t>(r.n_points));
+  return s;
+}
+
 /// The surrogate test (surrogate.hpp) on the part the estimate analysed: the raw series up to a
 /// floor, from a left-out start (estimate_once); with the estimate's embedding and fit region. Not
 /// dithered (MlceOptions::dither): the surrogates take the series' own values.
@@ -735,9 +746,7 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
     r.warnings.push_back("the surrogate test needs the divergence curve's fit region of two steps or more; not run");
     return;
   }
-  Series analysed = raw;
-  const auto first = static_cast<std::ptrdiff_t>(r.skipped_start);
-  analysed.channels[0].assign(raw.channels[0].begin() + first, raw.channels[0].begin() + first + static_cast<std::ptrdiff_t>(r.n_points));
+  const Series analysed = analysed_samples(raw, r);
   SurrogateSetup setup;
   setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
   setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
@@ -796,7 +805,7 @@ std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, co
 
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
-  r.carrier = steady_carrier(raw, r);
+  r.carrier = steady_carrier(analysed_samples(raw, r), r);
   if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
   return r;
 }
@@ -932,10 +941,11 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     MlceOptions again = options;
     again.skip_nonrecurrent_start = false;
     again.dither = 0.0;  // already dithered
-    again.surrogates.count = 0;  // tested once, on the whole estimate (estimate_mlce)
     MlceResult out;
     try {
-      out = estimate_mlce(rest, again);
+      // Not estimate_mlce: the surrogate test and the carrier are judged once, on the whole
+      // estimate's analysed samples (estimate_mlce); they ran twice here before.
+      out = estimate_widened(rest, again);
     } catch (const InputError& too_short) {  // the rest (at least half) re-embedded may still be refused
       r.warnings.push_back("the first " + std::to_string(rec.start) +
                            " samples do not recur, but the rest alone cannot be estimated (" + too_short.what() +

@@ -355,12 +355,19 @@ std::vector<std::string> replace_isolated_spikes(Series& series, const SpikeOpti
   return messages;
 }
 
+std::size_t first_sample_from(const Series& series, double from) {
+  const double tol = 1e-9 * series.dt;
+  std::size_t a = 0;
+  while (a < series.size() && series.time(a) < from - tol) ++a;
+  return a;
+}
+
 Series time_window(const Series& series, double from, double to) {
   if (!(to >= from)) throw OptionError("time window [" + fmt_double(from) + ", " + fmt_double(to) + "] is empty");
   const std::size_t n = series.size();
   const double tol = 1e-9 * series.dt;
-  std::size_t a = 0, b = n;
-  while (a < n && series.time(a) < from - tol) ++a;
+  const std::size_t a = first_sample_from(series, from);
+  std::size_t b = n;
   while (b > a && series.time(b - 1) > to + tol) --b;
   if (b - a < 2)
     throw InputError("time window [" + fmt_double(from) + ", " + fmt_double(to) + "] holds " + std::to_string(b - a) +

@@ -139,6 +139,9 @@ bool is_constant(const Series& series, std::size_t c);
 /// the window holds fewer than 2 samples.
 Series time_window(const Series& series, double from, double to);
 
+/// The first sample at time >= from (within 1e-9 of a step, as time_window takes it); size() when none.
+std::size_t first_sample_from(const Series& series, double from);
+
 /// The first `count` samples of every channel (count <= size()), with the series' step, start,
 /// unit and names.
 Series leading_samples(const Series& series, std::size_t count);
