@@ -148,6 +148,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!number(r.ci95_low) || !number(r.ci95_high)) broken("the 95 % interval is NaN");
     for (const double y : r.curve.mean_log_distance)
       if (!number(y)) broken("the divergence curve holds a NaN");
+    if (const auto& m = r.record_modes) {  // identified where the curve cannot tell
+      if (!number(m->lambda) || !number(m->residual) || m->residual < 0.0) broken("the record's modes hold a NaN");
+      if (m->describes_record() && !(m->ci95_low <= m->lambda && m->lambda <= m->ci95_high))
+        broken("the record's modes' interval does not hold their lambda");
+    }
     (void)mlce::read_stability(r);
     check_kantz(series, r);
   } catch (const mlce::InputError&) {

@@ -1066,13 +1066,19 @@ TEST(EstimateSystems, ADecayWhoseFalseNeighboursSeparateIsReconstructedInMoreDim
   EXPECT_EQ(r.dim, 4u);
   EXPECT_TRUE(has_warning(r, "m = 3 (false nearest neighbours) read lambda = +0.0068")) << r.warnings.front();
   EXPECT_EQ(read_stability(r).stability, Stability::stable);
-  // A dimension given by hand stands: m = 3 keeps its contradiction, said by the reading.
+  // A dimension given by hand stands: m = 3 keeps its contradiction, which the curve alone cannot
+  // resolve (undetermined); the record's modes, identified for it, read the decay at -0.2 (truth).
   MlceOptions given;
   given.dim = 3;
   const auto three = estimate_mlce(make_series_with_step({beat}, 0.01), given);
   EXPECT_GT(three.lambda, 0.0);
   EXPECT_FALSE(three.dim_widened_from.has_value());
-  EXPECT_EQ(read_stability(three).stability, Stability::undetermined);
+  ASSERT_TRUE(three.record_modes.has_value());
+  EXPECT_NEAR(three.record_modes->lambda, -0.2, 0.01 * 0.2);
+  EXPECT_EQ(read_stability(three).stability, Stability::stable) << read_stability(three).summary;
+  auto curve_alone = three;
+  curve_alone.record_modes.reset();
+  EXPECT_EQ(read_stability(curve_alone).stability, Stability::undetermined);
 }
 
 TEST(EstimateSystems, AFlowThatDivergesIsNeverReconstructedInFewerThanThreeCoordinates) {

@@ -24,6 +24,7 @@ namespace {
 using namespace mlce;
 
 constexpr double kTwoPi = 6.283185307179586;
+constexpr double kPi = 3.141592653589793;
 
 Reading read(const std::vector<double>& x, double dt) {
   return read_stability(estimate_mlce(make_series_with_step({x}, dt), {}));
@@ -267,10 +268,19 @@ TEST(Reading, AFewPeriodsOfATorusAreNotChaos) {
     }
     return x;
   };
+  // The curve alone: undetermined (too few returns). The record is two undamped modes, which its
+  // modes read exactly (MlceResult::record_modes, identified over a run of few mean periods): neutral.
   for (const std::size_t n : {2000, 3000}) {
-    const Reading r = read(tones(n), 0.01);
-    EXPECT_NE(r.stability, Stability::unstable) << n << ": " << r.summary;
-    if (r.stability == Stability::undetermined) expect_undetermined(r, "too few returns");
+    const MlceResult m = estimate_mlce(make_series_with_step({tones(n)}, 0.01), {});
+    auto curve_alone = m;
+    curve_alone.record_modes.reset();
+    expect_undetermined(read_stability(curve_alone), "too few returns");
+    ASSERT_TRUE(m.record_modes.has_value());
+    EXPECT_EQ(m.record_modes->count, 2u) << n;
+    EXPECT_NEAR(m.record_modes->lambda, 0.0, 1e-6) << n;
+    const Reading r = read_stability(m);
+    expect_reading(r, Stability::neutral, "limit cycle", "a few periods of a torus");
+    EXPECT_NE(r.summary.find("from the record's damped modes"), std::string::npos) << r.summary;
   }
   expect_reading(read(tones(10000), 0.01), Stability::neutral, "limit cycle", "100 s of a torus");
 }
@@ -294,9 +304,70 @@ TEST(Reading, TwoDecayingModesBeatingAreNotReadUnstable) {
     o.dim = m;
     std::printf("  at m = %zu: lambda %+.3f\n", m, estimate_mlce(s, o).lambda);
   }
+  // The curve alone cannot tell: undetermined. The record's modes, identified where lambda and the
+  // amplitude disagree in sign (MlceResult::record_modes), read the decay: stable, at -0.02.
+  auto curve_alone = automatic;
+  curve_alone.record_modes.reset();
+  expect_undetermined(read_stability(curve_alone), "lambda > 0 while the amplitude decays");
+  ASSERT_TRUE(automatic.record_modes.has_value());
+  EXPECT_NEAR(automatic.record_modes->lambda, -0.02, 1e-3 * 0.02);
+  EXPECT_EQ(automatic.record_modes->count, 2u);
+  EXPECT_TRUE(automatic.record_modes->describes_record());
   const Reading r = read_stability(automatic);
-  EXPECT_NE(r.stability, Stability::unstable) << r.summary;
-  expect_undetermined(r, "lambda > 0 while the amplitude decays");
+  expect_reading(r, Stability::stable, "decays to rest", "two decaying modes beating");
+  EXPECT_NE(r.summary.find("from the record's damped modes"), std::string::npos) << r.summary;
+  EXPECT_NE(r.summary.find("the curve alone read undetermined"), std::string::npos) << r.summary;
+}
+
+TEST(Reading, RecordsOfOneOrTwoPeriodsAreReadFromTheirModes) {
+  // A damped oscillator over 1-2 periods (bench/oscillator_readings.sh: 21 of 560 such records read
+  // "neutral, lightly damped" or "undetermined" with lambda off by 50-2000 %): too few returns for
+  // neighbours from other passes, so the curve swings with the pairs' phase. The record's modes
+  // read the decay: lambda_1 = -zeta omega exactly (truth), and the reading is stable.
+  struct Case {
+    std::size_t n;
+    double dt, zeta, omega;
+  };
+  for (const Case c : {Case{2000, 0.005, 0.1, 1.0}, Case{3000, 0.002, 0.2, 1.0}, Case{1000, 0.002, 0.2, kPi},
+                       Case{1000, 0.002, 0.01, kTwoPi}, Case{1500, 0.005, 0.2, 1.0}}) {
+    const MlceResult m =
+        estimate_mlce(make_series_with_step({reference::damped_oscillator(c.n, c.dt, c.zeta, c.omega)}, c.dt), {});
+    const double truth = -c.zeta * c.omega;
+    const double periods = static_cast<double>(c.n) * c.dt * c.omega / kTwoPi;
+    std::printf("zeta %.3g omega %.3g over %.2g periods: lambda %+.4f (curve), modes %+.5f (truth %+.5f)\n", c.zeta,
+                c.omega, periods, m.lambda, m.record_modes ? m.record_modes->lambda : NAN, truth);
+    ASSERT_TRUE(m.record_modes.has_value()) << periods;
+    EXPECT_TRUE(m.record_modes->few_periods);
+    EXPECT_NEAR(m.record_modes->lambda, truth, 0.01 * std::abs(truth)) << periods;
+    EXPECT_NEAR(m.record_modes->frequency, std::sqrt(1.0 - c.zeta * c.zeta) * c.omega / kTwoPi, 1e-3 * c.omega);
+    expect_reading(read_stability(m), Stability::stable, "decays to rest", "a damped oscillator over 1-2 periods");
+  }
+  // The growth of 3 periods at zeta = -0.005 (0.1 e-fold) read "unstable, diverging": a growing oscillation.
+  const MlceResult g = estimate_mlce(make_series_with_step({reference::damped_oscillator(3000, 0.002, -0.005, kPi)}, 0.002), {});
+  ASSERT_TRUE(g.record_modes.has_value());
+  EXPECT_NEAR(g.record_modes->lambda, 0.005 * kPi, 0.01 * 0.005 * kPi);
+  expect_reading(read_stability(g), Stability::unstable, "growing oscillation", "3 periods of a slow growth");
+}
+
+TEST(Reading, AFewPeriodsOfChaosAreNeverReadFromModes) {
+  // A few mean periods of Lorenz x or Roessler x are no sum of damped modes: the pencil leaves more than
+  // 1 % of the record (or its halves disagree), so the reading stays the curve's, whatever it is.
+  struct Case {
+    const char* name;
+    std::vector<double> x;
+    double dt;
+  };
+  std::vector<Case> cases;
+  for (const std::size_t n : {300, 500, 800, 1200}) cases.push_back({"Lorenz x", reference::lorenz_x(n, 0.01), 0.01});
+  for (const std::size_t n : {150, 300, 600}) cases.push_back({"Roessler x", reference::roessler_x(n, 0.1), 0.1});
+  for (const Case& c : cases) {
+    const MlceResult m = estimate_mlce(make_series_with_step({c.x}, c.dt), {});
+    if (m.record_modes) {
+      EXPECT_FALSE(m.record_modes->describes_record()) << c.name << " " << c.x.size() << " residual " << m.record_modes->residual;
+    }
+    const Reading r = read_stability(m);
+    EXPECT_EQ(r.summary.find("from the record's damped modes"), std::string::npos) << c.name << " " << c.x.size() << ": " << r.summary;
+  }
 }
 
 TEST(Reading, ContradictionsAreUndeterminedAndOptionsAreChecked) {

@@ -133,6 +133,23 @@ nlohmann::json to_json(const MlceResult& r) {
                     {"growth_peak_share", c->growth_peak_share}};
   else
     j["carrier"] = nullptr;
+  // The record's damped modes where the curve cannot tell (MlceResult::record_modes): null when not
+  // identified; the reading takes its stability from them when `describes_record`.
+  if (const auto& m = r.record_modes)
+    j["record_modes"] = {{"why", m->why},
+                         {"lambda", m->lambda},
+                         {"ci95", {finite_or_null(m->ci95_low), finite_or_null(m->ci95_high)}},
+                         {"frequency", m->frequency},
+                         {"share", m->share},
+                         {"count", m->count},
+                         {"residual", m->residual},
+                         {"noise_left", m->noise_left},
+                         {"linear", m->linear},
+                         {"halves_agree", m->halves_agree},
+                         {"leading_part", m->leading_part},
+                         {"describes_record", m->describes_record()}};
+  else
+    j["record_modes"] = nullptr;
   // A map's settled cycle (map_cycle.hpp): null when none; lambda is its approach's rate when measured.
   if (const MapCycle& c = r.map_cycle; c.found())
     j["map_cycle"] = {{"period", c.period},

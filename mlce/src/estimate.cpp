@@ -767,7 +767,7 @@ namespace {
 /// growing run's rotating blade coordinates have one; the 30 s limit-cycle run's 76 channels, the
 /// ad-hoc limit cycles at 241, 249, 280, 300 rpm and with nonlinear dampers, van der Pol and a torus
 /// have none (docs/checks.md, "Steady carrier").
-constexpr double kCarrierShare = 0.9;
+constexpr double kCarrierShare = MlceResult::SteadyCarrier::kMinShare;
 constexpr double kCarrierChange = 0.1;
 constexpr double kCarrierGrowth = 4.0;
 constexpr double kCarrierGrowthShare = 1e-3;
@@ -801,11 +801,55 @@ std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, co
   return MlceResult::SteadyCarrier{carrier->frequency, carrier->share, growth->sigma, growth->frequency,
                                    growth->peak_share};
 }
+
+/// MlceResult::record_modes: the analysed part's modes, with lambda's interval, where the curve cannot
+/// tell the stability (a run of few mean periods; lambda against the amplitude's own change).
+std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const Series& series, const MlceResult& r,
+                                                                         const ProgressCallback& progress) {
+  if (r.mean_period.map || r.in_decay_floor || !r.unreliable.empty()) return std::nullopt;
+  const double periods = static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
+  const bool falls = std::isfinite(r.envelope_rate) ? r.envelope_rate < 0.0 : r.amplitude_ratio < 1.0;
+  const bool rises = std::isfinite(r.envelope_rate) ? r.envelope_rate > 0.0 : r.amplitude_ratio > 1.0;
+  std::string why;
+  if (periods < MlceResult::RecordModes::kFewPeriods)
+    why = fmt::format("a run of {:.3g} mean periods", periods);
+  else if (r.lambda > 0.0 && falls)
+    why = "lambda > 0 while the amplitude falls";
+  else if (r.lambda < 0.0 && rises)
+    why = "lambda < 0 while the amplitude grows";
+  else
+    return std::nullopt;
+  ModalOptions o;
+  o.progress = progress;  // lambda's interval: 100 identifications
+  ModalResult modal;
+  try {
+    modal = identify_modes(series, o);
+  } catch (const InputError&) {  // too short for a pencil, or within a floor: nothing to tell
+    return std::nullopt;
+  }
+  if (!modal.lambda) return std::nullopt;
+  MlceResult::RecordModes m;
+  m.lambda = *modal.lambda;
+  if (modal.lambda_low && modal.lambda_high) m.ci95_low = *modal.lambda_low, m.ci95_high = *modal.lambda_high;
+  m.frequency = modal.lambda_mode_frequency;
+  if (modal.lambda_mode) m.share = modal.modes[*modal.lambda_mode].share;
+  for (const Mode& mode : modal.modes) m.count += mode.offset ? 0 : 1;
+  m.residual = modal.residual;
+  m.noise_left = modal.noise_left;
+  m.linear = modal.linear;
+  m.halves_agree = modal.halves_agree;
+  m.leading_part = modal.leading_part;
+  m.few_periods = periods < MlceResult::RecordModes::kFewPeriods;
+  m.why = std::move(why);
+  return m;
+}
 }  // namespace
 
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
-  r.carrier = steady_carrier(analysed_samples(raw, r), r);
+  const Series analysed = analysed_samples(raw, r);
+  r.carrier = steady_carrier(analysed, r);
+  r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options.progress);
   if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
   return r;
 }

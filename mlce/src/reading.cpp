@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "mlce/series.hpp"
 #include "mlce/transient.hpp"
@@ -122,8 +123,8 @@ double below_attractor_scale(const DivergenceCurve& curve) {
 
 }  // namespace
 
-Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
-  options.validate();
+namespace {
+Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
   Reading out;
   const double f = r.mean_period.mean_frequency;  // cycles per time unit, unclamped
   out.mean_period = f > 0.0 && std::isfinite(f) ? 1.0 / f : std::numeric_limits<double>::quiet_NaN();
@@ -409,6 +410,72 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   }
   out.summary += numbers + noise;
   return out;
+}
+
+/// The record's damped modes (MlceResult::record_modes) decide where the divergence curve cannot: its
+/// reading is undetermined, or neutral on a run of few mean periods, or neutral while the amplitude
+/// decays or grows (light damping, a slow growth: the curve's band is wider than the modes'). They
+/// must describe the record (RecordModes::describes_record), and their rate's 95 % interval must lie
+/// wholly below the band (stable), above it (unstable) or within it (neutral), per mean period as
+/// the curve's. Records of one or two periods of a damped oscillator read "neutral, lightly damped"
+/// or "undetermined" with lambda off by 50-2000 % before (bench/oscillator_readings.sh: 21 of 560),
+/// and two decaying modes beating "undetermined" (lambda +0.215, the modes -0.02).
+std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve, const ReadingOptions& options) {
+  if (!r.record_modes || !r.record_modes->describes_record()) return std::nullopt;
+  const auto& m = *r.record_modes;
+  const bool weak = m.few_periods || curve.stability == Stability::undetermined ||
+                    (curve.stability == Stability::neutral &&
+                     (curve.motion == "lightly damped" || curve.motion == "slowly growing"));
+  const double T = curve.mean_period;
+  if (!weak || !std::isfinite(T)) return std::nullopt;
+  const double band = options.neutral_per_period;
+  const double low = m.ci95_low * T, high = m.ci95_high * T;
+  Reading out = curve;
+  if (high < -band) {
+    out.stability = Stability::stable;
+    out.motion = "decays to rest";
+  } else if (low > band) {
+    out.stability = Stability::unstable;
+    out.motion = m.frequency > 0.0 ? "growing oscillation" : "diverging";
+  } else if (low >= -band && high <= band) {
+    out.stability = Stability::neutral;
+    out.motion = "limit cycle";
+  } else {
+    return std::nullopt;  // the modes' interval reaches across the band's edge: they cannot tell either
+  }
+  if (out.stability == curve.stability && out.motion == curve.motion) return std::nullopt;
+  const std::string unit = r.time_unit.empty() ? std::string("sample") : r.time_unit;
+  // A steady oscillation that is nearly the whole record: on a rotor, the rotation a rotating part's
+  // absolute coordinate carries (the bundled 1 s isotropic run's blade coordinates: 99.99 %), which
+  // hides the motion beneath it; the same as MlceResult::carrier's share.
+  const std::string carrier =
+      out.stability == Stability::neutral && m.share >= MlceResult::SteadyCarrier::kMinShare
+          ? fmt::format("; that steady oscillation is {:.3g} % of the record: a rotating part's absolute coordinate "
+                        "carries the rotation so, and hides the motion beneath it (analyse a channel relative to the "
+                        "rotating part)",
+                        100.0 * std::min(m.share, 1.0))
+          : std::string();
+  const char* verb = out.stability == Stability::stable ? "decays" : out.stability == Stability::unstable ? "grows"
+                                                                                                         : "holds";
+  out.summary = fmt::format(
+      "{} (from the record's damped modes, where the divergence curve cannot tell: {}): the record is {} mode(s) "
+      "leaving {:.2g} % of it{}; the least damped {} at {:+.4g} 1/{} ({:.4g} cycles per {}; 95 % interval {:+.4g} .. "
+      "{:+.4g}), x mean period = {:+.3g} (95 % interval {:+.3g} .. {:+.3g}; neutral within +-{:g}); lambda, the "
+      "curve's slope, is not that rate here (mlce modes shows the modes){}; the curve alone read {}",
+      to_string(out.stability), m.why, m.count, 100.0 * m.residual,
+      m.residual > MlceResult::RecordModes::kCloseResidual ? " (white measurement noise)" : "", verb, m.lambda, unit,
+      m.frequency, unit, m.ci95_low, m.ci95_high, m.lambda * T, low, high, band, carrier,
+      curve.stability == Stability::undetermined ? std::string("undetermined")
+                                                 : fmt::format("{}, {}", to_string(curve.stability), curve.motion));
+  return out;
+}
+}  // namespace
+
+Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
+  options.validate();
+  Reading curve = read_from_curve(r, options);
+  if (auto modes = read_from_modes(r, curve, options)) return *modes;
+  return curve;
 }
 
 }  // namespace mlce

@@ -1,6 +1,7 @@
 #pragma once
 // The whole automatic pipeline: mean period -> AMI delay -> FNN dimension -> Rosenstein curve ->
 // fit, with every parameter automatic unless given.
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -218,6 +219,8 @@ struct MlceResult {
   /// +0.3 1/s. Judged on the record's damped modes (identify_modes, modes.hpp), the reading's
   /// evidence of the growth (reading.hpp: unstable).
   struct SteadyCarrier {
+    /// A carrier holds at least this share of the record's sum of squares.
+    static constexpr double kMinShare = 0.9;
     double frequency = 0.0;         ///< the carrier's, cycles per time unit
     double share = 0.0;             ///< its share of the record's sum of squares
     double growth_rate = 0.0;       ///< the growing mode's sigma, per time unit
@@ -225,6 +228,39 @@ struct MlceResult {
     double growth_peak_share = 0.0;  ///< its largest share over the record's quarters (Mode::peak_share)
   };
   std::optional<SteadyCarrier> carrier;
+  /// The record's damped modes (identify_modes, modes.hpp, with lambda's 95 % interval), identified on
+  /// the part analysed where the divergence curve cannot tell the motion's stability: a run of fewer
+  /// than kFewPeriods mean periods (too few returns for neighbours from other passes: the curve swings
+  /// with the pairs' phase), or a lambda whose sign the signal's own amplitude contradicts (lambda > 0
+  /// while it falls: two decaying modes beating read +0.215; lambda < 0 while it grows). Not on a map,
+  /// a window in a decay's floor, or a series a warning calls unreliable. The reading (reading.hpp)
+  /// reads the stability from them where the curve's own reading is undetermined or neutral and they
+  /// describe the record closely (RecordModes::describes_record); lambda stays the curve's slope.
+  struct RecordModes {
+    static constexpr double kFewPeriods = 8.0;
+    /// The modes describe the record closely: what they leave is at most this share of it (RMS)...
+    static constexpr double kCloseResidual = 1e-2;
+    double lambda = 0.0;     ///< the least damped mode's sigma (ModalResult::lambda), per time unit
+    double ci95_low = std::numeric_limits<double>::quiet_NaN();   ///< its 95 % interval; NaN: none
+    double ci95_high = std::numeric_limits<double>::quiet_NaN();
+    double frequency = 0.0;  ///< that mode's, cycles per time unit
+    double share = 0.0;      ///< that mode's share of the record (Mode::share; 0 when read from a half)
+    std::size_t count = 0;   ///< modes, a pair once, offsets left out
+    double residual = 0.0;   ///< RMS of what the modes leave over the record's (ModalResult::residual)
+    bool noise_left = false;  ///< ... or it is white measurement noise (ModalResult::noise_left)
+    bool linear = false;      ///< ModalResult::linear
+    bool halves_agree = true;  ///< the record's halves read the same rate (ModalResult::halves_agree)
+    bool leading_part = false;  ///< a growth read over a leading part only (ModalResult::leading_part)
+    bool few_periods = false;  ///< identified because the run spans fewer than kFewPeriods mean periods
+    std::string why;  ///< why they were identified: "a run of 2.71 mean periods", "lambda > 0 while ..."
+    /// A sum of modes to the record's end, closely, with an interval, whose halves agree: the reading's
+    /// evidence.
+    bool describes_record() const {
+      return linear && !leading_part && halves_agree && (residual <= kCloseResidual || noise_left) &&
+             std::isfinite(ci95_low) && std::isfinite(ci95_high);
+    }
+  };
+  std::optional<RecordModes> record_modes;
   /// The surrogate test (MlceOptions::surrogates), when asked for and run: the reading
   /// (reading.hpp) claims chaos only when it distinguishes the divergence from linear noise.
   std::optional<SurrogateTest> surrogates;

@@ -56,6 +56,13 @@
 //    as coarse as the neighbour distances on a curve that does not fall with a decay), when
 //    lambda > 0 while the amplitude decays, or lambda < 0 while it grows. Measurement noise flagged by the curve's first step is named in the summary (it
 //    biases lambda, it does not make a clear sign unclear).
+//  - Where the curve cannot tell, the record's damped modes (MlceResult::record_modes: identified on a
+//    run of fewer than 8 mean periods, or where lambda and the amplitude disagree in sign) read it:
+//    when they describe the record (RecordModes::describes_record) and their rate's 95 % interval per
+//    mean period lies wholly below, above or within the band, stable, unstable (growing oscillation)
+//    or neutral (limit cycle) replaces a curve's reading that is undetermined, neutral while the
+//    amplitude decays or grows, or any reading on a run of fewer than 8 mean periods. lambda stays
+//    the curve's slope; the summary gives the modes' rate and what the curve alone read.
 #include <string>
 
 #include "mlce/estimate.hpp"
