@@ -808,17 +808,23 @@ std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const S
                                                                          const ProgressCallback& progress) {
   if (r.mean_period.map || r.in_decay_floor || !r.unreliable.empty()) return std::nullopt;
   const double periods = static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
-  const bool falls = std::isfinite(r.envelope_rate) ? r.envelope_rate < 0.0 : r.amplitude_ratio < 1.0;
-  const bool rises = std::isfinite(r.envelope_rate) ? r.envelope_rate > 0.0 : r.amplitude_ratio > 1.0;
   std::string why;
-  if (periods < MlceResult::RecordModes::kFewPeriods)
+  if (periods < MlceResult::RecordModes::kFewPeriods) {
     why = fmt::format("a run of {:.3g} mean periods", periods);
-  else if (r.lambda > 0.0 && falls)
-    why = "lambda > 0 while the amplitude falls";
-  else if (r.lambda < 0.0 && rises)
-    why = "lambda < 0 while the amplitude grows";
-  else
-    return std::nullopt;
+  } else {
+    // Only where the curve's own reading (default options) is one the modes may replace: a limit
+    // cycle's lambda ~ 0 over an envelope that creeps either way (Hammond's in its unstable band, 10
+    // of 34 points of `mlce sweep scenes/c3zero_242rpm.scene --param rpm=151:349:6`) is told already.
+    const Reading curve = read_stability(r);
+    if (!curve_cannot_tell(curve)) return std::nullopt;
+    const AmplitudeTrend a = curve.amplitude;
+    if (r.lambda > 0.0 && a == AmplitudeTrend::decays)
+      why = "lambda > 0 while the amplitude decays";
+    else if (r.lambda < 0.0 && a == AmplitudeTrend::grows)
+      why = "lambda < 0 while the amplitude grows";
+    else
+      why = fmt::format("the divergence curve reads {}, {}", to_string(curve.stability), curve.motion);
+  }
   ModalOptions o;
   o.progress = progress;  // lambda's interval: 100 identifications
   ModalResult modal;

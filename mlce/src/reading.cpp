@@ -423,9 +423,7 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
 std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve, const ReadingOptions& options) {
   if (!r.record_modes || !r.record_modes->describes_record()) return std::nullopt;
   const auto& m = *r.record_modes;
-  const bool weak = m.few_periods || curve.stability == Stability::undetermined ||
-                    (curve.stability == Stability::neutral &&
-                     (curve.motion == "lightly damped" || curve.motion == "slowly growing"));
+  const bool weak = m.few_periods || curve_cannot_tell(curve);
   const double T = curve.mean_period;
   if (!weak || !std::isfinite(T)) return std::nullopt;
   const double band = options.neutral_per_period;
@@ -443,13 +441,17 @@ std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve
   } else {
     return std::nullopt;  // the modes' interval reaches across the band's edge: they cannot tell either
   }
-  if (out.stability == curve.stability && out.motion == curve.motion) return std::nullopt;
+  // The same stability stands as the curve read it; a neutral one keeps its own words (light damping
+  // within the band is neutral too, and no limit cycle), a growth the modes' ("diverging" over a few
+  // periods is a growing oscillation).
+  if (out.stability == curve.stability && (out.stability == Stability::neutral || out.motion == curve.motion))
+    return std::nullopt;
   const std::string unit = r.time_unit.empty() ? std::string("sample") : r.time_unit;
   // A steady oscillation that is nearly the whole record: on a rotor, the rotation a rotating part's
   // absolute coordinate carries (the bundled 1 s isotropic run's blade coordinates: 99.99 %), which
   // hides the motion beneath it; the same as MlceResult::carrier's share.
   const std::string carrier =
-      out.stability == Stability::neutral && m.share >= MlceResult::SteadyCarrier::kMinShare
+      out.stability == Stability::neutral && m.count > 1 && m.share >= MlceResult::SteadyCarrier::kMinShare
           ? fmt::format("; that steady oscillation is {:.3g} % of the record: a rotating part's absolute coordinate "
                         "carries the rotation so, and hides the motion beneath it (analyse a channel relative to the "
                         "rotating part)",
@@ -470,6 +472,11 @@ std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve
   return out;
 }
 }  // namespace
+
+bool curve_cannot_tell(const Reading& curve) {
+  return curve.stability == Stability::undetermined ||
+         (curve.stability == Stability::neutral && (curve.motion == "lightly damped" || curve.motion == "slowly growing"));
+}
 
 Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   options.validate();

@@ -231,8 +231,9 @@ struct MlceResult {
   /// The record's damped modes (identify_modes, modes.hpp, with lambda's 95 % interval), identified on
   /// the part analysed where the divergence curve cannot tell the motion's stability: a run of fewer
   /// than kFewPeriods mean periods (too few returns for neighbours from other passes: the curve swings
-  /// with the pairs' phase), or a lambda whose sign the signal's own amplitude contradicts (lambda > 0
-  /// while it falls: two decaying modes beating read +0.215; lambda < 0 while it grows). Not on a map,
+  /// with the pairs' phase), or where the curve's own reading (default ReadingOptions) is one the modes
+  /// may replace (curve_cannot_tell, reading.hpp: undetermined, as lambda > 0 while the amplitude
+  /// decays — two decaying modes beating read +0.215 —, or light damping, a slow growth). Not on a map,
   /// a window in a decay's floor, or a series a warning calls unreliable. The reading (reading.hpp)
   /// reads the stability from them where the curve's own reading is undetermined or neutral and they
   /// describe the record closely (RecordModes::describes_record); lambda stays the curve's slope.

@@ -61,8 +61,9 @@
 //    when they describe the record (RecordModes::describes_record) and their rate's 95 % interval per
 //    mean period lies wholly below, above or within the band, stable, unstable (growing oscillation)
 //    or neutral (limit cycle) replaces a curve's reading that is undetermined, neutral while the
-//    amplitude decays or grows, or any reading on a run of fewer than 8 mean periods. lambda stays
-//    the curve's slope; the summary gives the modes' rate and what the curve alone read.
+//    amplitude decays or grows (curve_cannot_tell), or of another stability on a run of fewer than 8
+//    mean periods (the same stability stands, a neutral one in its own words). lambda stays the
+//    curve's slope; the summary gives the modes' rate and what the curve alone read.
 #include <string>
 
 #include "mlce/estimate.hpp"
@@ -122,5 +123,9 @@ struct Reading {
 };
 
 Reading read_stability(const MlceResult& result, const ReadingOptions& options = {});
+
+/// A reading of the divergence curve that the record's damped modes may replace (MlceResult::record_modes):
+/// undetermined, or neutral while the amplitude decays or grows (light damping, a slow growth).
+bool curve_cannot_tell(const Reading& curve);
 
 }  // namespace mlce
