@@ -371,6 +371,13 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
     if (a == AmplitudeTrend::grows)
       return undetermined("lambda < 0 while the amplitude grows (a transient towards a larger motion? see the "
                           "warnings; " + numbers + ")");
+    // Nor is it a decay to rest while the signal ends larger than it began, neither growing nor
+    // steady by the rules above: 150 samples of Roessler x (2.5 mean periods, last third 1.41 x the
+    // first's RMS) read "stable, decays to rest" at lambda = -0.18 1/s.
+    if (a == AmplitudeTrend::changes && r.amplitude_ratio > 1.0)
+      return undetermined(fmt::format("lambda < 0 while the amplitude does not fall (its last third's RMS is {:.3g} x its "
+                                      "first third's): no decay to rest; {}",
+                                      r.amplitude_ratio, numbers + noise));
     if (a == AmplitudeTrend::persists) {  // the curve falls, the amplitude does not
       out.stability = Stability::neutral;
       out.motion = "limit cycle";

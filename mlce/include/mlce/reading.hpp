@@ -54,7 +54,7 @@
 //    (MlceResult::unreliable: a drifting series, a wrapping angle, an embedding window of several
 //    mean periods, a plateau within one embedding window as uncorrelated noise gives, a resolution
 //    as coarse as the neighbour distances on a curve that does not fall with a decay), when
-//    lambda > 0 while the amplitude decays, or lambda < 0 while it grows. Measurement noise flagged by the curve's first step is named in the summary (it
+//    lambda > 0 while the amplitude decays, or lambda < 0 while it grows (or ends larger than it began). Measurement noise flagged by the curve's first step is named in the summary (it
 //    biases lambda, it does not make a clear sign unclear).
 //  - Where the curve cannot tell, the record's damped modes (MlceResult::record_modes: identified on a
 //    run of fewer than 8 mean periods, or where lambda and the amplitude disagree in sign) read it:
