@@ -358,8 +358,13 @@ TEST(Reading, AFewPeriodsOfChaosAreNeitherReadFromModesNorADecay) {
     double dt;
   };
   std::vector<Case> cases;
-  for (const std::size_t n : {300, 500, 800, 1200}) cases.push_back({"Lorenz x", reference::lorenz_x(n, 0.01), 0.01});
-  for (const std::size_t n : {150, 300, 600}) cases.push_back({"Roessler x", reference::roessler_x(n, 0.1), 0.1});
+  for (const std::size_t n : {200, 300, 500, 800, 1200}) cases.push_back({"Lorenz x", reference::lorenz_x(n, 0.01), 0.01});
+  for (const std::size_t n : {150, 300, 600, 1000}) cases.push_back({"Roessler x", reference::roessler_x(n, 0.1), 0.1});
+  // 100 s of Roessler x from (1, 1, 0) after 200 and 700 time units (`build/make_series roessler 1000 0.1 T 1
+  // 1 0`): their curves saturate within the horizon as a cycle's does, and they read "neutral, limit cycle".
+  for (const double transient : {200.0, 700.0})
+    cases.push_back({"Roessler x (later start)",
+                     reference::sample_flow<3>(reference::roessler_rhs, {1.0, 1.0, 0.0}, 0.1, 1000, transient, 10), 0.1});
   for (const Case& c : cases) {
     const MlceResult m = estimate_mlce(make_series_with_step({c.x}, c.dt), {});
     if (m.record_modes) {
@@ -370,8 +375,11 @@ TEST(Reading, AFewPeriodsOfChaosAreNeitherReadFromModesNorADecay) {
                 r.motion.c_str());
     EXPECT_EQ(r.summary.find("from the record's damped modes"), std::string::npos) << c.name << " " << c.x.size() << ": " << r.summary;
     // Nor is a few periods of chaos ever a decay to rest (Roessler x over 150 samples whose last third is
-    // 1.41 x its first read "stable" at lambda = -0.18 before: README's reading, "no decay to rest").
+    // 1.41 x its first read "stable" at lambda = -0.18 before: README's reading, "no decay to rest"), nor
+    // a limit cycle, torus or light damping, which are sums of modes or repeat themselves (Lorenz x over 200
+    // samples, Roessler x over 100 s read "neutral, limit cycle" before: neutral_unconfirmed).
     EXPECT_NE(r.stability, Stability::stable) << c.name << " " << c.x.size() << ": " << r.summary;
+    EXPECT_NE(r.stability, Stability::neutral) << c.name << " " << c.x.size() << ": " << r.summary;
   }
 }
 

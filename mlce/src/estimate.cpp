@@ -818,9 +818,12 @@ std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const S
     // cycle's lambda ~ 0 over an envelope that creeps either way (Hammond's in its unstable band, 10
     // of 34 points of `mlce sweep scenes/c3zero_242rpm.scene --param rpm=151:349:6`) is told already.
     const Reading curve = read_stability(r);
-    if (!curve_cannot_tell(curve)) return std::nullopt;
+    const bool unconfirmed = neutral_unconfirmed(r, curve);
+    if (!curve_cannot_tell(curve) && !unconfirmed) return std::nullopt;
     const AmplitudeTrend a = curve.amplitude;
-    if (r.lambda > 0.0 && a == AmplitudeTrend::decays)
+    if (unconfirmed)
+      why = "a neutral reading the curve does not confirm (a limit cycle that does not repeat itself)";
+    else if (r.lambda > 0.0 && a == AmplitudeTrend::decays)
       why = "lambda > 0 while the amplitude decays";
     else if (r.lambda < 0.0 && a == AmplitudeTrend::grows)
       why = "lambda < 0 while the amplitude grows";

@@ -430,7 +430,7 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
 std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve, const ReadingOptions& options) {
   if (!r.record_modes || !r.record_modes->describes_record()) return std::nullopt;
   const auto& m = *r.record_modes;
-  const bool weak = m.few_periods || curve_cannot_tell(curve);
+  const bool weak = m.few_periods || curve_cannot_tell(curve) || neutral_unconfirmed(r, curve, options);
   const double T = curve.mean_period;
   if (!weak || !std::isfinite(T)) return std::nullopt;
   const double band = options.neutral_per_period;
@@ -485,10 +485,48 @@ bool curve_cannot_tell(const Reading& curve) {
          (curve.stability == Stability::neutral && (curve.motion == "lightly damped" || curve.motion == "slowly growing"));
 }
 
+namespace {
+/// How closely the motion repeats itself one period on: its last third (EndRepeat), or on a run too
+/// short for that the whole record, scaled (MlceResult::short_run_repeat).
+double repeat_difference(const MlceResult& r) {
+  return std::isfinite(r.end_repeat.difference) ? r.end_repeat.difference : r.short_run_repeat.difference;
+}
+}  // namespace
+
+bool neutral_unconfirmed(const MlceResult& r, const Reading& curve, const ReadingOptions& options) {
+  if (curve.stability != Stability::neutral || r.mean_period.map) return false;
+  const double difference = repeat_difference(r);
+  if (std::isfinite(difference) && difference <= options.periodic_end) return false;  // it repeats: periodic
+  const double periods = static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
+  return periods < MlceResult::RecordModes::kFewPeriods || (curve.motion == "limit cycle" && std::isfinite(difference));
+}
+
 Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   options.validate();
   Reading curve = read_from_curve(r, options);
   if (auto modes = read_from_modes(r, curve, options)) return *modes;
+  // A neutral reading over a few mean periods, or a "limit cycle" that does not repeat itself, where the
+  // record is no sum of modes either: no periodic, quasi-periodic or lightly damped motion is shown.
+  // Roessler x over 12-100 s (2-17 mean periods: its curve saturates within the horizon as a cycle's
+  // does, bounded, or swings with the pairs' phase) read "neutral, limit cycle" or "lightly damped".
+  if (neutral_unconfirmed(r, curve, options) && r.record_modes && !r.record_modes->describes_record()) {
+    Reading out = curve;
+    out.stability = Stability::undetermined;
+    out.motion = "undetermined";
+    out.summary = fmt::format(
+        "undetermined: the divergence curve alone reads {}, {}, but over {} the motion is no sum of damped modes "
+        "(they leave {:.2g} % of it{}) and does not show that it repeats itself ({}): neither a limit cycle, a torus "
+        "nor a light damping is shown; chaos whose neighbours this run is too short to separate reads so (a longer "
+        "run); the curve's reading: {}",
+        to_string(curve.stability), curve.motion,
+        r.record_modes->few_periods ? r.record_modes->why : std::string("this run"),
+        100.0 * r.record_modes->residual, r.record_modes->halves_agree ? "" : ", and its halves differ",
+        std::isfinite(repeat_difference(r))
+            ? fmt::format("it differs from itself one period on by {:.3g} % of its deviation", 100.0 * repeat_difference(r))
+            : std::string("too short to compare with itself one period on"),
+        curve.summary);
+    return out;
+  }
   return curve;
 }
 

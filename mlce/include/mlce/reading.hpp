@@ -63,7 +63,9 @@
 //    or neutral (limit cycle) replaces a curve's reading that is undetermined, neutral while the
 //    amplitude decays or grows (curve_cannot_tell), or of another stability on a run of fewer than 8
 //    mean periods (the same stability stands, a neutral one in its own words). lambda stays the
-//    curve's slope; the summary gives the modes' rate and what the curve alone read.
+//    curve's slope; the summary gives the modes' rate and what the curve alone read. A neutral reading
+//    the curve does not confirm (neutral_unconfirmed: over fewer than 8 mean periods, or a limit cycle
+//    that does not repeat itself) whose record the modes do not describe either is undetermined.
 #include <string>
 
 #include "mlce/estimate.hpp"
@@ -127,5 +129,13 @@ Reading read_stability(const MlceResult& result, const ReadingOptions& options =
 /// A reading of the divergence curve that the record's damped modes may replace (MlceResult::record_modes):
 /// undetermined, or neutral while the amplitude decays or grows (light damping, a slow growth).
 bool curve_cannot_tell(const Reading& curve);
+
+/// A neutral reading of a flow that the curve alone does not confirm: over fewer than 8 mean periods,
+/// or a "limit cycle" whose motion does not repeat itself one period on (its last third, EndRepeat, or a
+/// short run's whole record, ScaledRepeat; difference above ReadingOptions::periodic_end): a torus, a
+/// light damping, or chaos whose neighbours the run is too short to separate. The record's damped
+/// modes (MlceResult::record_modes) tell them apart: the first two are sums of modes, chaos is not
+/// (then undetermined).
+bool neutral_unconfirmed(const MlceResult& r, const Reading& curve, const ReadingOptions& options = {});
 
 }  // namespace mlce
