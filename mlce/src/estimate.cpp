@@ -757,8 +757,6 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
 }
 }  // namespace
 
-/// The estimate (estimate_widened: estimate_once at the automatic m, or at a wider one), then the
-/// surrogate test of its divergence when asked for (MlceOptions::surrogates).
 namespace {
 /// MlceResult::carrier: the record's modes (no interval) when the automatic fit found a curve that
 /// never separates for good on a sampled flow. A carrier holds kCarrierShare of the record and
@@ -856,12 +854,16 @@ std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const S
 }
 }  // namespace
 
+/// The estimate (estimate_widened: estimate_once at the automatic m, or at a wider one), a steady
+/// carrier where its curve never separates, the surrogate test of its divergence when asked for
+/// (MlceOptions::surrogates), then the record's modes where the curve cannot tell the stability.
 MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
   const Series analysed = analysed_samples(raw, r);
   r.carrier = steady_carrier(analysed, r);
-  r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options.progress);
   if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
+  // After the surrogate test, which the curve's reading takes into account.
+  r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options.progress);
   return r;
 }
 
