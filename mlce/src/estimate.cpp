@@ -759,7 +759,7 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
 
 namespace {
 /// MlceResult::carrier: the record's modes (no interval) when the automatic fit found a curve that
-/// never separates for good on a sampled flow. A carrier holds kCarrierShare of the record and
+/// never separates for good on a sampled flow. A carrier holds SteadyCarrier::kMinShare of the record and
 /// changes by at most kCarrierChange over it (|sigma| x the record's length: a limit cycle's
 /// oscillation is as steady); the mode beneath grows at least kCarrierGrowth-fold over the record and
 /// holds kCarrierGrowthShare of some quarter of it (ModalOptions::warn_share: below that a pole may be
@@ -767,7 +767,6 @@ namespace {
 /// growing run's rotating blade coordinates have one; the 30 s limit-cycle run's 76 channels, the
 /// ad-hoc limit cycles at 241, 249, 280, 300 rpm and with nonlinear dampers, van der Pol and a torus
 /// have none (docs/checks.md, "Steady carrier").
-constexpr double kCarrierShare = MlceResult::SteadyCarrier::kMinShare;
 constexpr double kCarrierChange = 0.1;
 constexpr double kCarrierGrowth = 4.0;
 constexpr double kCarrierGrowthShare = 1e-3;
@@ -789,7 +788,7 @@ std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, co
   const Mode* carrier = nullptr;
   for (const Mode& m : modal.modes)
     if (!m.offset && !m.nyquist && (!carrier || m.share > carrier->share)) carrier = &m;
-  if (!carrier || carrier->frequency <= 0.0 || carrier->share < kCarrierShare ||
+  if (!carrier || carrier->frequency <= 0.0 || carrier->share < MlceResult::SteadyCarrier::kMinShare ||
       std::abs(carrier->sigma) * record > kCarrierChange)
     return std::nullopt;
   const Mode* growth = nullptr;
@@ -807,7 +806,7 @@ std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, co
 std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const Series& series, const MlceResult& r,
                                                                          const ProgressCallback& progress) {
   if (r.mean_period.map || r.in_decay_floor || !r.unreliable.empty()) return std::nullopt;
-  const double periods = static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
+  const double periods = mean_periods_spanned(r);
   std::string why;
   if (periods < MlceResult::RecordModes::kFewPeriods) {
     why = fmt::format("a run of {:.3g} mean periods", periods);

@@ -124,6 +124,14 @@ double below_attractor_scale(const DivergenceCurve& curve) {
 }  // namespace
 
 namespace {
+/// `base` read undetermined, the summary saying why.
+Reading undetermined_reading(Reading base, const std::string& why) {
+  base.stability = Stability::undetermined;
+  base.motion = "undetermined";
+  base.summary = "undetermined: " + why;
+  return base;
+}
+
 Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
   Reading out;
   const double f = r.mean_period.mean_frequency;  // cycles per time unit, unclamped
@@ -138,12 +146,7 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
       fmt::format("lambda x mean period = {:+.3g} (95 % interval {:+.3g} .. {:+.3g}; neutral within +-{:g})",
                   out.lambda_per_period, out.ci_low_per_period, out.ci_high_per_period, band);
 
-  auto undetermined = [&](const std::string& why) {
-    out.stability = Stability::undetermined;
-    out.motion = "undetermined";
-    out.summary = "undetermined: " + why;
-    return out;
-  };
+  auto undetermined = [&](const std::string& why) { return undetermined_reading(out, why); };
   // A window cut from a record after the record's decay ended (MlceResult::in_decay_floor): the
   // motion had come to rest, by six orders of magnitude or more, before the window; its lambda
   // measures the solver's residue (Hammond's isotropic rotor at 200 rpm from 20 s on: +0.3..+0.9 1/s,
@@ -253,7 +256,7 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
         "motion is one mode (it repeats itself one period on, scaled, to {:.2g} %) whose amplitude {} by {:+.3g} per "
         "mean period between its first and last whole periods, beyond the band: {}; lambda is the swing's residue "
         "here, not that rate; {}",
-        grows ? "unstable" : "stable", static_cast<double>(r.n_points) * r.dt / T, to_string(r.fit.end),
+        grows ? "unstable" : "stable", mean_periods_spanned(r), to_string(r.fit.end),
         100.0 * r.short_run_repeat.difference, grows ? "grows" : "decays", ends_rate,
         grows ? "a growing oscillation (an instability)" : "it decays to rest (exponentially stable)", numbers + noise);
     return out;
@@ -349,7 +352,7 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
           "lambda > 0 on a motion of steady amplitude over only {:.3g} mean periods (fewer than 8): too few returns "
           "to show a chaotic attractor, and a quasi-periodic motion (a torus, largest exponent 0) reads so too; "
           "analyse a longer run; {}",
-          static_cast<double>(r.n_points) * r.dt / T, numbers + noise));
+          mean_periods_spanned(r), numbers + noise));
     } else if (a == AmplitudeTrend::persists) {
       out.motion = "chaotic";
       out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";
@@ -480,6 +483,10 @@ std::optional<Reading> read_from_modes(const MlceResult& r, const Reading& curve
 }
 }  // namespace
 
+double mean_periods_spanned(const MlceResult& r) {
+  return static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
+}
+
 bool curve_cannot_tell(const Reading& curve) {
   return curve.stability == Stability::undetermined ||
          (curve.stability == Stability::neutral && (curve.motion == "lightly damped" || curve.motion == "slowly growing"));
@@ -497,8 +504,8 @@ bool neutral_unconfirmed(const MlceResult& r, const Reading& curve, const Readin
   if (curve.stability != Stability::neutral || r.mean_period.map) return false;
   const double difference = repeat_difference(r);
   if (std::isfinite(difference) && difference <= options.periodic_end) return false;  // it repeats: periodic
-  const double periods = static_cast<double>(r.n_points) * r.dt * r.mean_period.mean_frequency;
-  return periods < MlceResult::RecordModes::kFewPeriods || (curve.motion == "limit cycle" && std::isfinite(difference));
+  return mean_periods_spanned(r) < MlceResult::RecordModes::kFewPeriods ||
+         (curve.motion == "limit cycle" && std::isfinite(difference));
 }
 
 Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
@@ -509,12 +516,9 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
   // record is no sum of modes either: no periodic, quasi-periodic or lightly damped motion is shown.
   // Roessler x over 12-100 s (2-17 mean periods: its curve saturates within the horizon as a cycle's
   // does, bounded, or swings with the pairs' phase) read "neutral, limit cycle" or "lightly damped".
-  if (neutral_unconfirmed(r, curve, options) && r.record_modes && !r.record_modes->describes_record()) {
-    Reading out = curve;
-    out.stability = Stability::undetermined;
-    out.motion = "undetermined";
-    out.summary = fmt::format(
-        "undetermined: the divergence curve alone reads {}, {}, but over {} the motion is no sum of damped modes "
+  if (neutral_unconfirmed(r, curve, options) && r.record_modes && !r.record_modes->describes_record())
+    return undetermined_reading(curve, fmt::format(
+        "the divergence curve alone reads {}, {}, but over {} the motion is no sum of damped modes "
         "(they leave {:.2g} % of it{}) and does not show that it repeats itself ({}): neither a limit cycle, a torus "
         "nor a light damping is shown; chaos whose neighbours this run is too short to separate reads so (a longer "
         "run); the curve's reading: {}",
@@ -524,9 +528,7 @@ Reading read_stability(const MlceResult& r, const ReadingOptions& options) {
         std::isfinite(repeat_difference(r))
             ? fmt::format("it differs from itself one period on by {:.3g} % of its deviation", 100.0 * repeat_difference(r))
             : std::string("too short to compare with itself one period on"),
-        curve.summary);
-    return out;
-  }
+        curve.summary));
   return curve;
 }
 

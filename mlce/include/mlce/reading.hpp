@@ -126,6 +126,9 @@ struct Reading {
 
 Reading read_stability(const MlceResult& result, const ReadingOptions& options = {});
 
+/// How many mean periods (the spectrum's, unclamped: eq. 19) the analysed part spans.
+double mean_periods_spanned(const MlceResult& r);
+
 /// A reading of the divergence curve that the record's damped modes may replace (MlceResult::record_modes):
 /// undetermined, or neutral while the amplitude decays or grows (light damping, a slow growth).
 bool curve_cannot_tell(const Reading& curve);
