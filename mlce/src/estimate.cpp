@@ -804,8 +804,8 @@ std::optional<MlceResult::SteadyCarrier> steady_carrier(const Series& series, co
 /// MlceResult::record_modes: the analysed part's modes, with lambda's interval, where the curve cannot
 /// tell the stability (a run of few mean periods; lambda against the amplitude's own change).
 std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const Series& series, const MlceResult& r,
-                                                                         const ProgressCallback& progress) {
-  if (r.mean_period.map || r.in_decay_floor || !r.unreliable.empty()) return std::nullopt;
+                                                                         const MlceOptions& options) {
+  if (!options.record_modes || r.mean_period.map || r.in_decay_floor || !r.unreliable.empty()) return std::nullopt;
   const double periods = mean_periods_spanned(r);
   std::string why;
   if (periods < MlceResult::RecordModes::kFewPeriods) {
@@ -827,8 +827,8 @@ std::optional<MlceResult::RecordModes> modes_where_the_curve_cannot_tell(const S
     else
       why = fmt::format("the divergence curve reads {}, {}", to_string(curve.stability), curve.motion);
   }
-  ModalOptions o;
-  o.progress = progress;  // lambda's interval: 100 identifications
+  ModalOptions o = *options.record_modes;
+  o.progress = options.progress;  // lambda's interval: interval_replicates identifications
   ModalResult modal;
   try {
     modal = identify_modes(series, o);
@@ -862,7 +862,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   r.carrier = steady_carrier(analysed, r);
   if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
   // After the surrogate test, which the curve's reading takes into account.
-  r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options.progress);
+  r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options);
   return r;
 }
 
@@ -951,6 +951,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   if (options.delay && *options.delay == 0) throw OptionError("delay = 0: expected >= 1");
   if (options.dim && *options.dim == 0) throw OptionError("dim = 0: expected >= 1");
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
+  if (options.record_modes) options.record_modes->validate();  // before the estimate, not after it
   r.n_points = series.size();
   const std::string drift_warning = warn_about_series(series, r);
   // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its

@@ -70,8 +70,8 @@
 #include <vector>
 
 #include "mlce/progress.hpp"
-#include "mlce/reading.hpp"  // Stability
 #include "mlce/series.hpp"
+#include "mlce/stability.hpp"
 
 namespace mlce {
 

@@ -69,14 +69,13 @@
 #include <string>
 
 #include "mlce/estimate.hpp"
+#include "mlce/stability.hpp"
 
 namespace mlce {
 
-enum class Stability { stable, neutral, unstable, undetermined };
 /// The amplitude of the analysed signal over the run.
 enum class AmplitudeTrend { decays, persists, grows, changes, unknown };
 
-const char* to_string(Stability s);
 const char* to_string(AmplitudeTrend a);
 
 struct ReadingOptions {
