@@ -1029,3 +1029,20 @@ TEST_F(MbdynCli, ModesOfADecayIntoItsSolverFloorAreReadUpToIt) {
     EXPECT_NE(j["warnings"].dump().find("decays into a rounding/tolerance floor"), std::string::npos) << j["warnings"];
   }
 }
+
+// A range in a channel spec is the channels named one by one: the four blades' lags of the 5 s isotropic
+// run as rel:11..14:4:z, estimated each, give what rel:11:4:z .. rel:14:4:z give; a reversed range is a
+// usage error naming it, before any file is read.
+TEST_F(MbdynCli, AChannelRangeIsTheChannelsNamedOneByOne) {
+  const std::string set = std::string(MLCE_DATA_DIR) + "/mbdyn/iso_200rpm_5s/iso_200rpm";
+  const auto ranged = json_of("estimate " + set + " --channel rel:11..14:4:z --each --quiet");
+  const auto named = json_of("estimate " + set +
+                             " --channel rel:11:4:z --channel rel:12:4:z --channel rel:13:4:z --channel rel:14:4:z --each --quiet");
+  ASSERT_EQ(ranged["channels"].size(), 4U);
+  EXPECT_EQ(ranged["channels"], named["channels"]);
+  EXPECT_EQ(ranged["channels"][2]["channel"], "rel:13:4:z");
+  const auto extracted = run("extract " + set + " --channel node:11..12:y --to 0.01");
+  ASSERT_EQ(extracted.status, 0) << extracted.err;
+  EXPECT_EQ(extracted.out.substr(0, extracted.out.find('\n')), "time,node:11:y,node:12:y");
+  expect_one_line_error(run("estimate " + set + " --channel rel:14..11:4:z"), "range 14..11: expected FIRST <= LAST", 2);
+}

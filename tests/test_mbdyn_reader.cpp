@@ -1344,3 +1344,35 @@ TEST(MbdynOut, SevenFieldStepLinesUseTheOutputFrequency) {
   EXPECT_DOUBLE_EQ(t.time[1], 0.2);
   EXPECT_THROW(parse_mbdyn_out("Step 0 0 0 1 0 0 0\n", "x.out", 0), ReadError);
 }
+
+// A range FIRST..LAST in a spec's number is one channel per integer, the first range outermost; what is
+// no such range (a sub-index, a field name) stays as written; a reversed, negative or too large range is
+// one error naming the spec.
+TEST(ChannelRanges, ExpandToOneSpecPerInteger) {
+  using mlce::reader::expand_channel_ranges;
+  using V = std::vector<std::string>;
+  EXPECT_EQ(expand_channel_ranges("rel:11..14:4:z"), (V{"rel:11:4:z", "rel:12:4:z", "rel:13:4:z", "rel:14:4:z"}));
+  EXPECT_EQ(expand_channel_ranges("node:2:x"), (V{"node:2:x"}));
+  EXPECT_EQ(expand_channel_ranges("col:3..3"), (V{"col:3"}));
+  EXPECT_EQ(expand_channel_ranges("joint:1..2:2..3"), (V{"joint:1:2", "joint:1:3", "joint:2:2", "joint:2:3"}));
+  EXPECT_EQ(expand_channel_ranges("mod:12.3:2"), (V{"mod:12.3:2"}));      // a sub-index, no range
+  EXPECT_EQ(expand_channel_ranges("node:2:x..z"), (V{"node:2:x..z"}));    // no integers: left to the parser
+  EXPECT_THROW(parse_channel_spec("node:2:x..z"), ReadError);
+  EXPECT_EQ(expand_channel_ranges("var:elem.beam.100.F_I:1..3").size(), 3U);
+  for (const auto& spec : expand_channel_ranges("rel:11..14:4:z")) EXPECT_NO_THROW(parse_channel_spec(spec)) << spec;
+  const auto error = [](const char* spec) {
+    try {
+      expand_channel_ranges(spec);
+    } catch (const ReadError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error("rel:14..11:4:z"), "channel 'rel:14..11:4:z': range 14..11: expected FIRST <= LAST");
+  EXPECT_EQ(error("node:-1..3:x"), "channel 'node:-1..3:x': range -1..3: expected non-negative bounds below 2^40");
+  EXPECT_EQ(error("node:0..99999:y"), "channel 'node:0..99999:y': expected at most 10000 channels from one spec");
+  EXPECT_EQ(error("joint:1..200:1..100"), "channel 'joint:1..200:1..100': expected at most 10000 channels from one spec");
+  // A bound beyond long is no range: left as written, and the parser names the spec.
+  EXPECT_EQ(expand_channel_ranges("node:0..99999999999999999999:y"), (V{"node:0..99999999999999999999:y"}));
+  EXPECT_THROW(parse_channel_spec("node:0..99999999999999999999:y"), ReadError);
+}

@@ -5,6 +5,10 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "mlce/reader/channel_spec.hpp"
+#include "mlce/reader/table.hpp"
+#include "mlce/series.hpp"
+
 namespace po = boost::program_options;
 
 namespace mlce::cli {
@@ -36,6 +40,21 @@ std::optional<double> parse_finite(const std::string& text) {
   } catch (const std::exception&) {
   }
   return std::nullopt;
+}
+
+po::typed_value<std::vector<std::string>>* channel_specs(std::vector<std::string>* specs) {
+  // The notifier runs after the value is stored (po::notify), so it rewrites what was stored.
+  return po::value(specs)->composing()->notifier([specs](const std::vector<std::string>& given) {
+    std::vector<std::string> expanded;
+    for (const auto& spec : given) {
+      try {
+        for (auto& one : reader::expand_channel_ranges(spec)) expanded.push_back(std::move(one));
+      } catch (const reader::ReadError& e) {
+        throw OptionError(e.what());  // a command-line mistake, not bad data
+      }
+    }
+    *specs = std::move(expanded);
+  });
 }
 
 void print_warnings(const std::vector<std::string>& w) {

@@ -23,6 +23,11 @@ std::optional<boost::program_options::variables_map> parse(const std::vector<std
 
 void print_warnings(const std::vector<std::string>& w);
 
+/// The value of a repeatable --channel option, stored into `specs` with every range expanded
+/// (reader::expand_channel_ranges: rel:11..14:4:z is four channels); a malformed range is an
+/// OptionError naming it.
+boost::program_options::typed_value<std::vector<std::string>>* channel_specs(std::vector<std::string>* specs);
+
 /// The whole of `text` as a finite number ("1e-3", "-2"), or nullopt ("", "1x", "nan", "inf").
 std::optional<double> parse_finite(const std::string& text);
 

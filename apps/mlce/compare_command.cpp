@@ -153,7 +153,7 @@ int cmd_compare(const std::vector<std::string>& args) {
   HistoryComparisonOptions o;
   po::options_description d("mlce compare A B --channel SPEC... [options]");
   d.add_options()
-      ("channel", po::value(&channels)->composing(), "channel spec present in both runs (repeatable)")
+      ("channel", channel_specs(&channels), "channel spec present in both runs (repeatable; FIRST..LAST in a number: a channel each)")
       ("from", po::value(&o.from), "start of the compared window (time units)")
       ("to", po::value(&o.to), "end of the compared window (time units)")
       ("mlce", po::bool_switch(&mlce), "also the MLCE (Rosenstein, automatic) of every channel from both runs, on "

@@ -44,6 +44,7 @@ namespace {
 using cli::kExitData;
 using cli::kExitUsage;
 using cli::parse;
+using cli::channel_specs;
 using cli::print_warnings;
 
 const char* kUsage =
@@ -67,7 +68,8 @@ const char* kUsage =
     "  sweep SCENE     exponents over a parameter grid (rosenstein|modes|qr|floquet|eigen), parallel, resumable\n"
     "FILE/SET: a column file, an MBDyn output prefix (run/hammond or run/hammond.mov), or a .nc file.\n"
     "Channels (--channel, repeatable): node:L:x|y|z|r1..r9|vx..|wx.., joint:L:K, EXT:L:K (ine:11:2),\n"
-    "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K.\n"
+    "  rel:A:B:x|y|z (rotation of node A relative to node B about B's axis, rad), col:K;\n"
+    "  a number given as FIRST..LAST is one channel each: rel:11..14:4:z (four blades' lags), col:2..5.\n"
     "Run 'mlce <command> --help' for the options of a command; 'mlce --version' prints the version.\n";
 
 /// "auto" -> nullopt, else a non-negative integer.
@@ -119,7 +121,8 @@ PhaseAlignment phase_alignment_option(const std::string& value) {
 po::options_description series_options(cli::SeriesInput& in) {
   po::options_description d("series");
   d.add_options()
-      ("channel", po::value(&in.channels)->composing(), "channel spec (repeat for a multivariate series): node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, col:K")
+      ("channel", channel_specs(&in.channels), "channel spec (repeat for a multivariate series): node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, col:K; a range "
+                                                    "FIRST..LAST in a number is a channel each (rel:11..14:4:z)")
       ("column", po::value(&in.columns)->composing(), "column(s) to analyse, 1-based number or header name (repeat for a multivariate series)")
       ("time-column", po::value<std::string>(), "column holding time, 1-based number or header name (must be uniform)")
       ("dt", po::value<double>(), "sampling step when the file has no time column")
@@ -821,7 +824,7 @@ int cmd_extract(const std::vector<std::string>& args) {
   reader::ReadOptions read_options;
   po::options_description d("mlce extract SET --channel SPEC... [options]");
   d.add_options()
-      ("channel", po::value(&channels)->composing(), "channel spec (repeatable)")
+      ("channel", channel_specs(&channels), "channel spec (repeatable; FIRST..LAST in a number: a channel each)")
       ("to", po::value(&read_options.until), "last time to write (solver output sets); later steps are not read, so a "
                                              "run that diverged after it can be extracted")
       ("csv", po::value(&csv_path), "write to this file instead of stdout")

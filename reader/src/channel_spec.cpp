@@ -1,6 +1,7 @@
 #include "mlce/reader/channel_spec.hpp"
 
 #include <charconv>
+#include <string>
 #include <vector>
 
 #include "mlce/reader/table.hpp"
@@ -123,6 +124,52 @@ ChannelSpec parse_channel_spec(std::string_view text) {
     throw fail("node:L:F, joint:L:K, rel:A:B:AXIS, EXT:L:K, var:NAME:K or col:K");
   }
   return c;
+}
+
+std::vector<std::string> expand_channel_ranges(std::string_view spec) {
+  const auto fail = [&](const std::string& what) { return ReadError("channel '" + std::string(spec) + "': " + what); };
+  const auto parts = split(spec);
+  struct Range {
+    std::size_t field;
+    long first, last;
+  };
+  std::vector<Range> ranges;
+  std::size_t count = 1;
+  for (std::size_t f = 1; f < parts.size(); ++f) {
+    const std::size_t dots = parts[f].find("..");
+    long first = 0, last = 0;
+    if (dots == std::string_view::npos || !to_number(parts[f].substr(0, dots), first) ||
+        !to_number(parts[f].substr(dots + 2), last))
+      continue;  // no range: the field as written
+    // MBDyn labels are unsigned and below 2^40 here (parse_row_label's code): a range beyond names no entity.
+    const std::string range = std::string(parts[f]);
+    if (first < 0 || last >= (1L << 40)) throw fail("range " + range + ": expected non-negative bounds below 2^40");
+    if (first > last) throw fail("range " + range + ": expected FIRST <= LAST");
+    const auto size = static_cast<std::size_t>(last - first) + 1;
+    if (size > kMaxChannelsOfARange || count * size > kMaxChannelsOfARange)
+      throw fail("expected at most " + std::to_string(kMaxChannelsOfARange) + " channels from one spec");
+    count *= size;
+    ranges.push_back({f, first, last});
+  }
+  if (ranges.empty()) return {std::string(spec)};
+  std::vector<std::string> out;
+  out.reserve(count);
+  std::vector<long> at(ranges.size());
+  for (std::size_t r = 0; r < ranges.size(); ++r) at[r] = ranges[r].first;
+  while (true) {
+    std::string s(parts[0]);
+    for (std::size_t f = 1, r = 0; f < parts.size(); ++f) {
+      s += ':';
+      if (r < ranges.size() && ranges[r].field == f) s += std::to_string(at[r++]);
+      else s += parts[f];
+    }
+    out.push_back(std::move(s));
+    // The last range varies fastest (nested loops, the first outermost).
+    std::size_t r = ranges.size();
+    while (r > 0 && at[r - 1] == ranges[r - 1].last) at[r - 1] = ranges[r - 1].first, --r;
+    if (r == 0) return out;
+    ++at[r - 1];
+  }
 }
 
 }  // namespace mlce::reader

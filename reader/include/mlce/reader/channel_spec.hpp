@@ -11,9 +11,13 @@
 //   col:K          K-th column of a plain column file
 //   var:NAME[:K]   component K (default 1) of the NetCDF time history NAME, e.g.
 //                  var:elem.beam.100.F_I:2; a 3x3 matrix's K counts row by row, as text files do
+// Any integer field may be a range FIRST..LAST, which stands for one channel per integer
+// (expand_channel_ranges; the command line expands every --channel): rel:11..14:4:z, col:2..5.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace mlce::reader {
 
@@ -31,6 +35,19 @@ struct ChannelSpec {
 
 /// Throws ReadError("channel 'SPEC': expected ...") for a malformed spec.
 ChannelSpec parse_channel_spec(std::string_view spec);
+
+/// At most this many channels from one spec with ranges (expand_channel_ranges).
+inline constexpr std::size_t kMaxChannelsOfARange = 10000;
+
+/// The specs a spec with ranges stands for, in order: every `:`-separated field after the first of the
+/// form FIRST..LAST (non-negative integers, FIRST <= LAST) takes each integer from FIRST to LAST, and
+/// several such fields vary as nested loops, the first outermost. `rel:11..14:4:z` is the four blades'
+/// lags (rel:11:4:z .. rel:14:4:z), `node:11..14:y` the four hinges' y, `col:2..5` four columns,
+/// `joint:33:2..4` three of a joint's columns. A field that is no such range stays as written (12.3,
+/// a sub-index; x..z, which parse_channel_spec then names as no node field).
+/// A spec without a range is itself. Throws ReadError("channel 'SPEC': ...") for a reversed range, a
+/// bound beyond a label's range, or more than kMaxChannelsOfARange channels.
+std::vector<std::string> expand_channel_ranges(std::string_view spec);
 
 /// The first field of an MBDyn entity row as one `long` key: a plain label (`7`) as itself, and a
 /// label with a sub-index (`12.3`: mode 3 of modal joint 12 in .mod; `5@2`, `5#2`: external
