@@ -801,7 +801,7 @@ int cmd_channels(const std::vector<std::string>& args) {
       std::cout << fmt::format("  col:{:<4} {}\n", k + 1, inv.columns[k]);
   } else {
     std::cout << fmt::format("{} output blocks, t = {:.6g} .. {:.6g}\n", inv.blocks, inv.t_first, inv.t_last);
-    std::cout << "structural nodes (node:L:x|y|z|r1..|vx..|wx..; rel:A:B:AXIS):\n";
+    std::cout << "structural nodes (node:L:x|y|z|r1..|vx..|wx..; rel:A:B:AXIS; a range of labels, node:11..14:x, is one channel each):\n";
     for (const auto& n : inv.nodes)
       std::cout << fmt::format("  node {:>6}  {:<13} orientation {:<9}{}\n", n.label, n.kind, n.orientation,
                                n.columns ? fmt::format(" {} columns", n.columns) : "");
