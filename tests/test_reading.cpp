@@ -347,6 +347,21 @@ TEST(Reading, RecordsOfOneOrTwoPeriodsAreReadFromTheirModes) {
   ASSERT_TRUE(g.record_modes.has_value());
   EXPECT_NEAR(g.record_modes->lambda, 0.005 * kPi, 0.01 * 0.005 * kPi);
   expect_reading(read_stability(g), Stability::unstable, "growing oscillation", "3 periods of a slow growth");
+  // MlceOptions::record_modes: their options (fewer replicates: a rougher interval, the same modes), none
+  // (std::nullopt: the curve alone, as before the modes were asked), or an invalid one refused before
+  // the estimate runs.
+  const Series short_decay = make_series_with_step({reference::damped_oscillator(1000, 0.002, 0.2, kPi)}, 0.002);
+  MlceOptions o;
+  o.record_modes->interval_replicates = 10;
+  const MlceResult rough = estimate_mlce(short_decay, o);
+  ASSERT_TRUE(rough.record_modes.has_value());
+  EXPECT_NEAR(rough.record_modes->lambda, -0.2 * kPi, 0.01 * 0.2 * kPi);
+  EXPECT_TRUE(std::isfinite(rough.record_modes->ci95_low));
+  o.record_modes = std::nullopt;
+  EXPECT_FALSE(estimate_mlce(short_decay, o).record_modes.has_value());
+  o.record_modes = mlce::ModalOptions{};
+  o.record_modes->interval_replicates = 1;  // no spread from one replicate
+  EXPECT_THROW(estimate_mlce(short_decay, o), mlce::OptionError);
 }
 
 TEST(Reading, AFewPeriodsOfChaosAreNeitherReadFromModesNorADecay) {
