@@ -53,6 +53,8 @@ bool to_number(std::string_view s, T& v) {
 
 constexpr char kSeparators[] = {'.', '@', '#'};
 constexpr long kSubBits = 20, kKindBits = 2;
+/// Labels at most this large fit parse_row_label's code beside a sub-index (MBDyn labels are unsigned).
+constexpr long kLabelLimit = 1L << 40;
 
 }  // namespace
 
@@ -62,7 +64,7 @@ std::optional<long> parse_row_label(std::string_view text) {
   const std::size_t at = text.find_first_of(".@#");
   long sub = 0;
   if (at == std::string_view::npos || !to_number(text.substr(0, at), label) || !to_number(text.substr(at + 1), sub) ||
-      label < 0 || label >= (1L << 40) || sub < 0 || sub >= (1L << kSubBits))
+      label < 0 || label >= kLabelLimit || sub < 0 || sub >= (1L << kSubBits))
     return std::nullopt;
   const long kind = text[at] == '.' ? 0 : text[at] == '@' ? 1 : 2;
   return -1 - ((label << (kSubBits + kKindBits)) | (kind << kSubBits) | sub);
@@ -141,9 +143,8 @@ std::vector<std::string> expand_channel_ranges(std::string_view spec) {
     if (dots == std::string_view::npos || !to_number(parts[f].substr(0, dots), first) ||
         !to_number(parts[f].substr(dots + 2), last))
       continue;  // no range: the field as written
-    // MBDyn labels are unsigned and below 2^40 here (parse_row_label's code): a range beyond names no entity.
     const std::string range = std::string(parts[f]);
-    if (first < 0 || last >= (1L << 40)) throw fail("range " + range + ": expected non-negative bounds below 2^40");
+    if (first < 0 || last >= kLabelLimit) throw fail("range " + range + ": expected non-negative bounds below 2^40");
     if (first > last) throw fail("range " + range + ": expected FIRST <= LAST");
     const auto size = static_cast<std::size_t>(last - first) + 1;
     if (size > kMaxChannelsOfARange || count * size > kMaxChannelsOfARange)
