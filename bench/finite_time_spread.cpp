@@ -21,7 +21,7 @@
 //     32 each, (x, y) uniform in [-3, 3], z in [0, 1], no offset; how often the estimate's 95 %
 //     interval holds lambda_1 (and the own exponent); the series outside 10 % listed
 //     with their own exponents, and the series whose fit the concave-growth rule started at the
-//     start-up's end.
+//     start-up's end; the range of the spectrum's taper_mean_share (mean_period.hpp) over them.
 //   build/finite_time_spread starts
 // and, for other observables of the same flows (Lorenz y and z, Roessler y; 32 series each, the
 // starts of seed 1 above, with own exponents and the intervals' coverage):
@@ -200,6 +200,7 @@ void starts_study(const System& sys) {
   const int substeps = static_cast<int>(std::lround(sys.dt / sys.h));
   Tally automatic;
   std::string outside, joined, skipped;
+  double least_taper_share = 1.0, most_taper_share = 0.0;  // MeanPeriodResult::taper_mean_share over the series
   for (unsigned seed = 1; seed <= 4; ++seed) {
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> u(-3.0, 3.0);
@@ -210,6 +211,8 @@ void starts_study(const System& sys) {
       const double q = r.lambda / sys.lambda, o = own_exponent(sys, x0, n, substeps) / sys.lambda;
       automatic.add(q, o, r.ci95_low / sys.lambda, r.ci95_high / sys.lambda);
       automatic.check_flags(r);
+      least_taper_share = std::min(least_taper_share, r.mean_period.taper_mean_share);
+      most_taper_share = std::max(most_taper_share, r.mean_period.taper_mean_share);
       if (r.fit.rule.find("concave growth") != std::string::npos) {
         char item[128];
         std::snprintf(item, sizeof item, " seed %u #%d: %.3f (fit %zu..%zu);", seed, k + 1, q, r.fit.first, r.fit.last);
@@ -244,6 +247,8 @@ void starts_study(const System& sys) {
   std::printf("  outside 10 %%:%s\n", outside.empty() ? " none" : outside.c_str());
   std::printf("  start left out as not recurring:%s\n", skipped.empty() ? " none" : skipped.c_str());
   std::printf("  fitted from the start-up's end (concave growth):%s\n", joined.empty() ? " none" : joined.c_str());
+  std::printf("  the plain mean beneath the spectrum's taper holds %.2g .. %.2g of its energy (taper-weighted above %g)\n",
+              least_taper_share, most_taper_share, mlce::kTaperMeanShare);
 }
 
 /// The 128 series of starts_study with the embedding or the Theiler window set by hand, each variant

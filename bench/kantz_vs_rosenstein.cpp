@@ -90,14 +90,8 @@ void study(const char* name, double lambda, double dt, const std::vector<std::ve
 std::vector<std::vector<double>> flow_series(std::array<double, 3> (*flow)(const std::array<double, 3>&), double dt,
                                              double h, double transient) {
   std::vector<std::vector<double>> out;
-  for (unsigned seed = 1; seed <= 4; ++seed) {
-    std::mt19937 gen(seed);
-    std::uniform_real_distribution<double> u(-3.0, 3.0);
-    for (int k = 0; k < 32; ++k) {
-      const std::array<double, 3> x0{u(gen), u(gen), std::abs(u(gen)) / 3};
-      out.push_back(mlce::reference::sample_flow<3>(flow, x0, dt, 10000, transient, static_cast<std::size_t>(std::lround(dt / h))));
-    }
-  }
+  for (const auto& x0 : mlce::reference::random_starts(1, 4))
+    out.push_back(mlce::reference::sample_flow<3>(flow, x0, dt, 10000, transient, static_cast<std::size_t>(std::lround(dt / h))));
   return out;
 }
 

@@ -105,6 +105,39 @@ TEST(MeanPeriod, ClampsAndReportsVeryLongPeriods) {
   }
 }
 
+TEST(MeanPeriod, StrongDecaysAndGrowthsReadTheirOscillationsPeriod) {
+  // A motion the Hann taper sees only where it is small: the plain mean left beneath the taper was a
+  // bump whose power sat in the lowest bins (zeta = 0.5 at 50 Hz: 2612 samples, clamped to 1000; zeta = 0.2
+  // over 20 periods: 121 samples). The taper-weighted mean is removed instead, and the mean period is the
+  // damped period 2 pi / (omega sqrt(1 - zeta^2)) to its eq.-19 ceiling. A growth is the same record
+  // reversed in time; a decay over 137 decades (zeta = 0.05 over 1000 periods) too.
+  struct Case {
+    std::size_t n;
+    double dt, zeta, omega;
+  };
+  for (const Case& c : {Case{4000, 1e-4, 0.5, 100 * std::numbers::pi}, Case{2000, 0.01, 0.2, 2 * std::numbers::pi},
+                        Case{2000, 0.01, -0.2, 2 * std::numbers::pi}, Case{100000, 0.01, 0.05, 2 * std::numbers::pi}}) {
+    const auto r = estimate_mean_period(make_series_with_step({reference::damped_oscillator(c.n, c.dt, c.zeta, c.omega)}, c.dt), {});
+    const double period = 2 * std::numbers::pi / (c.omega * std::sqrt(1 - c.zeta * c.zeta)) / c.dt;  // samples
+    EXPECT_FALSE(r.clamped) << c.zeta;
+    EXPECT_TRUE(r.taper_weighted_mean) << c.zeta << ": " << r.taper_mean_share;
+    EXPECT_GT(r.taper_mean_share, kTaperMeanShare) << c.zeta;
+    EXPECT_GE(static_cast<double>(r.mean_period), period) << c.zeta;
+    EXPECT_LE(static_cast<double>(r.mean_period), 1.02 * period + 1) << c.zeta;
+  }
+  // A stationary motion keeps its plain mean: two tones on a level of 5 read as before (exact on their bins).
+  const auto tones = estimate_mean_period(two_tones(2048, 1.0, 10.0 / 2048, 1.0, 40.0 / 2048, 1.0), {});
+  EXPECT_NEAR(tones.mean_frequency_per_sample, 25.0 / 2048, 1e-9);
+  EXPECT_FALSE(tones.taper_weighted_mean);
+  EXPECT_LT(tones.taper_mean_share, 1e-6);
+  // The rectangular window has no taper to hide a bump beneath.
+  MeanPeriodOptions rectangular;
+  rectangular.window = SpectralWindow::rectangular;
+  const auto plain = estimate_mean_period(make_series_with_step({reference::damped_oscillator(4000, 1e-4, 0.5, 100 * std::numbers::pi)}, 1e-4), rectangular);
+  EXPECT_FALSE(plain.taper_weighted_mean);
+  EXPECT_EQ(plain.taper_mean_share, 0.0);
+}
+
 TEST(MeanPeriod, ScaleInvariantAtExtremeAmplitudes) {
   const Series s = two_tones(1024, 0.1, 0.3, 1.0, 1.7, 0.5);
   const auto ref = estimate_mean_period(s, {});

@@ -112,6 +112,8 @@ nlohmann::json to_json(const MlceResult& r) {
   j["mean_frequency"] = r.mean_period.mean_frequency;
   j["mean_period"] = r.mean_period.mean_period;
   j["fast_share"] = r.mean_period.fast_share;
+  j["taper_mean_share"] = r.mean_period.taper_mean_share;
+  j["taper_weighted_mean"] = r.mean_period.taper_weighted_mean;
   j["treated_as_map"] = r.mean_period.map;
   // The surrogate test (surrogate.hpp): null when not asked for (--surrogates) or not run.
   if (const auto& t = r.surrogates)
@@ -205,9 +207,10 @@ std::string to_text(const MlceResult& r) {
   s += "reading         " + read_stability(r).summary + "\n";
   s += fmt::format("series          {} samples, dt = {:.6g} {}\n", r.n_points, r.dt,
                    r.time_unit.empty() ? "(per sample)" : r.time_unit);
-  s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}{}\n", r.mean_period.mean_period,
+  s += fmt::format("mean period     {} samples (mean frequency {:.6g} per {}){}{}{}\n", r.mean_period.mean_period,
                    r.mean_period.mean_frequency, r.time_unit.empty() ? "sample" : r.time_unit,
                    r.mean_period.clamped ? ", clamped" : "",
+                   r.mean_period.taper_weighted_mean ? ", taper-weighted mean removed (a strong decay or growth)" : "",
                    r.mean_period.map && r.mean_period.mean_period >= kMinFlowPeriod
                        ? fmt::format("; a map: {:.1f} % of the power at periods below 4 samples",
                                      100.0 * r.mean_period.fast_share)

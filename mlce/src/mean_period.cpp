@@ -23,7 +23,27 @@ struct ChannelSpectrum {
   double mean_frequency = 0.0;  ///< power-weighted mean, cycles per sample
   double fast_share = 0.0;      ///< share of the power above a quarter of the sampling rate
   double band_edge = 0.0;       ///< the lowest frequency below which `band_share` of the power lies, cycles per sample
+  double taper_mean_share = 0.0;  ///< MeanPeriodResult::taper_mean_share
 };
+
+/// The taper-weighted mean of x - mean, r, and the share of the tapered series' energy that the bump
+/// taper x r holds (MeanPeriodResult::taper_mean_share).
+struct TaperMean {
+  double offset = 0.0, share = 0.0;
+};
+TaperMean taper_mean(const std::vector<double>& x, double mean, const std::vector<double>& taper) {
+  CompensatedSum weight, weighted, bump_energy, energy;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double d = x[i] - mean;
+    weight.add(taper[i]);
+    weighted.add(taper[i] * d);
+    bump_energy.add(taper[i] * taper[i]);
+    energy.add(taper[i] * taper[i] * d * d);
+  }
+  if (!(weight.value() > 0.0 && energy.value() > 0.0)) return {};
+  const double r = weighted.value() / weight.value();
+  return {r, r * r * bump_energy.value() / energy.value()};
+}
 
 /// Power-weighted mean frequency of one channel, cycles per sample, and the share of its power
 /// above a quarter of the sampling rate.
@@ -37,12 +57,14 @@ ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow wi
   std::unique_ptr<double, decltype(&fftw_free)> in(fftw_alloc_real(n), &fftw_free);
   std::unique_ptr<fftw_complex, decltype(&fftw_free)> out(fftw_alloc_complex(nc), &fftw_free);
   const Plan plan = forward_plan(n, in.get(), out.get());
-  for (std::size_t i = 0; i < n; ++i) {
-    double w = 1.0;
-    if (window == SpectralWindow::hann)
-      w = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n));
-    in.get()[i] = w * (x[i] - mean);
-  }
+  std::vector<double> taper(n, 1.0);
+  if (window == SpectralWindow::hann)
+    for (std::size_t i = 0; i < n; ++i)
+      taper[i] = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n));
+  // The plain mean, unless beneath the taper it would be a bump holding the lowest bins (kTaperMeanShare).
+  const TaperMean bump = window == SpectralWindow::hann ? taper_mean(x, mean, taper) : TaperMean{};
+  const double level = bump.share > kTaperMeanShare ? mean + bump.offset : mean;
+  for (std::size_t i = 0; i < n; ++i) in.get()[i] = taper[i] * (x[i] - level);
   plan.execute();
   // One-sided periodogram P_k, k = 1..n/2 (DC excluded); the scale factor cancels in the ratio.
   CompensatedSum power, moment, fast;
@@ -56,7 +78,7 @@ ChannelSpectrum channel_spectrum(const std::vector<double>& x, SpectralWindow wi
     if (4 * k > n) fast.add(p);  // f_k = k / n > 1/4 per sample
   }
   if (!(power.value() > 0.0)) return {};
-  ChannelSpectrum c{moment.value() / power.value(), fast.value() / power.value(), 0.5};
+  ChannelSpectrum c{moment.value() / power.value(), fast.value() / power.value(), 0.5, bump.share};
   if (band_share >= 1.0 || nc < 8) return c;
   // The band edge of the power above a white floor: white noise folds onto itself and changes nothing,
   // a signal's harmonics fold onto other frequencies. A white periodogram's bins are exponentially
@@ -102,7 +124,9 @@ MeanPeriodResult estimate_mean_period(const Series& series, const MeanPeriodOpti
     r.channel_frequency.push_back(c.mean_frequency / series.dt);
     f_max = std::max(f_max, c.mean_frequency);
     r.fast_share = std::max(r.fast_share, c.fast_share);
+    r.taper_mean_share = std::max(r.taper_mean_share, c.taper_mean_share);
   }
+  r.taper_weighted_mean = r.taper_mean_share > kTaperMeanShare;
   r.mean_frequency_per_sample = f_max;
   r.mean_frequency = f_max / series.dt;
   // eq. 19: T = ceil(fs / max(meanfreq)), in samples.

@@ -86,6 +86,21 @@ std::vector<double> sample_flow(const F& f, std::array<double, N> x, double dt, 
   return out;
 }
 
+/// The initial states of `build/finite_time_spread starts` and the benchmarks that share its series:
+/// 32 per mt19937 seed, seeds first_seed..last_seed, (x, y) uniform in [-3, 3] and z = |u| / 3 in [0, 1].
+inline std::vector<std::array<double, 3>> random_starts(unsigned first_seed, unsigned last_seed) {
+  std::vector<std::array<double, 3>> out;
+  for (unsigned seed = first_seed; seed <= last_seed; ++seed) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    for (int k = 0; k < 32; ++k) {
+      const double x = u(gen), y = u(gen);  // drawn in this order: x, y, then z
+      out.push_back({x, y, std::abs(u(gen)) / 3});
+    }
+  }
+  return out;
+}
+
 /// Lorenz sigma = 10, rho = 28, beta = 8/3; lambda_1 = 0.9056. From x0 after `transient` time units
 /// (from (1, 1, 1) the trajectory spirals out of the fixed point C- for its first ~12-15).
 /// Component `component` (0 = x, 1 = y, 2 = z) of that flow.

@@ -39,6 +39,13 @@ inline constexpr std::size_t kMinFlowPeriod = 8;
 /// The mean period of a white spectrum (mean frequency a quarter of the sampling rate), in samples.
 inline constexpr std::size_t kWhitePeriod = 4;
 
+/// Above this share of the tapered series' energy, the plain mean left beneath the Hann taper is a bump
+/// that holds the periodogram's lowest bins, and the taper-weighted mean is removed instead
+/// (MeanPeriodResult::taper_mean_share). Stationary motions stay far below: Lorenz x at most 0.035,
+/// Roessler x 1.1e-5 over the 128 series each of `build/finite_time_spread starts` (which prints them); a damped
+/// oscillator at zeta = 0.2 over 20 periods holds 0.56, at zeta = 0.5 1.00.
+inline constexpr double kTaperMeanShare = 0.1;
+
 struct MeanPeriodResult {
   /// Power-weighted mean frequency sum(P_k f_k)/sum(P_k) over the one-sided periodogram of the
   /// mean-removed series, DC bin excluded; in cycles per time unit. For several channels, the
@@ -49,6 +56,13 @@ struct MeanPeriodResult {
   /// ceil(fs / mean_frequency) in samples (eq. 19), after clamping to [1, max_fraction * N].
   std::size_t mean_period = 1;
   bool clamped = false;
+  /// The energy that the plain mean, left beneath the Hann taper, would hold in the tapered series, as a
+  /// share of that series' energy (r^2 sum w^2 / sum w^2 (x - mean)^2, r the taper-weighted mean of x -
+  /// mean); for several channels the largest. Above kTaperMeanShare the taper-weighted mean is removed
+  /// instead (taper_weighted_mean): a decay or growth the taper sees only where it is small, whose bump
+  /// would heap the power into the lowest bins. 0 for the rectangular window.
+  double taper_mean_share = 0.0;
+  bool taper_weighted_mean = false;  ///< some channel had its taper-weighted mean removed
   /// Share of the power at frequencies above a quarter of the sampling rate (periods shorter than 4
   /// samples) over the same periodogram, DC excluded; for several channels the largest.
   double fast_share = 0.0;
