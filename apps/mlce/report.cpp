@@ -538,7 +538,7 @@ std::string to_text(const ConvergenceResult& r, const std::string& unit) {
   }
   if (r.converged)
     s += fmt::format("settled: every part of at least half the run is within the larger 95 % half-width, or {:.3g} {}, "
-                     "of the whole run's lambda\n",
+                     "of the whole run's lambda, and they do not drift one way beyond that\n",
                      r.tolerance_floor, unit);
   else
     s += "NOT settled (see the warnings)\n";
