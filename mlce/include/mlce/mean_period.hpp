@@ -48,7 +48,8 @@ inline constexpr double kTaperMeanShare = 0.1;
 
 struct MeanPeriodResult {
   /// Power-weighted mean frequency sum(P_k f_k)/sum(P_k) over the one-sided periodogram of the
-  /// mean-removed series, DC bin excluded; in cycles per time unit. For several channels, the
+  /// mean-removed series (the plain mean, or the taper-weighted one: taper_weighted_mean), DC bin
+  /// excluded; in cycles per time unit. For several channels, the
   /// largest of the channels' values (eq. 19: max over the columns).
   double mean_frequency = 0.0;
   double mean_frequency_per_sample = 0.0;   ///< cycles per sample
