@@ -29,8 +29,8 @@ struct ConvergenceOptions {
   /// Nor has it settled when each part from half the run on reads further the same way than the one
   /// before and half the run's lambda differs from the whole's by more than that floor (a drift within
   /// intervals it widens: paper 001 Fig. 6 with the floor left in). Over 64 Lorenz x and 64 Roessler x
-  /// series of 10^4 samples (`build/finite_time_spread starts`' first two seeds) this clause adds 4 and
-  /// 5 to the 12 and 11 that the intervals alone call unsettled.
+  /// series of 10^4 samples (`build/convergence_verdicts`: the first two seeds of `build/finite_time_spread
+  /// starts`) this clause adds 4 and 5 to the 12 and 11 that the intervals alone call unsettled.
   double relative_tolerance = 0.05;
   double frequency_tolerance = 0.01;
   /// How every part's estimate is read (reading.hpp). The second verdict: the parts k >= parts/2
