@@ -72,6 +72,7 @@ nlohmann::json to_json(const MlceResult& r) {
   j["noise_compensated"] = r.noise_compensated;
   j["uncompensated_lambda"] = finite_or_null(r.uncompensated_lambda);
   j["envelope_rate"] = finite_or_null(r.envelope_rate / r.dt);  // per time unit, like lambda
+  j["envelope_rate_stderr"] = finite_or_null(r.envelope_rate_stderr / r.dt);
   j["end_envelope_rate"] = finite_or_null(r.end_envelope_rate / r.dt);  // the second half's (FitOptions::signal_end_rate)
   j["ends_amplitude_rate"] = finite_or_null(r.ends_amplitude_rate / r.dt);  // first vs last whole periods (reading, short runs)
   // On a short run: how closely it repeats itself one period on, scaled (transient.hpp, scaled_repeat).

@@ -492,7 +492,7 @@ FitOptions fit_options_for(const Series& series, const MlceOptions& options, std
   if (fo.period == 0)  // a map's curve separates within iterations: its rule period (MeanPeriodResult::rule_period)
     fo.period = r.mean_period.map ? r.mean_period.rule_period() : fit_period(r.mean_period, options.mean_period, series, period);
   const EnvelopeRates envelope = envelope_rates(series, period);
-  r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end;
+  r.envelope_rate = envelope.whole, r.end_envelope_rate = envelope.end, r.envelope_rate_stderr = envelope.whole_stderr;
   if (std::isnan(r.envelope_rate)) {  // fewer than 8 mean periods: the reading's rate (reading.cpp, short_run_rate)
     const double repeats_every = whole_record_repeat(series).period;
     const double whole_period =

@@ -45,6 +45,14 @@ void ReadingOptions::validate() const {
 
 namespace {
 
+/// A fall of the amplitude against lambda > 0 is the signal's own when its envelope line lies this many
+/// standard errors below zero, or its last third's RMS is at most kClearFall of its first's (half the
+/// energy). The envelope windows of a chaotic flow wander: over 80 segments of Lorenz x and Roessler x
+/// (30-100 s, 300-500 s) the line's t reaches -2.9 (bench/chaos_readings.sh); a decay's line lies far
+/// beyond (a mode's windows fall on a line: t of hundreds) unless a beat scatters them.
+constexpr double kSignificantFall = 4.0;
+constexpr double kClearFall = 0.7071067811865476;  // 1 / sqrt 2
+
 /// The amplitude's rate (per time unit) on a run too short for envelope_rate's windows (fewer than
 /// 8 mean periods): its change between its first and last whole periods (ends_amplitude_rate), or,
 /// under 2 mean periods, the one the RMS ratio of its thirds says (their centres 2/3 of the run
@@ -87,7 +95,18 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
   // (e^{-0.02 t} cos 2t + e^{-0.05 t} cos 2.4t over 40 s: rate -0.022, ratio 0.53) read +0.215, the
   // pairs' transient growth while the modes dephase (close frequencies have nearly parallel directions
   // in delay coordinates, so the nearest neighbours are near-cancellations), and were "unstable".
-  if (beyond_band && lambda > 0.0 && rate < 0.0 && ratio < 1.0) return AmplitudeTrend::decays;
+  // The fall must be the signal's, not a chaotic amplitude's wander: its line significant against the
+  // windows' own scatter (kSignificantFall standard errors), or the last third's RMS at most
+  // kClearFall of the first's. Lorenz x over 20-50 s tilts its envelope by -0.009..-0.065 1/s
+  // (t = -0.7..-2.9, ratios 0.81..0.996) and read "undetermined, lambda > 0 while the amplitude
+  // decays" on 15 of 120 segments (bench/chaos_readings.sh); the beating decays keep their fall by
+  // the ratio (t = -1.5: the beat scatters the windows). Only here: a rate beyond steady_share x
+  // lambda that the scatter explains stays a change (below), as an amplitude that falls and then
+  // grows again (Hammond's failed-damper rotor, x_h over 0-10 s: its line's t +1.5) must.
+  const bool significant = !(std::isfinite(r.envelope_rate_stderr) && r.envelope_rate_stderr > 0.0) ||
+                           r.envelope_rate <= -kSignificantFall * r.envelope_rate_stderr;  // no scatter known: as before
+  if (beyond_band && lambda > 0.0 && rate < 0.0 && ratio < 1.0 && (significant || ratio <= kClearFall))
+    return AmplitudeTrend::decays;
   if (std::isnan(rate) || std::abs(rate) <= o.steady_share * std::abs(lambda) || !beyond_band)
     return AmplitudeTrend::persists;
   return AmplitudeTrend::changes;

@@ -484,7 +484,10 @@ EnvelopeRates envelope_rates(const Series& s, std::size_t period) {
       if (2.0 * centre.back() < static_cast<double>(s.size())) end_from = centre.size();
     }
   EnvelopeRates r;
-  if (centre.size() >= 4) r.whole = fit_line(centre.data(), log_rms.data(), centre.size()).slope;
+  if (centre.size() >= 4) {
+    const LineFit line = fit_line(centre.data(), log_rms.data(), centre.size());
+    r.whole = line.slope, r.whole_stderr = line.slope_stderr;
+  }
   if (centre.size() >= end_from + 4)
     r.end = fit_line(centre.data() + end_from, log_rms.data() + end_from, centre.size() - end_from).slope;
   return r;

@@ -197,6 +197,8 @@ struct MlceResult {
   /// The analysed signal's own amplitude change, per sample (envelope_rate; NaN when too short):
   /// what tells a decay to rest from neighbours converging onto a motion that persists.
   double envelope_rate = std::numeric_limits<double>::quiet_NaN();
+  /// envelope_rate's formal standard error, per sample (EnvelopeRates::whole_stderr)
+  double envelope_rate_stderr = std::numeric_limits<double>::quiet_NaN();
   /// The same over the signal's second half: whether it still grows at its end, as a linear
   /// instability's response does and a growth that settles on a limit cycle does not.
   double end_envelope_rate = std::numeric_limits<double>::quiet_NaN();

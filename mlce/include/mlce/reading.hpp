@@ -15,7 +15,10 @@
 //    contraction onto a persisting motion: it grows when its last third's RMS is at least
 //    kPersistentAmplitude x its first third's or its envelope rate (on a run too short for its
 //    windows, the change between its first and last whole periods) at least persist_share x lambda
-//    (lambda > 0); it decays in the mirror case; it is steady when neither and the rate is below
+//    (lambda > 0); it decays in the mirror case, and also where it falls beyond the band against
+//    lambda > 0, when the fall is the signal's (its envelope line 4 standard errors below zero, or
+//    the last third's RMS at most 1/sqrt 2 of the first's: a chaotic amplitude wanders less than
+//    that, bench/chaos_readings.sh); it is steady when neither and the rate is below
 //    steady_share x |lambda| (or below the band); otherwise it changes. Unstable + grows: a growing
 //    oscillation (an instability such as ground resonance); unstable + steady: chaos, when the curve
 //    comes within chaos_scale_margin of the attractor scale (else diverging: a growth beneath a steady

@@ -169,9 +169,13 @@ std::string describe(const Floor& floor, double floor_ratio);
 /// log 0). NaN when fewer than 4 windows with a positive RMS fit in the series.
 /// `end`: the same slope over the windows whose centre lies in the series' second half (whether the
 /// signal still grows or decays at its end; NaN when fewer than 4 of them), from the same windows.
+/// `whole_stderr`: the formal standard error of `whole` (the windows' scatter about the line, taken as
+/// independent): how far a motion that persists, whose windows' RMS wander (chaos), tilts the line by
+/// chance. A trend that bends (a decay turning into a growth) counts as scatter here.
 struct EnvelopeRates {
   double whole = std::numeric_limits<double>::quiet_NaN();
   double end = std::numeric_limits<double>::quiet_NaN();
+  double whole_stderr = std::numeric_limits<double>::quiet_NaN();
 };
 EnvelopeRates envelope_rates(const Series& series, std::size_t period);
 
