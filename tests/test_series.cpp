@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "mlce/series.hpp"
@@ -482,6 +483,47 @@ TEST(Envelope, EndRateIsTheSecondHalfsRate) {
   const EnvelopeRates few = envelope_rates(make_series_with_step({grows}, dt), 350);  // 5 windows of 700
   EXPECT_TRUE(std::isfinite(few.whole));
   EXPECT_TRUE(std::isnan(few.end));
+}
+
+TEST(Envelope, StandardErrorOfTheRateIsTheTextbookOnesOverTheWindows) {
+  // Brute force: the RMS of each window of 2 x period samples about its own mean, ln of it against the
+  // window's centre, and the least-squares slope's standard error sqrt(SSR / (n - 2) / Sxx), in long
+  // double. On white noise (a wander, no trend: |slope| within a few standard errors) and on a decay
+  // (slope far beyond them).
+  auto brute = [](const std::vector<double>& x, std::size_t period) {
+    const std::size_t w = 2 * period, n = x.size() / w;
+    std::vector<long double> c(n), y(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      long double mean = 0, ss = 0;
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) mean += x[i];
+      mean /= w;
+      for (std::size_t i = k * w; i < (k + 1) * w; ++i) ss += (x[i] - mean) * (x[i] - mean);
+      c[k] = (k + 0.5L) * w, y[k] = 0.5L * std::log(ss / w);
+    }
+    long double mc = 0, my = 0, sxx = 0, sxy = 0, ssr = 0;
+    for (std::size_t k = 0; k < n; ++k) mc += c[k] / n, my += y[k] / n;
+    for (std::size_t k = 0; k < n; ++k) sxx += (c[k] - mc) * (c[k] - mc), sxy += (c[k] - mc) * (y[k] - my);
+    const long double slope = sxy / sxx;
+    for (std::size_t k = 0; k < n; ++k) ssr += (y[k] - my - slope * (c[k] - mc)) * (y[k] - my - slope * (c[k] - mc));
+    return std::pair<double, double>{static_cast<double>(slope), static_cast<double>(std::sqrt(ssr / (n - 2) / sxx))};
+  };
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<double> noise(6000);
+  for (double& v : noise) v = g(rng);
+  const auto decay = reference::damped_oscillator(6000, 0.01, 0.05, 2 * M_PI);
+  const std::vector<double>& wandering = noise;
+  for (const std::vector<double>* x : {&wandering, &decay}) {
+    const auto [slope, stderr_] = brute(*x, 100);
+    const EnvelopeRates r = envelope_rates(make_series_with_step({*x}, 0.01), 100);
+    EXPECT_NEAR(r.whole, slope, 1e-9 * std::abs(slope) + 1e-15);
+    EXPECT_NEAR(r.whole_stderr, stderr_, 1e-6 * stderr_ + 1e-15);
+  }
+  const EnvelopeRates wander = envelope_rates(make_series_with_step({noise}, 0.01), 100);
+  EXPECT_LT(std::abs(wander.whole), 4.0 * wander.whole_stderr);
+  const EnvelopeRates falls = envelope_rates(make_series_with_step({decay}, 0.01), 100);
+  EXPECT_LT(falls.whole, -100.0 * falls.whole_stderr);
+  EXPECT_TRUE(std::isnan(envelope_rates(make_series_with_step({noise}, 0.01), 1000).whole_stderr));  // 3 windows
 }
 
 TEST(Envelope, AmplitudeRatioOfTheLastThirdToTheFirst) {
