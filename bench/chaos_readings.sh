@@ -4,7 +4,7 @@
 # 10^4 samples, 40 segments each) and one long Roessler x series (dt 0.1 s; 3000, 5000 and 10^4
 # samples), the segments already on the attractor. Every segment is chaotic: "unstable, chaotic" is
 # the right reading; "undetermined" is an honest miss (the summary says why); anything else is a
-# wrong reading. Per length: how often each reading was given, then each miss with lambda, the
+# wrong reading. Per length: how often each reading was given, the range of the envelope line's t, then each miss with lambda, the
 # amplitude's envelope rate (1/s) and its t (rate over its standard error), the ratio of the last
 # third's RMS to the first's, and the summary's first words (t 0: no envelope line on so short a run).
 #   bench/chaos_readings.sh [BUILD_DIR]        (about 2 min)
@@ -41,5 +41,9 @@ for run in lorenz:0.01:2000 lorenz:0.01:3000 lorenz:0.01:5000 lorenz:0.01:10000 
   done
   echo "== $flow x, dt $dt, $length samples: 40 segments"
   awk '{ print "  " $1 " " $2 }' "$work/table.txt" | sort | uniq -c | sort -rn
+  # The envelope line's t over every segment: how far a chaotic amplitude's wander tilts it by chance
+  # (the reading counts a fall against lambda > 0 from t <= -4: mlce/src/reading.cpp, kSignificantFall).
+  awk '{ for (i = 1; i < NF; ++i) if ($i == "(t") { t = $(i + 1) + 0; if (n++ == 0 || t < lo) lo = t; if (n == 1 || t > hi) hi = t } }
+       END { printf "  envelope t over the segments: %+.2f .. %+.2f\n", lo, hi }' "$work/table.txt"
   grep -v '^unstable chaotic' "$work/table.txt" | sed 's/^/    miss: /' || true
 done

@@ -47,9 +47,9 @@ namespace {
 
 /// A fall of the amplitude against lambda > 0 is the signal's own when its envelope line lies this many
 /// standard errors below zero, or its last third's RMS is at most kClearFall of its first's (half the
-/// energy). The envelope windows of a chaotic flow wander: over 80 segments of Lorenz x and Roessler x
-/// (30-100 s, 300-500 s) the line's t reaches -2.9 (bench/chaos_readings.sh); a decay's line lies far
-/// beyond (a mode's windows fall on a line: t of hundreds) unless a beat scatters them.
+/// energy). A chaotic flow's envelope windows wander: over the 280 segments of Lorenz x and Roessler x
+/// of bench/chaos_readings.sh (2000-10^4 samples) the line's t lies within -2.92 .. +2.89; a decay's
+/// lies hundreds of standard errors out unless a beat scatters its windows.
 constexpr double kSignificantFall = 4.0;
 constexpr double kClearFall = 0.7071067811865476;  // 1 / sqrt 2
 
@@ -95,14 +95,13 @@ AmplitudeTrend amplitude_trend(const MlceResult& r, double T, const ReadingOptio
   // (e^{-0.02 t} cos 2t + e^{-0.05 t} cos 2.4t over 40 s: rate -0.022, ratio 0.53) read +0.215, the
   // pairs' transient growth while the modes dephase (close frequencies have nearly parallel directions
   // in delay coordinates, so the nearest neighbours are near-cancellations), and were "unstable".
-  // The fall must be the signal's, not a chaotic amplitude's wander: its line significant against the
-  // windows' own scatter (kSignificantFall standard errors), or the last third's RMS at most
-  // kClearFall of the first's. Lorenz x over 20-50 s tilts its envelope by -0.009..-0.065 1/s
-  // (t = -0.7..-2.9, ratios 0.81..0.996) and read "undetermined, lambda > 0 while the amplitude
-  // decays" on 15 of 120 segments (bench/chaos_readings.sh); the beating decays keep their fall by
-  // the ratio (t = -1.5: the beat scatters the windows). Only here: a rate beyond steady_share x
-  // lambda that the scatter explains stays a change (below), as an amplitude that falls and then
-  // grows again (Hammond's failed-damper rotor, x_h over 0-10 s: its line's t +1.5) must.
+  // The fall must be the signal's, not a chaotic amplitude's wander (kSignificantFall, kClearFall):
+  // Lorenz x over 20-50 s tilts its envelope by -0.009..-0.065 1/s by chance and read "undetermined,
+  // lambda > 0 while the amplitude decays" on 14 of 120 segments (bench/chaos_readings.sh); the
+  // beating decays above keep their fall by the ratio (their line's t is -1.5: the beat scatters the
+  // windows). Only here: a rate beyond steady_share x lambda within the scatter stays a change (below),
+  // as an amplitude that falls and then grows again must (Hammond's failed-damper rotor, x_h over
+  // 0-10 s: its straight line's t is +1.5).
   const bool significant = !(std::isfinite(r.envelope_rate_stderr) && r.envelope_rate_stderr > 0.0) ||
                            r.envelope_rate <= -kSignificantFall * r.envelope_rate_stderr;  // no scatter known: as before
   if (beyond_band && lambda > 0.0 && rate < 0.0 && ratio < 1.0 && (significant || ratio <= kClearFall))
