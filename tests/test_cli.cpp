@@ -132,20 +132,31 @@ TEST_F(Cli, AMapsCycleIsInTheJsonWithItsApproach) {
   EXPECT_TRUE(chaotic["map_cycle"].is_null());
 }
 
-// The surrogate test (--surrogates K) in the JSON and the text; a bad count is one error line.
+// The surrogate test in the JSON and the text: by default where the curve reads chaos, on the first
+// 4096 samples; --surrogates K on the whole series; 0 never. A bad count is one error line.
 TEST_F(Cli, SurrogatesAreInTheJsonAndABadCountIsOneError) {
   const auto f = series_file(mlce::reference::henon_x(3000), 1.0);
-  const auto j = nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet --surrogates 19").out);
+  const auto j = nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet --surrogates 7").out);
   ASSERT_TRUE(j["surrogates"].is_object()) << j.dump();
-  EXPECT_EQ(j["surrogates"]["count"].get<int>(), 19);
-  EXPECT_EQ(j["surrogates"]["surrogate_slopes"].size(), 19u);
-  EXPECT_TRUE(j["surrogates"]["distinguished"].get<bool>());
-  EXPECT_DOUBLE_EQ(j["surrogates"]["p_value"].get<double>(), 0.05);
-  EXPECT_TRUE(nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet").out)["surrogates"].is_null());
+  EXPECT_EQ(j["surrogates"]["count"].get<int>(), 7);
+  EXPECT_EQ(j["surrogates"]["surrogate_slopes"].size(), 7u);
+  EXPECT_EQ(j["surrogates"]["samples"].get<int>(), 3000);  // the whole series
+  EXPECT_DOUBLE_EQ(j["surrogates"]["p_value"].get<double>(), 0.125);
+  EXPECT_TRUE(nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet --surrogates 0").out)["surrogates"].is_null());
+  // By default: Henon x reads chaos, so its divergence is tested, and told from linear noise.
+  const auto by_default = nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet").out);
+  ASSERT_TRUE(by_default["surrogates"].is_object()) << by_default.dump();
+  EXPECT_EQ(by_default["surrogates"]["count"].get<int>(), 19);
+  EXPECT_TRUE(by_default["surrogates"]["distinguished"].get<bool>());
+  EXPECT_DOUBLE_EQ(by_default["surrogates"]["p_value"].get<double>(), 0.05);
+  EXPECT_EQ(by_default["reading"]["motion"], "chaotic");
+  EXPECT_EQ(nlohmann::json::parse(run("estimate " + f + " --column 2 --json --quiet --surrogates auto").out)["surrogates"],
+            by_default["surrogates"]);
   const CliRun text = run("estimate " + f + " --column 2 --quiet --surrogates 19");
   EXPECT_NE(text.out.find("surrogates      slope"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("told from linear noise"), std::string::npos) << text.out;
-  expect_one_line_error(run("estimate " + f + " --column 2 --surrogates many"), "--surrogates 'many': expected a count", 2);
+  expect_one_line_error(run("estimate " + f + " --column 2 --surrogates many"),
+                        "--surrogates 'many': expected auto or a count", 2);
 }
 
 // A level that creeps beneath the neighbour pairs, in the JSON and in the summary: Roessler x plus

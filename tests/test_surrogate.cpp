@@ -3,11 +3,13 @@
 // periodogram, their definition); chaotic series (Lorenz x, Henon x) are told from their
 // surrogates, linear stochastic ones (an AR(2) resonance, which reads "chaotic" without the test)
 // are not.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -34,9 +36,17 @@ std::vector<double> periodogram(const std::vector<double>& x) {
   return p;
 }
 
+/// `mlce estimate --surrogates 19`: on every estimate, 19 surrogates of the whole series, 200 passes.
 MlceOptions with_surrogates() {
   MlceOptions o;
-  o.surrogates.count = 19;
+  o.surrogates_when = SurrogateWhen::always;
+  o.surrogates = SurrogateOptions{};
+  return o;
+}
+
+MlceOptions without_surrogates() {
+  MlceOptions o;
+  o.surrogates_when = SurrogateWhen::never;
   return o;
 }
 
@@ -81,7 +91,7 @@ TEST(Surrogate, ChaosIsToldFromItsSurrogates) {
 TEST(Surrogate, ALinearResonanceDrivenByNoiseIsNotChaos) {
   // Without the test the first reads "unstable, chaotic" (lambda = +0.028 per sample, m = 5).
   const Series first = make_series_with_step({reference::ar2_resonance(10000, 0.99, 0.2, 1)}, 1.0);
-  EXPECT_EQ(read_stability(estimate_mlce(first, {})).motion, "chaotic");
+  EXPECT_EQ(read_stability(estimate_mlce(first, without_surrogates())).motion, "chaotic");
   for (const std::uint64_t seed : {1, 2, 3}) {
     const MlceResult r = estimate_mlce(make_series_with_step({reference::ar2_resonance(10000, 0.99, 0.2, seed)}, 1.0), with_surrogates());
     ASSERT_TRUE(r.surrogates.has_value());
@@ -110,6 +120,69 @@ TEST(Surrogate, OptionsAndWhereItIsNotRun) {
   EXPECT_FALSE(two.surrogates.has_value());
   EXPECT_TRUE(std::any_of(two.warnings.begin(), two.warnings.end(),
                           [](const std::string& w) { return w.find("surrogate test takes one channel") != std::string::npos; }));
-  // Off by default.
-  EXPECT_FALSE(estimate_mlce(make_series_with_step({reference::henon_x(3000)}, 1.0), {}).surrogates.has_value());
+  // By default only where the curve alone reads chaos: not on a decay, nor when turned off.
+  EXPECT_FALSE(estimate_mlce(make_series_with_step({reference::damped_oscillator(2000, 0.01, 0.05, 2.0 * std::numbers::pi)}, 0.01), {})
+                   .surrogates.has_value());
+  EXPECT_FALSE(estimate_mlce(make_series_with_step({reference::henon_x(3000)}, 1.0), without_surrogates()).surrogates.has_value());
+  const MlceResult henon = estimate_mlce(make_series_with_step({reference::henon_x(3000)}, 1.0), {});
+  ASSERT_TRUE(henon.surrogates.has_value());
+  EXPECT_EQ(henon.surrogates->samples, 3000u);  // shorter than the default's 4096: the whole series
+  EXPECT_TRUE(henon.surrogates->distinguished);
+}
+
+// The default test, where the curve alone reads chaos, on the series' first 4096 samples: an AR(2)
+// resonance (a stable linear filter driven by noise) no longer reads chaotic, and Lorenz x and the
+// logistic map still do, far above their surrogates.
+TEST(Surrogate, ByDefaultAChaoticReadingIsTestedOnTheFirstSamples) {
+  for (const std::uint64_t seed : {1, 2, 3, 4}) {
+    const Series ar2 = make_series_with_step({reference::ar2_resonance(10000, 0.99, 0.2, seed)}, 1.0);
+    const MlceResult untested = estimate_mlce(ar2, without_surrogates());
+    const MlceResult r = estimate_mlce(ar2, {});
+    std::printf("AR(2) seed %d: without the test %s; by default %s (%s)\n", static_cast<int>(seed),
+                read_stability(untested).motion.c_str(), read_stability(r).motion.c_str(),
+                r.surrogates ? fmt::format("p = {:.2f}, {:.2f} sigmas on {} samples", r.surrogates->p_value,
+                                           r.surrogates->sigmas, r.surrogates->samples).c_str()
+                             : "not tested");
+    EXPECT_NE(read_stability(r).motion, "chaotic") << seed;
+    EXPECT_EQ(r.surrogates.has_value(), read_stability(untested).motion == "chaotic") << seed;
+    if (r.surrogates) {
+      EXPECT_EQ(r.surrogates->samples, 4096u);
+    }
+  }
+  for (const auto& [name, x, dt] : {std::tuple{"Lorenz x", reference::lorenz_x(10000), 0.01},
+                                    std::tuple{"logistic", reference::logistic(10000), 1.0}}) {
+    const MlceResult r = estimate_mlce(make_series_with_step({x}, dt), {});
+    ASSERT_TRUE(r.surrogates.has_value()) << name;
+    std::printf("%s: %.1f sigmas above its surrogates on %zu of %zu samples, %.1f IAAFT passes\n", name,
+                r.surrogates->sigmas, r.surrogates->samples, r.surrogates->of_samples, r.surrogates->mean_passes);
+    EXPECT_EQ(r.surrogates->samples, 4096u) << name;
+    EXPECT_EQ(r.surrogates->of_samples, r.n_points) << name;
+    EXPECT_TRUE(r.surrogates->distinguished) << name;
+    EXPECT_GT(r.surrogates->sigmas, 10.0) << name;
+    EXPECT_EQ(read_stability(r).motion, "chaotic") << name;
+  }
+}
+
+// The test on the first max_samples is the test of those samples: the same slopes, bit for bit, as
+// on the series cut there by hand; and it keeps at least 8 x the fit region's embedded span.
+TEST(Surrogate, ALeadingSegmentIsTheTestOfThatSegment) {
+  const Series lorenz = make_series_with_step({reference::lorenz_x(10000)}, 0.01);
+  SurrogateSetup setup;
+  setup.dim = 3, setup.delay = 17, setup.theiler = 160, setup.first = 80, setup.last = 300;
+  SurrogateOptions head;
+  head.count = 5, head.iterations = 30, head.max_samples = 4096;
+  const SurrogateTest on_head = surrogate_test(lorenz, setup, head);
+  Series cut = lorenz;
+  cut.channels[0].resize(4096);
+  SurrogateOptions whole = head;
+  whole.max_samples = 0;
+  const SurrogateTest on_cut = surrogate_test(cut, setup, whole);
+  EXPECT_EQ(on_head.samples, 4096u);
+  EXPECT_EQ(on_head.of_samples, 10000u);
+  EXPECT_EQ(on_cut.samples, 4096u);
+  EXPECT_EQ(on_head.series_slope, on_cut.series_slope);
+  EXPECT_EQ(on_head.surrogate_slopes, on_cut.surrogate_slopes);
+  EXPECT_LE(on_head.mean_passes, 30.0);
+  head.max_samples = 16;  // below 8 x ((m - 1) delay + last + 1) = 8 x 335
+  EXPECT_EQ(surrogate_test(lorenz, setup, head).samples, 8u * (2 * 17 + 300 + 1));
 }

@@ -221,7 +221,7 @@ int cmd_estimate(const std::vector<std::string>& args) {
       ("noise-compensation", po::value(&compensation), "auto (default): a decay whose increments show white measurement noise is read from the noise-compensated curve, ln <d^2>/2 less the noise's share; off: eq. 23's <ln d> always")
       ("dither", po::value<double>(), "add uniform noise of this width (the signal's quantum, in its units) before estimating: for quantised signals; default 0 = none")
       ("seed", po::value<std::string>(), "seed of the dither's noise (default 1; the same seed gives the same result)")
-      ("surrogates", po::value<std::string>(), "test the divergence against K surrogates with the series' spectrum and values (IAAFT; one channel): chaos is read only when it exceeds all K (p = 1/(K+1)) by 3 standard deviations; 19 gives p = 0.05; default 0 = no test (it costs K divergence curves)")
+      ("surrogates", po::value<std::string>(), "test the divergence against surrogates with the series' spectrum and values (IAAFT; one channel): chaos is read only when it exceeds all of them (p = 1/(K+1)) by 3 standard deviations. auto (default): 19, on the first 4096 samples (30 IAAFT passes, 2000 references), where the curve alone reads chaos; K: K on the whole part analysed, whatever the curve reads (19 gives p = 0.05); 0: no test")
       ("keep-start", po::bool_switch(&keep_start), "analyse the series from its first sample (or --from) even when its start does not recur (by default such a start-up transient is left out, with a warning; a --from time keeps its start too)")
       ("each", po::bool_switch(&each), "estimate every channel (two or more --channel/--column) on its own and say whether their 95 % intervals agree: the observables of one motion share its exponent")
       ("json", po::bool_switch(&json), "print one JSON object on stdout")
@@ -258,11 +258,13 @@ int cmd_estimate(const std::vector<std::string>& args) {
     if (ec != std::errc() || end != seed.data() + seed.size())
       throw po::error("--seed '" + seed + "': expected an integer 0 .. 2^64-1");
   }
-  if (vm.count("surrogates")) {
+  if (vm.count("surrogates") && vm["surrogates"].as<std::string>() != "auto") {
     const std::string k = vm["surrogates"].as<std::string>();
     const auto [end, ec] = std::from_chars(k.data(), k.data() + k.size(), o.surrogates.count);
     if (ec != std::errc() || end != k.data() + k.size() || o.surrogates.count > 999)
-      throw po::error("--surrogates '" + k + "': expected a count 0 .. 999");
+      throw po::error("--surrogates '" + k + "': expected auto or a count 0 .. 999");
+    o.surrogates_when = o.surrogates.count == 0 ? SurrogateWhen::never : SurrogateWhen::always;
+    o.surrogates = SurrogateOptions{.count = o.surrogates.count};  // asked for: the whole part analysed, 200 passes
   }
   o.phase_alignment = phase_alignment_option(align);
   if (compensation == "auto") o.noise_compensation = NoiseCompensation::automatic;

@@ -116,7 +116,8 @@ nlohmann::json to_json(const MlceResult& r) {
   j["taper_mean_share"] = r.mean_period.taper_mean_share;
   j["taper_weighted_mean"] = r.mean_period.taper_weighted_mean;
   j["treated_as_map"] = r.mean_period.map;
-  // The surrogate test (surrogate.hpp): null when not asked for (--surrogates) or not run.
+  // The surrogate test (surrogate.hpp): null when not run (by default it runs where the curve alone
+  // reads chaos; --surrogates K always, 0 never). samples: the series' first samples it ran on.
   if (const auto& t = r.surrogates)
     j["surrogates"] = {{"count", t->surrogate_slopes.size()},
                        {"series_slope", t->series_slope},
@@ -124,7 +125,8 @@ nlohmann::json to_json(const MlceResult& r) {
                        {"p_value", t->p_value},
                        {"sigmas", finite_or_null(t->sigmas)},  // null: the surrogates' slopes all equal
                        {"distinguished", t->distinguished},
-                       {"steps", {t->first, t->last}}};
+                       {"steps", {t->first, t->last}},
+                       {"samples", t->samples}};
   else
     j["surrogates"] = nullptr;
   // A steady carrier over a growing mode (MlceResult::carrier): null when none.
@@ -249,9 +251,12 @@ std::string to_text(const MlceResult& r) {
   }
   s += fmt::format("fit             steps {}..{}, R^2 = {:.4f}; {}\n", r.fit.first, r.fit.last, r.r2, r.fit.rule);
   if (const auto& t = r.surrogates)
-    s += fmt::format("surrogates      slope {:.6g} per step over {}..{}; {} IAAFT surrogates' {:.6g} .. {:.6g}: p = {:.3g}, "
+    s += fmt::format("surrogates      slope {:.6g} per step over {}..{}{}; {} IAAFT surrogates' {:.6g} .. {:.6g}: p = {:.3g}, "
                      "{:.3g} standard deviations above their mean: {}\n",
-                     t->series_slope, t->first, t->last, t->surrogate_slopes.size(),
+                     t->series_slope, t->first, t->last,
+                     t->samples < t->of_samples ? fmt::format(" on the first {} of {} samples", t->samples, t->of_samples)
+                                                : std::string(),
+                     t->surrogate_slopes.size(),
                      *std::min_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()),
                      *std::max_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()), t->p_value, t->sigmas,
                      t->distinguished ? "told from linear noise" : "not told from linear noise");

@@ -752,8 +752,27 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
   SurrogateSetup setup;
   setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
   setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
+  if (options.surrogates.max_references > 0)
+    setup.max_references = setup.max_references == 0 ? options.surrogates.max_references
+                                                     : std::min(setup.max_references, options.surrogates.max_references);
   r.surrogates = surrogate_test(analysed, setup, options.surrogates, options.progress);
   append(r.warnings, r.surrogates->warnings);
+}
+
+/// Whether estimate_mlce tests the divergence against surrogates (MlceOptions::surrogates_when):
+/// always, or where the curve alone would read chaos on a series the test can take (one channel, a
+/// fit region of the curve, no map cycle's approach); never otherwise.
+bool surrogate_test_wanted(const Series& raw, const MlceOptions& options, const MlceResult& r) {
+  switch (options.surrogates_when) {
+    case SurrogateWhen::never:
+      return false;
+    case SurrogateWhen::always:
+      return true;
+    case SurrogateWhen::where_chaos_is_read:
+      return raw.channels.size() == 1 && !r.map_cycle.approach_measured() && r.fit.last > r.fit.first &&
+             read_stability(r).motion == "chaotic";
+  }
+  return false;
 }
 }  // namespace
 
@@ -860,7 +879,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
   const Series analysed = analysed_samples(raw, r);
   r.carrier = steady_carrier(analysed, r);
-  if (options.surrogates.count > 0) test_against_surrogates(raw, options, r);
+  if (surrogate_test_wanted(raw, options, r)) test_against_surrogates(raw, options, r);
   // After the surrogate test, which the curve's reading takes into account.
   r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options);
   return r;

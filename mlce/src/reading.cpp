@@ -142,6 +142,11 @@ double below_attractor_scale(const DivergenceCurve& curve) {
 }  // namespace
 
 namespace {
+/// ", on its first N of M samples" where the surrogate test ran on a leading segment (SurrogateOptions::max_samples).
+std::string surrogate_segment(const SurrogateTest& t) {
+  return t.samples < t.of_samples ? fmt::format(", on its first {} of {} samples", t.samples, t.of_samples) : std::string();
+}
+
 /// `base` read undetermined, the summary saying why.
 Reading undetermined_reading(Reading base, const std::string& why) {
   base.stability = Stability::undetermined;
@@ -341,9 +346,10 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
       return undetermined(fmt::format(
           "lambda > 0 on a motion of steady amplitude, but its divergence is not told from linear noise's: {} "
           "surrogates with its spectrum and values (IAAFT) diverge as fast or nearly (p = {:.2g}, {:.2g} standard "
-          "deviations above their mean; chaos needs p <= {:g} and {:g}): a motion driven by noise through linear "
+          "deviations above their mean{}; chaos needs p <= {:g} and {:g}): a motion driven by noise through linear "
           "dynamics (a lightly damped mode excited by turbulence) reads so; {}",
-          t->surrogate_slopes.size(), t->p_value, t->sigmas, t->significance, t->min_sigmas, numbers + noise));
+          t->surrogate_slopes.size(), t->p_value, t->sigmas, surrogate_segment(*t), t->significance, t->min_sigmas,
+          numbers + noise));
     out.stability = Stability::unstable;
     if (a == AmplitudeTrend::grows) {
       out.motion = "growing oscillation";
@@ -375,11 +381,11 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
       out.motion = "chaotic";
       out.summary = "unstable: nearby motions diverge on a motion of steady amplitude: a chaotic attractor; ";
       out.summary += r.surrogates ? fmt::format("its divergence exceeds that of {} linear surrogates (p = {:.2g}, {:.3g} "
-                                                "standard deviations above their mean); ",
+                                                "standard deviations above their mean{}); ",
                                                 r.surrogates->surrogate_slopes.size(), r.surrogates->p_value,
-                                                r.surrogates->sigmas)
-                                  : std::string("(linear noise through a lightly damped mode reads so too: "
-                                                "--surrogates 19 tests it); ");
+                                                r.surrogates->sigmas, surrogate_segment(*r.surrogates))
+                                  : std::string("(not tested against linear noise, which through a lightly damped "
+                                                "mode reads so too: --surrogates 19 tests it); ");
     } else {
       out.motion = "diverging";
       out.summary = "unstable: nearby motions diverge while the amplitude changes: a growth and chaos are not told "

@@ -29,6 +29,8 @@ namespace mlce {
 /// period of kMinFlowPeriod samples or more and little power at periods below 4 samples) whose plain
 /// curve grows into a saturation plateau (lambda > 0).
 enum class PhaseAlignment { automatic, off, on };
+/// When estimate_mlce runs the surrogate test (MlceOptions::surrogates_when).
+enum class SurrogateWhen { never, where_chaos_is_read, always };
 /// Whether a decay that carries white measurement noise is read from the noise-compensated curve
 /// (DivergenceCurve::compensated_log_distance: ln of the pairs' mean square distance, each over its
 /// own mean, less the noise's share, halved) instead of eq. 23's <ln d>. automatic: when eq. 23's
@@ -102,9 +104,16 @@ struct MlceOptions {
   FitOptions fit;
   /// What repeats as a map's settled cycle (map_cycle.hpp); maps only (MeanPeriodResult::map).
   MapCycleOptions map_cycle;
-  /// The surrogate test of the divergence against linear noise (surrogate.hpp): off by default
-  /// (count 0), since it costs `count` divergence curves; one-channel series only.
-  SurrogateOptions surrogates{.count = 0};
+  /// When the surrogate test of the divergence against linear noise runs (surrogate.hpp; one-channel
+  /// series only). Default where_chaos_is_read: wherever the curve alone would read "chaotic" -- the
+  /// one claim that linear noise through a lightly damped mode fakes (an AR(2) resonance read so on 6
+  /// of 8 series, bench/surrogate_power) -- with `surrogates` as below: 19 surrogates of the series'
+  /// first 4096 samples, 30 IAAFT passes each, curves of at most 2000 references, which keeps the
+  /// test to about 0.1 s (Lorenz x: 30 standard deviations above its surrogates, an AR(2) resonance
+  /// within 3). never: no test; always: on every one-channel estimate, with `surrogates` as given
+  /// (`mlce estimate --surrogates K`: K surrogates of the whole part analysed, 200 passes).
+  SurrogateWhen surrogates_when = SurrogateWhen::where_chaos_is_read;
+  SurrogateOptions surrogates{.count = 19, .iterations = 30, .max_samples = 4096, .max_references = 2000};
   /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
   /// error of the mean curve negligible while bounding the cost for very long series.
   std::size_t max_references = 20000;

@@ -19,8 +19,15 @@
 //    the ranks stop changing or `iterations` passes; it ends on the exact values (their spectrum
 //    then within a fraction of a per cent of the series').
 //  - The statistic: the slope of the divergence curve (eq. 23, plain, no phase alignment) per
-//    sample over the estimate's own fit region [first, last], with the estimate's m, delay, Theiler
-//    window and horizon; for the series and for each surrogate alike (fit_line).
+//    sample over the estimate's own fit region [first, last], with the estimate's m, delay and
+//    Theiler window, the curve followed to step `last` (its later steps do not enter the slope); for
+//    the series and for each surrogate alike (fit_line).
+//  - On at most `max_samples` of the series, its first ones (0: all): the test's cost is K IAAFT
+//    surrogates (each pass an FFT pair and a sort of the segment) and K curves, and it grows with
+//    the segment while the question -- does this motion's divergence exceed linear noise's? --
+//    does not need the whole of a long record. The segment keeps at least 8 times the samples the
+//    fit region spans with its embedding window, (m - 1) delay + last + 1, so that its curve has
+//    references enough.
 //  - Rank test, one-sided: p = (1 + #{surrogates whose slope >= the series'}) / (1 + K). With the
 //    default K = 19, p = 0.05 when the series' slope exceeds all of them. And its distance from
 //    the surrogates' mean in their standard deviations (Theiler et al.'s significance S), at least
@@ -43,6 +50,11 @@ struct SurrogateOptions {
   /// it costs K divergence curves).
   std::size_t count = 19;
   std::size_t iterations = 200;  ///< IAAFT passes at most (each: two FFTs and a sort)
+  /// The test on the series' first max_samples (at least 8 x ((m - 1) delay + last + 1)); 0: all.
+  std::size_t max_samples = 0;
+  /// Reference points of each curve at most (estimate_mlce: also at most the estimate's own cap,
+  /// MlceOptions::max_references); 0: the estimate's cap.
+  std::size_t max_references = 0;
   std::uint64_t seed = 1;        ///< surrogate k shuffles with splitmix64 from seed + k
   double significance = 0.05;    ///< p at most this, and
   double min_sigmas = 3.0;       ///< S at least this: the series' divergence is distinguished
@@ -60,12 +72,17 @@ struct SurrogateTest {
   bool distinguished = false;            ///< p_value <= significance and sigmas >= min_sigmas
   double significance = 0.0, min_sigmas = 0.0;  ///< the options' bounds, as tested against
   std::size_t first = 0, last = 0;       ///< the curve steps the slopes span (the estimate's fit)
+  double mean_passes = 0.0;               ///< IAAFT passes per surrogate, on average (at most `iterations`)
+  std::size_t samples = 0;               ///< the series' first samples the test ran on
+  std::size_t of_samples = 0;            ///< of the series' samples
   std::vector<std::string> warnings;
 };
 
 /// An IAAFT surrogate of x: x's values, in an order whose power spectrum is x's to within the
 /// passes' convergence. x of at least 4 values, not all equal.
-std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations);
+/// `passes`, when given, receives the passes made (below `iterations`: the ranks stopped changing).
+std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations,
+                                    std::size_t* passes = nullptr);
 
 /// Where the statistic is read: the estimate's embedding, Theiler window, horizon and fit region.
 struct SurrogateSetup {
