@@ -4,7 +4,7 @@
 # 10^4 samples, 40 segments each) and one long Roessler x series (dt 0.1 s; 3000, 5000 and 10^4
 # samples), the segments already on the attractor. Every segment is chaotic: "unstable, chaotic" is
 # the right reading; "undetermined" is an honest miss (the summary says why); anything else is a
-# wrong reading. Per length: how often each reading was given, the range of the envelope line's t, then each miss with lambda, the
+# wrong reading. Per length: how often each reading was given, the range of the envelope line's t, then each miss with lambda, its fit region (curve steps), the
 # amplitude's envelope rate (1/s) and its t (rate over its standard error), the ratio of the last
 # third's RMS to the first's, and the summary's first words (t 0: no envelope line on so short a run).
 #   bench/chaos_readings.sh [BUILD_DIR]        (about 2 min)
@@ -30,14 +30,14 @@ for run in lorenz:0.01:2000 lorenz:0.01:3000 lorenz:0.01:5000 lorenz:0.01:10000 
       echo "refused from $from" >> "$work/table.txt"
       continue
     fi
-    printf '%s %s from %-8s lambda %+8.4f  envelope %s 1/s (t %+6.2f)  ratio %-5.5s  %s\n' \
+    printf '%s %s from %-8s lambda %+8.4f  fit %-10s envelope %s 1/s (t %+6.2f)  ratio %-5.5s  %s\n' \
       "$(printf '%s' "$json" | field stability)" "$(printf '%s' "$json" | field motion)" "$from" \
-      "$(printf '%s' "$json" | field lambda)" \
+      "$(printf '%s' "$json" | field lambda)" "$(printf '%s' "$json" | grep -o '"fit":\[[0-9]*,[0-9]*\]' | cut -d: -f2)" \
       "$(printf '%s' "$json" | field envelope_rate | awk '{ print $1 == "null" ? "null" : sprintf("%+.2e", $1) }')" \
       "$(awk -v e="$(printf '%s' "$json" | field envelope_rate)" -v s="$(printf '%s' "$json" | field envelope_rate_stderr)" \
              'BEGIN { print (s + 0 > 0 ? e / s : 0) }')" \
       "$(printf '%s' "$json" | field amplitude_ratio)" \
-      "$(printf '%s' "$json" | field summary | cut -c1-60)" >> "$work/table.txt"
+      "$(printf '%s' "$json" | field summary | cut -c1-140)" >> "$work/table.txt"
   done
   echo "== $flow x, dt $dt, $length samples: 40 segments"
   awk '{ print "  " $1 " " $2 }' "$work/table.txt" | sort | uniq -c | sort -rn

@@ -752,6 +752,7 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
   SurrogateSetup setup;
   setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
   setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
+  setup.align_phase = r.curve.phase_aligned;
   if (options.surrogates.max_references > 0)
     setup.max_references = setup.max_references == 0 ? options.surrogates.max_references
                                                      : std::min(setup.max_references, options.surrogates.max_references);

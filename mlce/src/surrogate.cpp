@@ -100,6 +100,7 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
   ro.dim = setup.dim, ro.delay = setup.delay, ro.theiler = setup.theiler;
   ro.horizon = setup.last;  // the slope reads steps first..last only
   ro.max_references = setup.max_references;
+  ro.align_phase = setup.align_phase;
   const std::size_t n = series.channels[0].size();
   const std::size_t span = (setup.dim - 1) * setup.delay + setup.last + 1;
   out.of_samples = n;

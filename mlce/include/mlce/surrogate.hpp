@@ -89,6 +89,9 @@ struct SurrogateSetup {
   std::size_t dim = 1, delay = 1, theiler = 1, horizon = 0;
   std::size_t first = 0, last = 0;  ///< curve steps, last > first
   std::size_t max_references = 20000;
+  /// The estimate's phase alignment (MlceResult::phase_aligned): the statistic's curves, the
+  /// series' and each surrogate's, move each neighbour to its reference's phase as the estimate did.
+  bool align_phase = false;
 };
 
 /// The test above on a one-channel series (the part an estimate analysed). Reports its progress
