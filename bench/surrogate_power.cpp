@@ -6,18 +6,20 @@
 //    (its power: how often it does);
 //  - linear stochastic: AR(2) resonances x_t = 2 r cos(w) x_{t-1} - r^2 x_{t-2} + e_t (r = 0.95,
 //    0.99, 0.995; w = 0.2), AR(1) (phi = 0.9), a sine plus white noise (10 % of its amplitude),
-//    N = 10^4, Gaussian e_t from mt19937_64: the null holds, and the test should distinguish them on
-//    about 5 % of series (its size);
+//    N = 10^4, Gaussian e_t from mt19937_64, and a damped oscillator (zeta 0.05, omega 2 pi, dt 0.01)
+//    driven by white noise: the null holds, and the test should distinguish them on about 5 % of
+//    series (its size);
 // per series: lambda, the reading's motion, the series' slope over the fit region, the surrogates'
 // largest, p, S (sigmas) and the reading with the test; then per kind how often the test
 // distinguished the series and how often the reading said "chaotic" without it, with it on the whole
 // series (--surrogates 19) and by default (the test on the first 4096 samples where the curve reads chaos).
-//   build/surrogate_power [STARTS]      (STARTS series per kind, default 8; about 1 min at 8)
+//   build/surrogate_power [STARTS]      (STARTS series per kind, default 8; about 5 min at 8)
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -47,6 +49,23 @@ std::vector<double> noisy_sine(std::size_t n, double noise, std::uint64_t seed) 
   std::vector<double> x(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = std::sin(0.05 * static_cast<double>(i));
   return reference::with_white_noise(x, noise, seed);
+}
+
+/// A damped oscillator (zeta, omega rad/s) driven by white noise, sampled every dt (symplectic Euler,
+/// the noise's increment sqrt(dt) N(0, 1) per step, after 20 / (zeta omega) time units of burn-in): a
+/// lightly damped mode excited by turbulence, a stable linear system.
+std::vector<double> noise_driven_oscillator(std::size_t n, double dt, double zeta, double omega, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  const auto burn_in = static_cast<std::size_t>(20.0 / (zeta * omega) / dt);
+  std::vector<double> x(n);
+  double q = 0.0, v = 0.0;
+  for (std::size_t i = 0; i < n + burn_in; ++i) {
+    v += (-2.0 * zeta * omega * v - omega * omega * q) * dt + std::sqrt(dt) * e(gen);
+    q += v * dt;
+    if (i >= burn_in) x[i - burn_in] = q;
+  }
+  return x;
 }
 
 struct Kind {
@@ -87,6 +106,7 @@ int main(int argc, char** argv) {
       {"AR(2) r = 0.995", 1.0, [&](std::uint64_t s) { return reference::ar2_resonance(n, 0.995, 0.2, s); }},
       {"AR(1) phi = 0.9", 1.0, [&](std::uint64_t s) { return ar1(n, 0.9, s); }},
       {"sine + 10 % noise", 1.0, [&](std::uint64_t s) { return noisy_sine(n, 0.1, s); }},
+      {"mode + noise", 0.01, [&](std::uint64_t s) { return noise_driven_oscillator(n, 0.01, 0.05, 2.0 * std::numbers::pi, s); }},
   };
   std::vector<std::string> summary;
   for (const Kind& kind : kinds) {

@@ -569,6 +569,7 @@ int cmd_kantz(const std::vector<std::string>& args) {
   ko.phase_alignment = phase_alignment_option(align);
   o.progress = ko.progress = progress_printer(quiet);
   o.skip_nonrecurrent_start = !keep_start && in.start_is_automatic();
+  o.surrogates_when = SurrogateWhen::never;  // Kantz's curves take the estimate's settings, not its reading
   const cli::LoadedSeries loaded = cli::load_series(in);
   o.record_deviation = loaded.record_deviation;
   // The estimate chooses the embedding, the Theiler window and the horizon, and its fit options read

@@ -109,9 +109,9 @@ struct MlceOptions {
   /// one claim that linear noise through a lightly damped mode fakes (an AR(2) resonance read so on 6
   /// of 8 series, bench/surrogate_power) -- with `surrogates` as below: 19 surrogates of the series'
   /// first 4096 samples, 30 IAAFT passes each, curves of at most 2000 references, which keeps the
-  /// test to about 0.1 s (Lorenz x: 30 standard deviations above its surrogates, an AR(2) resonance
-  /// within 3). never: no test; always: on every one-channel estimate, with `surrogates` as given
-  /// (`mlce estimate --surrogates K`: K surrogates of the whole part analysed, 200 passes).
+  /// test to about 0.12 s (Lorenz x: 26-43 standard deviations above its surrogates, AR(2) resonances
+  /// and a noise-driven mode within 3). never: no test; always: on every one-channel estimate, with
+  /// `surrogates` as given (`mlce estimate --surrogates K`: K of the whole part analysed, 200 passes).
   SurrogateWhen surrogates_when = SurrogateWhen::where_chaos_is_read;
   SurrogateOptions surrogates{.count = 19, .iterations = 30, .max_samples = 4096, .max_references = 2000};
   /// Reference points of the curve, evenly strided; 0 = all. The default keeps the statistical
@@ -281,7 +281,7 @@ struct MlceResult {
     }
   };
   std::optional<RecordModes> record_modes;
-  /// The surrogate test (MlceOptions::surrogates), when asked for and run: the reading
+  /// The surrogate test (MlceOptions::surrogates_when, surrogates), where it ran: the reading
   /// (reading.hpp) claims chaos only when it distinguishes the divergence from linear noise.
   std::optional<SurrogateTest> surrogates;
   /// The divergence curve's fitted slope per time unit when lambda is a map cycle's approach; NaN
