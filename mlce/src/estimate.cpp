@@ -750,7 +750,7 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
   }
   const Series analysed = analysed_samples(raw, r);
   SurrogateSetup setup;
-  setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler, setup.horizon = r.horizon;
+  setup.dim = r.dim, setup.delay = r.delay, setup.theiler = r.theiler;
   setup.first = r.fit.first, setup.last = r.fit.last, setup.max_references = options.max_references;
   setup.align_phase = r.curve.phase_aligned;
   if (options.surrogates.max_references > 0)

@@ -18,10 +18,12 @@
 //    series' Fourier amplitudes (phases kept) and its values in the rank order of the result, until
 //    the ranks stop changing or `iterations` passes; it ends on the exact values (their spectrum
 //    then within a fraction of a per cent of the series').
-//  - The statistic: the slope of the divergence curve (eq. 23, plain, no phase alignment) per
-//    sample over the estimate's own fit region [first, last], with the estimate's m, delay and
-//    Theiler window, the curve followed to step `last` (its later steps do not enter the slope); for
-//    the series and for each surrogate alike (fit_line).
+//  - The statistic: the slope of the divergence curve (eq. 23) per sample over the estimate's own
+//    fit region [first, last], with the estimate's m, delay, Theiler window and phase alignment (a
+//    sampled flow's neighbours moved to their references' phase, as the estimate's were: the curve
+//    whose slope is lambda), followed to step `last` (later steps do not enter the slope); for the
+//    series and for each surrogate alike (fit_line): the test speaks to the slope that is lambda.
+//    (Until 2026-12-07 the plain curve, followed to the estimate's whole horizon.)
 //  - On at most `max_samples` of the series, its first ones (0: all): the test's cost is K IAAFT
 //    surrogates (each pass an FFT pair and a sort of the segment) and K curves, and it grows with
 //    the segment while the question -- does this motion's divergence exceed linear noise's? --
@@ -46,8 +48,8 @@
 namespace mlce {
 
 struct SurrogateOptions {
-  /// K surrogates (19: p = 0.05 when the series beats all); 0: no test (estimate_mlce's default:
-  /// it costs K divergence curves).
+  /// K surrogates (19: p = 0.05 when the series beats all); at least 1. Whether estimate_mlce runs
+  /// the test at all: MlceOptions::surrogates_when.
   std::size_t count = 19;
   std::size_t iterations = 200;  ///< IAAFT passes at most (each: two FFTs and a sort)
   /// The test on the series' first max_samples (at least 8 x ((m - 1) delay + last + 1)); 0: all.
@@ -84,12 +86,12 @@ struct SurrogateTest {
 std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations,
                                     std::size_t* passes = nullptr);
 
-/// Where the statistic is read: the estimate's embedding, Theiler window, horizon and fit region.
+/// Where the statistic is read: the estimate's embedding, Theiler window and fit region.
 struct SurrogateSetup {
-  std::size_t dim = 1, delay = 1, theiler = 1, horizon = 0;
+  std::size_t dim = 1, delay = 1, theiler = 1;
   std::size_t first = 0, last = 0;  ///< curve steps, last > first
   std::size_t max_references = 20000;
-  /// The estimate's phase alignment (MlceResult::phase_aligned): the statistic's curves, the
+  /// The estimate's phase alignment (DivergenceCurve::phase_aligned): the statistic's curves, the
   /// series' and each surrogate's, move each neighbour to its reference's phase as the estimate did.
   bool align_phase = false;
 };
