@@ -5,6 +5,7 @@
 // are not.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -185,4 +186,17 @@ TEST(Surrogate, ALeadingSegmentIsTheTestOfThatSegment) {
   EXPECT_LE(on_head.mean_passes, 30.0);
   head.max_samples = 16;  // below 8 x ((m - 1) delay + last + 1) = 8 x 335
   EXPECT_EQ(surrogate_test(lorenz, setup, head).samples, 8u * (2 * 17 + 300 + 1));
+  // Made one at a time (one thread), the surrogates and their slopes are those made side by side.
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const SurrogateTest serial = surrogate_test(lorenz, setup, SurrogateOptions{.count = 5, .iterations = 30, .max_samples = 4096});
+  omp_set_num_threads(threads);
+  EXPECT_EQ(serial.surrogate_slopes, on_head.surrogate_slopes);
+  // A leading segment that holds still has no surrogates of its own: the test takes the whole series.
+  Series still_start = lorenz;
+  std::fill_n(still_start.channels[0].begin(), 5000, still_start.channels[0][5000]);
+  EXPECT_EQ(surrogate_test(still_start, setup, head).samples, 10000u);
+  Series constant = lorenz;
+  std::fill(constant.channels[0].begin(), constant.channels[0].end(), 1.0);
+  EXPECT_THROW(surrogate_test(constant, setup, head), InputError);
 }
