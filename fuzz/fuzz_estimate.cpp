@@ -7,11 +7,13 @@
 // interval are numbers (never NaN, never log 0) and whose curve holds no NaN, read without throwing;
 // Cao's E, E1 and E2 of the same series (mlce fnn --method cao) numbers too, or a clear error, and so
 // Kantz's curves with the estimate's parameters (mlce kantz), and the record's damped modes (mlce modes);
-// the isolated spikes the command line refuses or replaces lie where their definition puts them.
+// the isolated spikes the command line refuses or replaces lie where their definition puts them;
+// the surrogate test's slopes are numbers (byte 3's bit 2: the test on every estimate).
 //
 // Input layout: byte 0 picks the options, byte 1 the scale (a power of two, 2^-1074 .. 2^1016),
-// byte 2 an offset in units of the scale, byte 3 the channel count and the time step; the rest are
-// the samples, int16 little-endian, channel after channel within a row.
+// byte 2 an offset in units of the scale, byte 3 the channel count, the time step and when the
+// surrogate test runs; the rest are the samples, int16 little-endian, channel after channel within
+// a row.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -147,6 +149,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (pick & 128u) o.record_deviation.assign(channels, std::abs(offset) + 1000.0 * scale);  // a window of a larger record
   o.max_references = 500;  // the fuzzer's time goes to many inputs, not to one long curve
   o.record_modes = quick_modes();
+  // The surrogate test where the curve reads chaos (the default) or on every estimate: 3 surrogates
+  // of 5 passes, few references (its arithmetic, not its power, is what is checked; 19 of 30 passes
+  // cut the inputs tried in 20 s from 121 to 49).
+  o.surrogates_when = (layout & 4u) ? mlce::SurrogateWhen::always : mlce::SurrogateWhen::where_chaos_is_read;
+  o.surrogates = mlce::SurrogateOptions{.count = 3, .iterations = 5, .max_samples = 1024, .max_references = 200};
   try {
     const auto series = mlce::make_series_with_step(std::move(samples), dt);
     check_spikes(series);
@@ -161,6 +168,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (!number(m->lambda) || !number(m->residual) || m->residual < 0.0) broken("the record's modes hold a NaN");
       if (m->describes_record() && !(m->ci95_low <= m->lambda && m->lambda <= m->ci95_high))
         broken("the record's modes' interval does not hold their lambda");
+    }
+    if (const auto& t = r.surrogates) {  // slopes are numbers; sigmas may be +-inf (equal surrogates)
+      if (!number(t->series_slope) || !number(t->p_value) || !number(t->sigmas)) broken("the surrogate test holds a NaN");
+      for (const double slope : t->surrogate_slopes)
+        if (!number(slope)) broken("a surrogate's slope is NaN");
+      if (t->samples > t->of_samples || t->surrogate_slopes.size() != 3) broken("the surrogate test ran on what it was not given");
     }
     (void)mlce::read_stability(r);
     check_kantz(series, r);
