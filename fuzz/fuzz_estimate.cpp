@@ -150,8 +150,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   o.max_references = 500;  // the fuzzer's time goes to many inputs, not to one long curve
   o.record_modes = quick_modes();
   // The surrogate test where the curve reads chaos (the default) or on every estimate: 3 surrogates
-  // of 5 passes, few references (its arithmetic, not its power, is what is checked; 19 of 30 passes
-  // cut the inputs tried in 20 s from 121 to 49).
+  // of 5 passes, few references (its arithmetic, not its power, is what is checked, and the fuzzer's
+  // time goes to many inputs).
   o.surrogates_when = (layout & 4u) ? mlce::SurrogateWhen::always : mlce::SurrogateWhen::where_chaos_is_read;
   o.surrogates = mlce::SurrogateOptions{.count = 3, .iterations = 5, .max_samples = 1024, .max_references = 200};
   try {
