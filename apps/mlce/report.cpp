@@ -254,8 +254,7 @@ std::string to_text(const MlceResult& r) {
     s += fmt::format("surrogates      slope {:.6g} per step over {}..{}{}; {} IAAFT surrogates' {:.6g} .. {:.6g}: p = {:.3g}, "
                      "{:.3g} standard deviations above their mean: {}\n",
                      t->series_slope, t->first, t->last,
-                     t->samples < t->of_samples ? fmt::format(" on the first {} of {} samples", t->samples, t->of_samples)
-                                                : std::string(),
+                     segment_words(*t).empty() ? std::string() : " on the " + segment_words(*t),
                      t->surrogate_slopes.size(),
                      *std::min_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()),
                      *std::max_element(t->surrogate_slopes.begin(), t->surrogate_slopes.end()), t->p_value, t->sigmas,

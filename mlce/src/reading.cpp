@@ -142,9 +142,10 @@ double below_attractor_scale(const DivergenceCurve& curve) {
 }  // namespace
 
 namespace {
-/// ", on its first N of M samples" where the surrogate test ran on a leading segment (SurrogateOptions::max_samples).
+/// ", on its first N of M samples" where the surrogate test ran on a leading segment.
 std::string surrogate_segment(const SurrogateTest& t) {
-  return t.samples < t.of_samples ? fmt::format(", on its first {} of {} samples", t.samples, t.of_samples) : std::string();
+  const std::string words = segment_words(t);
+  return words.empty() ? words : ", on its " + words;
 }
 
 /// `base` read undetermined, the summary saying why.

@@ -25,6 +25,10 @@ void SurrogateOptions::validate() const {
     throw OptionError(fmt::format("surrogates.significance = {:g}: expected 0 < value < 1", significance));
 }
 
+std::string segment_words(const SurrogateTest& t) {
+  return t.samples < t.of_samples ? fmt::format("first {} of {} samples", t.samples, t.of_samples) : std::string();
+}
+
 std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations,
                                     std::size_t* passes) {
   const std::size_t n = x.size();

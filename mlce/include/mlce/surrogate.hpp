@@ -80,6 +80,10 @@ struct SurrogateTest {
   std::vector<std::string> warnings;
 };
 
+/// "first N of M samples" where the test ran on a leading segment (SurrogateOptions::max_samples),
+/// else empty: the words the reading and the report both put after the test's figures.
+std::string segment_words(const SurrogateTest& t);
+
 /// An IAAFT surrogate of x: x's values, in an order whose power spectrum is x's to within the
 /// passes' convergence. x of at least 4 values, not all equal.
 /// `passes`, when given, receives the passes made (below `iterations`: the ranks stopped changing).
