@@ -9,6 +9,9 @@
 //    N = 10^4, Gaussian e_t from mt19937_64, and a damped oscillator (zeta 0.05, omega 2 pi, dt 0.01)
 //    driven by white noise: the null holds, and the test should distinguish them on about 5 % of
 //    series (its size);
+//  - two channels embedded jointly (multivariate surrogates): Lorenz (x, z) and Roessler (x, y),
+//    chaotic; a noise-driven mode's displacement and velocity, and two noise-driven modes (1 and
+//    1.2 Hz) seen as their sum and difference, linear;
 // per series: lambda, the reading's motion, the series' slope over the fit region, the surrogates'
 // largest, p, S (sigmas) and the reading with the test; then per kind how often the test
 // distinguished the series and how often the reading said "chaotic" without it, with it on the whole
@@ -51,28 +54,24 @@ std::vector<double> noisy_sine(std::size_t n, double noise, std::uint64_t seed) 
   return reference::with_white_noise(x, noise, seed);
 }
 
-/// A damped oscillator (zeta, omega rad/s) driven by white noise, sampled every dt (symplectic Euler,
-/// the noise's increment sqrt(dt) N(0, 1) per step, after 20 / (zeta omega) time units of burn-in): a
-/// lightly damped mode excited by turbulence, a stable linear system.
-std::vector<double> noise_driven_oscillator(std::size_t n, double dt, double zeta, double omega, std::uint64_t seed) {
-  std::mt19937_64 gen(seed);
-  std::normal_distribution<double> e(0.0, 1.0);
-  const auto burn_in = static_cast<std::size_t>(20.0 / (zeta * omega) / dt);
-  std::vector<double> x(n);
-  double q = 0.0, v = 0.0;
-  for (std::size_t i = 0; i < n + burn_in; ++i) {
-    v += (-2.0 * zeta * omega * v - omega * omega * q) * dt + std::sqrt(dt) * e(gen);
-    q += v * dt;
-    if (i >= burn_in) x[i - burn_in] = q;
-  }
-  return x;
-}
-
 struct Kind {
   std::string name;
   double dt;
   std::function<std::vector<double>(std::uint64_t)> make;
+  /// Several channels embedded jointly (the multivariate surrogates); `make` is then unused.
+  std::function<std::vector<std::vector<double>>(std::uint64_t)> make_channels = {};
 };
+
+/// Two lightly damped modes (zeta 0.05 at 1 and 1.2 Hz) each driven by its own white noise, observed
+/// as their sum and their difference: two channels of one stable linear motion (an airframe's x and
+/// y, each seeing both modes), exponent -0.05 x 2 pi = -0.314 1/s.
+std::vector<std::vector<double>> two_modes(std::size_t n, double dt, std::uint64_t seed) {
+  const std::vector<double> a = reference::noise_driven_oscillator(n, dt, 0.05, 2.0 * std::numbers::pi, seed).q;
+  const std::vector<double> b = reference::noise_driven_oscillator(n, dt, 0.05, 2.4 * std::numbers::pi, seed + 7919).q;
+  std::vector<std::vector<double>> out(2, std::vector<double>(n));
+  for (std::size_t i = 0; i < n; ++i) out[0][i] = a[i] + b[i], out[1][i] = a[i] - b[i];
+  return out;
+}
 
 }  // namespace
 
@@ -106,13 +105,33 @@ int main(int argc, char** argv) {
       {"AR(2) r = 0.995", 1.0, [&](std::uint64_t s) { return reference::ar2_resonance(n, 0.995, 0.2, s); }},
       {"AR(1) phi = 0.9", 1.0, [&](std::uint64_t s) { return ar1(n, 0.9, s); }},
       {"sine + 10 % noise", 1.0, [&](std::uint64_t s) { return noisy_sine(n, 0.1, s); }},
-      {"mode + noise", 0.01, [&](std::uint64_t s) { return noise_driven_oscillator(n, 0.01, 0.05, 2.0 * std::numbers::pi, s); }},
+      {"mode + noise", 0.01, [&](std::uint64_t s) { return reference::noise_driven_oscillator(n, 0.01, 0.05, 2.0 * std::numbers::pi, s).q; }},
+      // Channels embedded jointly: chaotic flows' two coordinates, and stable modes driven by noise.
+      {"Lorenz (x, z)", 0.01, {},
+       [&](std::uint64_t s) {
+         std::mt19937_64 g(s);
+         const std::array<double, 3> x0 = {u(g), u(g), 20.0 + u(g)};
+         return std::vector<std::vector<double>>{reference::lorenz(n, 0.01, x0, 50.0, 0), reference::lorenz(n, 0.01, x0, 50.0, 2)};
+       }},
+      {"Roessler (x, y)", 0.1, {},
+       [&](std::uint64_t s) {
+         std::mt19937_64 g(s);
+         const std::array<double, 3> x0 = {u(g), u(g), 0.0};
+         return std::vector<std::vector<double>>{reference::roessler(n, 0.1, x0, 0), reference::roessler(n, 0.1, x0, 1)};
+       }},
+      {"mode (q, v)", 0.01, {},
+       [&](std::uint64_t s) {
+         reference::NoiseDrivenMode m = reference::noise_driven_oscillator(n, 0.01, 0.05, 2.0 * std::numbers::pi, s);
+         return std::vector<std::vector<double>>{std::move(m.q), std::move(m.v)};
+       }},
+      {"two modes (sum, diff)", 0.01, {}, [&](std::uint64_t s) { return two_modes(n, 0.01, s); }},
   };
   std::vector<std::string> summary;
   for (const Kind& kind : kinds) {
     std::size_t distinguished = 0, chaotic = 0, tested = 0, chaotic_tested = 0, chaotic_screened = 0;
     for (std::size_t k = 0; k < starts; ++k) {
-      const Series series = make_series_with_step({kind.make(1000 + k)}, kind.dt);
+      const Series series = kind.make_channels ? make_series_with_step(kind.make_channels(1000 + k), kind.dt)
+                                               : make_series_with_step({kind.make(1000 + k)}, kind.dt);
       MlceResult r;
       try {
         MlceOptions untested;

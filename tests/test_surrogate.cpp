@@ -1,13 +1,15 @@
 // The surrogate test of the divergence against linear noise (surrogate.hpp): IAAFT surrogates keep
 // the series' values exactly and its power spectrum closely (checked against the series' own
-// periodogram, their definition); chaotic series (Lorenz x, Henon x) are told from their
-// surrogates, linear stochastic ones (an AR(2) resonance, which reads "chaotic" without the test)
-// are not.
+// periodogram, their definition), and the multivariate ones the channels' cross-correlation too;
+// chaotic series (Lorenz x, Henon x; Lorenz (x, z) embedded jointly) are told from their
+// surrogates, linear stochastic ones (an AR(2) resonance, a noise-driven mode's displacement and
+// velocity, which read "chaotic" without the test) are not.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -114,13 +116,9 @@ TEST(Surrogate, OptionsAndWhereItIsNotRun) {
   EXPECT_THROW(o.validate(), OptionError);
   EXPECT_THROW(iaaft_surrogate({1.0, 1.0, 1.0, 1.0}, 1, 10), InputError);
   EXPECT_THROW(iaaft_surrogate({1.0, 2.0}, 1, 10), InputError);
-  // Two channels embedded jointly: not run, and said so.
-  const MlceResult two =
-      estimate_mlce(make_series_with_step({reference::lorenz_x(4000), reference::lorenz(4000, 0.01, {1, 1, 1}, 50.0, 1)}, 0.01),
-                    with_surrogates());
-  EXPECT_FALSE(two.surrogates.has_value());
-  EXPECT_TRUE(std::any_of(two.warnings.begin(), two.warnings.end(),
-                          [](const std::string& w) { return w.find("surrogate test takes one channel") != std::string::npos; }));
+  EXPECT_THROW(iaaft_surrogates({}, 1, 10), InputError);
+  EXPECT_THROW(iaaft_surrogates({{1.0, 2.0, 3.0, 4.0}, {1.0, 2.0, 3.0}}, 1, 10), InputError);  // unequal lengths
+  EXPECT_THROW(iaaft_surrogates({{1.0, 2.0, 3.0, 4.0}, {5.0, 5.0, 5.0, 5.0}}, 1, 10), InputError);  // a constant channel
   // By default only where the curve alone reads chaos: not on a decay, nor when turned off.
   EXPECT_FALSE(estimate_mlce(make_series_with_step({reference::damped_oscillator(2000, 0.01, 0.05, 2.0 * std::numbers::pi)}, 0.01), {})
                    .surrogates.has_value());
@@ -199,4 +197,99 @@ TEST(Surrogate, ALeadingSegmentIsTheTestOfThatSegment) {
   Series constant = lorenz;
   std::fill(constant.channels[0].begin(), constant.channels[0].end(), 1.0);
   EXPECT_THROW(surrogate_test(constant, setup, head), InputError);
+}
+
+namespace {
+/// Pearson's correlation of x(t) and y(t + lag) over the samples both cover (direct sums).
+double lagged_correlation(const std::vector<double>& x, const std::vector<double>& y, int lag) {
+  const std::size_t n = x.size(), shift = static_cast<std::size_t>(std::abs(lag));
+  double mx = 0.0, my = 0.0;
+  for (double v : x) mx += v;
+  for (double v : y) my += v;
+  mx /= static_cast<double>(n), my /= static_cast<double>(n);
+  double sxy = 0.0, sxx = 0.0, syy = 0.0;
+  for (std::size_t i = 0; i + shift < n; ++i) {
+    const double a = x[lag >= 0 ? i : i + shift] - mx, b = y[lag >= 0 ? i + shift : i] - my;
+    sxy += a * b, sxx += a * a, syy += b * b;
+  }
+  return sxy / std::sqrt(sxx * syy);
+}
+}  // namespace
+
+// Multivariate IAAFT (Schreiber and Schmitz 2000): each channel keeps its values and spectrum, the
+// channels keep how they move together -- their correlation at every lag, which the univariate
+// surrogates of each channel on its own lose -- and one channel is the univariate surrogate.
+TEST(Surrogate, MultivariateSurrogatesKeepHowTheChannelsMoveTogether) {
+  const std::array<double, 3> start = {1.0, 1.0, 1.0};
+  const std::vector<double> x = reference::lorenz(2048, 0.01, start, 50.0, 0), y = reference::lorenz(2048, 0.01, start, 50.0, 1);
+  // One channel: the univariate surrogate, bit for bit (the same shuffle, the same passes).
+  std::size_t one_passes = 0, single_passes = 0;
+  EXPECT_EQ(iaaft_surrogates({x}, 7, 200, &one_passes).front(), iaaft_surrogate(x, 7, 200, &single_passes));
+  EXPECT_EQ(one_passes, single_passes);
+  // A channel twice: after the first pass both channels are turned alike, so they end equal.
+  const std::vector<std::vector<double>> twice = iaaft_surrogates({x, x}, 7, 200);
+  EXPECT_EQ(twice[0], twice[1]);
+  EXPECT_NE(twice[0], x);
+
+  std::size_t passes = 0;
+  const std::vector<std::vector<double>> s = iaaft_surrogates({x, y}, 7, 200, &passes);
+  ASSERT_EQ(s.size(), 2u);
+  for (std::size_t c = 0; c < 2; ++c) {
+    std::vector<double> a(c == 0 ? x : y), b(s[c]);
+    std::sort(a.begin(), a.end()), std::sort(b.begin(), b.end());
+    EXPECT_EQ(a, b) << c;  // the very values
+    const std::vector<double> pa = periodogram(c == 0 ? x : y), pb = periodogram(s[c]);
+    double total = 0.0, difference = 0.0;
+    for (std::size_t k = 0; k < pa.size(); ++k) total += pa[k], difference += std::abs(pa[k] - pb[k]);
+    EXPECT_LT(difference / total, 0.05) << c;
+  }
+  EXPECT_NE(s[0], x);
+  // The cross-correlation at lags -50..50 samples (Lorenz x and y: +0.88 at lag 0), against the
+  // univariate surrogates of each channel made on its own, which keep each spectrum only.
+  const std::vector<double> ux = iaaft_surrogate(x, 7, 200), uy = iaaft_surrogate(y, 8, 200);
+  double worst = 0.0, univariate_at_0 = 0.0;
+  for (int lag = -50; lag <= 50; lag += 5) {
+    const double truth = lagged_correlation(x, y, lag);
+    worst = std::max(worst, std::abs(lagged_correlation(s[0], s[1], lag) - truth));
+    if (lag == 0) univariate_at_0 = lagged_correlation(ux, uy, 0);
+  }
+  std::printf("Lorenz (x, y), 2048 samples, %zu passes: cross-correlation at lags -50..50 within %.3f of the series'; "
+              "univariate surrogates: %.3f at lag 0 against the series' %.3f\n",
+              passes, worst, univariate_at_0, lagged_correlation(x, y, 0));
+  EXPECT_LT(worst, 0.05);
+  EXPECT_GT(std::abs(univariate_at_0 - lagged_correlation(x, y, 0)), 0.3);
+}
+
+// A joint embedding of one stable linear mode driven by noise (displacement and velocity, exponent
+// -zeta omega = -0.314 1/s) reads "unstable, chaotic" from its curve alone; by default its
+// multivariate surrogates now test it, and it is not read chaotic. Lorenz (x, z) embedded jointly
+// still is, far above its surrogates.
+TEST(Surrogate, AJointEmbeddingIsTestedWithMultivariateSurrogates) {
+  std::size_t untested_chaotic = 0;
+  for (const std::uint64_t seed : {1001, 1002, 1003}) {
+    reference::NoiseDrivenMode mode = reference::noise_driven_oscillator(10000, 0.01, 0.05, 2.0 * std::numbers::pi, seed);
+    const Series joint = make_series_with_step({std::move(mode.q), std::move(mode.v)}, 0.01);
+    const MlceResult untested = estimate_mlce(joint, without_surrogates());
+    const MlceResult r = estimate_mlce(joint, {});
+    if (read_stability(untested).motion == "chaotic") ++untested_chaotic;
+    std::printf("mode (q, v) seed %d: lambda %+.3f 1/s; without the test %s; by default %s (%s)\n", static_cast<int>(seed),
+                r.lambda, read_stability(untested).motion.c_str(), read_stability(r).motion.c_str(),
+                r.surrogates ? fmt::format("p = {:.2f}, {:.2f} sigmas", r.surrogates->p_value, r.surrogates->sigmas).c_str()
+                             : "not tested");
+    EXPECT_NE(read_stability(r).motion, "chaotic") << seed;
+    EXPECT_EQ(r.surrogates.has_value(), read_stability(untested).motion == "chaotic") << seed;
+    if (r.surrogates) {
+      EXPECT_FALSE(r.surrogates->distinguished) << seed;
+    }
+  }
+  EXPECT_GE(untested_chaotic, 2u);  // what the test is for: the curve alone reads chaos here
+  const std::array<double, 3> start = {1.0, 1.0, 1.0};
+  const Series lorenz = make_series_with_step(
+      {reference::lorenz(10000, 0.01, start, 50.0, 0), reference::lorenz(10000, 0.01, start, 50.0, 2)}, 0.01);
+  const MlceResult r = estimate_mlce(lorenz, {});
+  ASSERT_TRUE(r.surrogates.has_value());
+  std::printf("Lorenz (x, z): lambda %.3f 1/s, %.1f sigmas above its surrogates\n", r.lambda, r.surrogates->sigmas);
+  EXPECT_TRUE(r.surrogates->distinguished);
+  EXPECT_GT(r.surrogates->sigmas, 10.0);
+  EXPECT_EQ(read_stability(r).motion, "chaotic");
 }

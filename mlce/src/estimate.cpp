@@ -736,10 +736,6 @@ Series analysed_samples(const Series& raw, const MlceResult& r) {
 /// floor, from a left-out start (estimate_once); with the estimate's embedding and fit region. Not
 /// dithered (MlceOptions::dither): the surrogates take the series' own values.
 void test_against_surrogates(const Series& raw, const MlceOptions& options, MlceResult& r) {
-  if (raw.channels.size() != 1) {
-    r.warnings.push_back("the surrogate test takes one channel; not run on " + std::to_string(raw.channels.size()));
-    return;
-  }
   if (r.map_cycle.approach_measured()) {
     r.warnings.push_back("the surrogate test reads the divergence curve, and lambda is a map cycle's approach here; not run");
     return;
@@ -761,16 +757,16 @@ void test_against_surrogates(const Series& raw, const MlceOptions& options, Mlce
 }
 
 /// Whether estimate_mlce tests the divergence against surrogates (MlceOptions::surrogates_when):
-/// always, or where the curve alone would read chaos on a series the test can take (one channel, a
-/// fit region of the curve, no map cycle's approach); never otherwise.
-bool surrogate_test_wanted(const Series& raw, const MlceOptions& options, const MlceResult& r) {
+/// always, or where the curve alone would read chaos on a series the test can take (a fit region of
+/// the curve, no map cycle's approach); never otherwise.
+bool surrogate_test_wanted(const MlceOptions& options, const MlceResult& r) {
   switch (options.surrogates_when) {
     case SurrogateWhen::never:
       return false;
     case SurrogateWhen::always:
       return true;
     case SurrogateWhen::where_chaos_is_read:
-      return raw.channels.size() == 1 && !r.map_cycle.approach_measured() && r.fit.last > r.fit.first &&
+      return !r.map_cycle.approach_measured() && r.fit.last > r.fit.first &&
              read_stability(r).motion == "chaotic";
   }
   return false;
@@ -880,7 +876,7 @@ MlceResult estimate_mlce(const Series& raw, const MlceOptions& options) {
   MlceResult r = estimate_widened(raw, options);
   const Series analysed = analysed_samples(raw, r);
   r.carrier = steady_carrier(analysed, r);
-  if (surrogate_test_wanted(raw, options, r)) test_against_surrogates(raw, options, r);
+  if (surrogate_test_wanted(options, r)) test_against_surrogates(raw, options, r);
   // After the surrogate test, which the curve's reading takes into account.
   r.record_modes = modes_where_the_curve_cannot_tell(analysed, r, options);
   return r;

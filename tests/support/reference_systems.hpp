@@ -195,6 +195,27 @@ inline std::vector<double> ar2_resonance(std::size_t n, double r, double w, std:
   return x;
 }
 
+/// A damped oscillator q'' + 2 zeta omega q' + omega^2 q = w(t), w white noise of unit intensity
+/// (mt19937_64 seeded `seed`), by semi-implicit Euler at step dt after 20 / (zeta omega) time units of
+/// start-up: its displacement q and velocity v, two channels of one stable linear mode (exponent
+/// -zeta omega) that noise keeps moving -- a rotor mode in turbulence.
+struct NoiseDrivenMode {
+  std::vector<double> q, v;
+};
+inline NoiseDrivenMode noise_driven_oscillator(std::size_t n, double dt, double zeta, double omega, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  const auto burn_in = static_cast<std::size_t>(20.0 / (zeta * omega) / dt);
+  NoiseDrivenMode out{std::vector<double>(n), std::vector<double>(n)};
+  double q = 0.0, v = 0.0;
+  for (std::size_t i = 0; i < n + burn_in; ++i) {
+    v += (-2.0 * zeta * omega * v - omega * omega * q) * dt + std::sqrt(dt) * e(gen);
+    q += v * dt;
+    if (i >= burn_in) out.q[i - burn_in] = q, out.v[i - burn_in] = v;
+  }
+  return out;
+}
+
 /// Henon x -> 1 - a x^2 + y, y -> 0.3 x, a = 1.4 unless given (lambda_1 = 0.41922 per iteration).
 /// From (x0, y0) after 1000 iterations.
 inline std::vector<double> henon_x(std::size_t n, double x0 = 0.1, double y0 = 0.1, double a = 1.4) {

@@ -104,13 +104,13 @@ struct MlceOptions {
   FitOptions fit;
   /// What repeats as a map's settled cycle (map_cycle.hpp); maps only (MeanPeriodResult::map).
   MapCycleOptions map_cycle;
-  /// When the surrogate test of the divergence against linear noise runs (surrogate.hpp; one-channel
-  /// series only). Default where_chaos_is_read: wherever the curve alone would read "chaotic" -- the
+  /// When the surrogate test of the divergence against linear noise runs (surrogate.hpp; a joint
+  /// embedding of several channels takes multivariate surrogates). Default where_chaos_is_read: wherever the curve alone would read "chaotic" -- the
   /// one claim that linear noise through a lightly damped mode fakes (an AR(2) resonance read so on 6
   /// of 8 series, bench/surrogate_power) -- with `surrogates` as below: 19 surrogates of the series'
   /// first 4096 samples, 30 IAAFT passes each, curves of at most 2000 references, which keeps the
   /// test to about 0.12 s (Lorenz x: 26-43 standard deviations above its surrogates, AR(2) resonances
-  /// and a noise-driven mode within 3). never: no test; always: on every one-channel estimate, with
+  /// and a noise-driven mode within 3). never: no test; always: on every estimate with a fit region, with
   /// `surrogates` as given (`mlce estimate --surrogates K`: K of the whole part analysed, 200 passes).
   SurrogateWhen surrogates_when = SurrogateWhen::where_chaos_is_read;
   SurrogateOptions surrogates{.count = 19, .iterations = 30, .max_samples = 4096, .max_references = 2000};

@@ -13,11 +13,17 @@
 // and amplitude distribution and nothing else (IAAFT: iterated amplitude-adjusted Fourier
 // transform) are estimated as the series is, and the series' divergence must exceed every one.
 //
-// The rule (surrogate_test), single-channel series:
+// The rule (surrogate_test):
 //  - Each surrogate: the series' values shuffled (splitmix64, seed + k), then alternately given the
 //    series' Fourier amplitudes (phases kept) and its values in the rank order of the result, until
 //    the ranks stop changing or `iterations` passes; it ends on the exact values (their spectrum
 //    then within a fraction of a per cent of the series').
+//  - Several channels embedded jointly (hub x and y): multivariate IAAFT (Schreiber and Schmitz
+//    2000, sec. 6.2), each channel its own values and amplitudes, and the channels' phases the
+//    series' own turned by one angle per frequency, so that the cross-spectra -- how the channels
+//    move together, which a joint embedding's neighbours see -- are the series' too. Until
+//    2026-12-07 the test took one channel, and a joint embedding of a noise-driven mode's
+//    displacement and velocity read "unstable, chaotic" untested (8 of 8 series).
 //  - The statistic: the slope of the divergence curve (eq. 23) per sample over the estimate's own
 //    fit region [first, last], with the estimate's m, delay, Theiler window and phase alignment (a
 //    sampled flow's neighbours moved to their references' phase, as the estimate's were: the curve
@@ -90,6 +96,13 @@ std::string segment_words(const SurrogateTest& t);
 std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations,
                                     std::size_t* passes = nullptr);
 
+/// A multivariate IAAFT surrogate of the channels x[0..C-1] (equal lengths, at least 4 values, none
+/// constant): each channel's values, in an order whose power spectrum is that channel's and whose
+/// cross-spectra with the other channels are the series', to within the passes' convergence. One
+/// channel: iaaft_surrogate's, bit for bit. `passes` as there (all channels' ranks stop changing).
+std::vector<std::vector<double>> iaaft_surrogates(const std::vector<std::vector<double>>& x, std::uint64_t seed,
+                                                  std::size_t iterations, std::size_t* passes = nullptr);
+
 /// Where the statistic is read: the estimate's embedding, Theiler window and fit region.
 struct SurrogateSetup {
   std::size_t dim = 1, delay = 1, theiler = 1;
@@ -100,7 +113,7 @@ struct SurrogateSetup {
   bool align_phase = false;
 };
 
-/// The test above on a one-channel series (the part an estimate analysed). Reports its progress
+/// The test above on a series of one or more channels (the part an estimate analysed). Reports its progress
 /// through `progress` when given.
 SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, const SurrogateOptions& options,
                              const ProgressCallback& progress = {});
