@@ -11,7 +11,8 @@
 //    series (its size);
 //  - two channels embedded jointly (multivariate surrogates): Lorenz (x, z) and Roessler (x, y),
 //    chaotic; a noise-driven mode's displacement and velocity, and two noise-driven modes (1 and
-//    1.2 Hz) seen as their sum and difference, linear;
+//    1.2 Hz) seen as their sum and difference, linear; and the mode's (q, v) as a periodic record
+//    (periodic_mode), whose ends meet as a surrogate's do;
 // per series: lambda, the reading's motion, the series' slope over the fit region, the surrogates'
 // largest, p, S (sigmas) and the reading with the test; then per kind how often the test
 // distinguished the series and how often the reading said "chaotic" without it, with it on the whole
@@ -19,6 +20,7 @@
 //   build/surrogate_power [STARTS]      (STARTS series per kind, default 8; about 5 min at 8)
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -73,6 +75,30 @@ std::vector<std::vector<double>> two_modes(std::size_t n, double dt, std::uint64
   return out;
 }
 
+/// The same stable mode as a periodic record: q the sum of the mode's response at every Fourier
+/// frequency k / (n dt) (transfer function 1 / (omega0^2 - w^2 + 2 i zeta omega0 w) times a complex
+/// Gaussian, mt19937_64 `seed`), so that the record wraps around seamlessly, and v its circular
+/// difference quotient, (q_i - q_{i-1 mod n}) / dt: the relation between the channels holds across
+/// the wrap as everywhere else, as it does in a surrogate. Tells whether what sets (q, v) apart from
+/// its surrogates is the record's ends.
+std::vector<std::vector<double>> periodic_mode(std::size_t n, double dt, std::uint64_t seed) {
+  const double zeta = 0.05, omega0 = 2.0 * std::numbers::pi;
+  std::mt19937_64 g(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  std::vector<double> q(n, 0.0), v(n);
+  for (std::size_t k = 1; k < n / 2; ++k) {
+    const double w = 2.0 * std::numbers::pi * static_cast<double>(k) / (static_cast<double>(n) * dt);
+    const std::complex<double> h = 1.0 / std::complex<double>(omega0 * omega0 - w * w, 2.0 * zeta * omega0 * w);
+    const std::complex<double> c = h * std::complex<double>(e(g), e(g));
+    for (std::size_t i = 0; i < n; ++i) {  // the angle from (k i) mod n: exact periodicity
+      const double angle = 2.0 * std::numbers::pi * static_cast<double>(k * i % n) / static_cast<double>(n);
+      q[i] += c.real() * std::cos(angle) - c.imag() * std::sin(angle);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) v[i] = (q[i] - q[(i + n - 1) % n]) / dt;
+  return {std::move(q), std::move(v)};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -125,6 +151,7 @@ int main(int argc, char** argv) {
          return std::vector<std::vector<double>>{std::move(m.q), std::move(m.v)};
        }},
       {"two modes (sum, diff)", 0.01, {}, [&](std::uint64_t s) { return two_modes(n, 0.01, s); }},
+      {"periodic mode (q, v)", 0.01, {}, [&](std::uint64_t s) { return periodic_mode(n, 0.01, s); }},
   };
   std::vector<std::string> summary;
   for (const Kind& kind : kinds) {
