@@ -17,7 +17,10 @@
 // largest, p, S (sigmas) and the reading with the test; then per kind how often the test
 // distinguished the series and how often the reading said "chaotic" without it, with it on the whole
 // series (--surrogates 19) and by default (the test on the first 4096 samples where the curve reads chaos).
-//   build/surrogate_power [STARTS]      (STARTS series per kind, default 8; about 5 min at 8)
+// Several channels: the default's reading also with the test on the leading segment
+// (SurrogateOptions::match_ends off), as before end matching.
+//   build/surrogate_power [STARTS] [KIND]   (STARTS series per kind, default 8; about 5 min at 8;
+//                                            only the kinds whose name holds KIND, e.g. "(q, v)")
 #include <array>
 #include <cmath>
 #include <complex>
@@ -28,6 +31,8 @@
 #include <random>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "mlce/estimate.hpp"
 #include "mlce/reading.hpp"
@@ -103,6 +108,7 @@ std::vector<std::vector<double>> periodic_mode(std::size_t n, double dt, std::ui
 
 int main(int argc, char** argv) {
   const std::size_t starts = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 8;
+  const std::string only = argc > 2 ? argv[2] : "";  // the kinds whose name holds it (all when empty)
   const std::size_t n = 10000;
   std::uniform_real_distribution<double> u(-3.0, 3.0);
   const std::vector<Kind> kinds = {
@@ -155,7 +161,9 @@ int main(int argc, char** argv) {
   };
   std::vector<std::string> summary;
   for (const Kind& kind : kinds) {
+    if (kind.name.find(only) == std::string::npos) continue;
     std::size_t distinguished = 0, chaotic = 0, tested = 0, chaotic_tested = 0, chaotic_screened = 0;
+    std::size_t leading_chaotic = 0;  // several channels: the default on the leading segment (match_ends off)
     for (std::size_t k = 0; k < starts; ++k) {
       const Series series = kind.make_channels ? make_series_with_step(kind.make_channels(1000 + k), kind.dt)
                                                : make_series_with_step({kind.make(1000 + k)}, kind.dt);
@@ -182,6 +190,15 @@ int main(int argc, char** argv) {
       // The default: the test on the first 4096 samples where the curve alone reads chaos.
       const MlceResult screened = estimate_mlce(series, {});
       if (read_stability(screened).motion == "chaotic") ++chaotic_screened;
+      std::string leading;  // several channels: the default's test on the leading segment, as before end matching
+      if (series.channels.size() > 1) {
+        MlceOptions unmatched;
+        unmatched.surrogates.match_ends = false;
+        const MlceResult l = estimate_mlce(series, unmatched);
+        if (read_stability(l).motion == "chaotic") ++leading_chaotic;
+        leading = l.surrogates ? fmt::format(";  leading segment: S {:.2f} -> {}", l.surrogates->sigmas, read_stability(l).motion)
+                               : std::string(";  leading segment: not tested");
+      }
       const SurrogateTest& t = *tested_r.surrogates;
       ++tested;
       double largest = -1e300;
@@ -189,14 +206,14 @@ int main(int argc, char** argv) {
       if (t.distinguished) ++distinguished;
       if (read_stability(tested_r).motion == "chaotic") ++chaotic_tested;
       std::printf("%-18s #%zu  lambda %+.4f  %-14s  m %zu  fit %zu..%zu  slope %.5f  surrogates' largest %.5f  p %.2f  "
-                  "S %.1f  -> %s;  default: %s -> %s\n",
+                  "S %.1f  -> %s;  default: %s -> %s%s\n",
                   kind.name.c_str(), k + 1, r.lambda, reading.motion.c_str(), r.dim, t.first, t.last, t.series_slope,
                   largest, t.p_value, t.sigmas, read_stability(tested_r).motion.c_str(),
                   screened.surrogates ? (std::to_string(screened.surrogates->samples) + " samples, S " +
                                          std::to_string(screened.surrogates->sigmas).substr(0, 6))
                                             .c_str()
                                       : "not tested",
-                  read_stability(screened).motion.c_str());
+                  read_stability(screened).motion.c_str(), leading.c_str());
       std::fflush(stdout);
     }
     char line[240];
@@ -204,6 +221,7 @@ int main(int argc, char** argv) {
                   "%-18s distinguished %zu of %zu tested; read chaotic %zu of %zu, with the test %zu, by default %zu",
                   kind.name.c_str(), distinguished, tested, chaotic, starts, chaotic_tested, chaotic_screened);
     summary.emplace_back(line);
+    if (kind.make_channels) summary.back() += fmt::format(" (on the leading segment {})", leading_chaotic);
   }
   std::printf("\n");
   for (const auto& s : summary) std::printf("%s\n", s.c_str());

@@ -173,7 +173,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (!number(t->series_slope) || !number(t->p_value) || !number(t->sigmas)) broken("the surrogate test holds a NaN");
       for (const double slope : t->surrogate_slopes)
         if (!number(slope)) broken("a surrogate's slope is NaN");
-      if (t->samples > t->of_samples || t->surrogate_slopes.size() != 3) broken("the surrogate test ran on what it was not given");
+      if (t->first_sample + t->samples > t->of_samples || t->surrogate_slopes.size() != 3)
+        broken("the surrogate test ran on what it was not given");
     }
     (void)mlce::read_stability(r);
     check_kantz(series, r);

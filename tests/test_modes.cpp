@@ -25,7 +25,7 @@ Series series_of(std::vector<std::vector<double>> channels, double dt) {
   Series s;
   s.channels = std::move(channels);
   s.dt = dt;
-  s.time_unit = "s";
+  s.time_unit = std::string("s");  // not = "s": gcc 12 warns a false -Wrestrict on assign(const char*) here
   return s;
 }
 

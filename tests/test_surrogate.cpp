@@ -293,3 +293,76 @@ TEST(Surrogate, AJointEmbeddingIsTestedWithMultivariateSurrogates) {
   EXPECT_GT(r.surrogates->sigmas, 10.0);
   EXPECT_EQ(read_stability(r).motion, "chaotic");
 }
+
+// End matching (several channels): the segment chosen is, by brute force over the same candidates,
+// the one whose wrap steps least in each channel's own step size; on a motion of exact period 100
+// samples the ends meet at a whole number of periods; and the test on that segment is, bit for bit,
+// the test of the segment cut by hand (with end matching off).
+TEST(Surrogate, SeveralChannelsAreTestedOnTheSegmentWhoseEndsMeet) {
+  const std::array<double, 3> start = {1.0, 1.0, 1.0};
+  const std::vector<std::vector<double>> xz = {reference::lorenz(6000, 0.01, start, 50.0, 0),
+                                               reference::lorenz(6000, 0.01, start, 50.0, 2)};
+  const std::size_t length = 4096, min_length = 3000;
+  const EndMatch m = match_ends(xz, length, min_length);
+  // Brute force: every start in the first tenth, every length down to a fifth shorter (not below min_length).
+  std::vector<double> step(2, 0.0);
+  for (std::size_t c = 0; c < 2; ++c) {
+    for (std::size_t i = 1; i < length; ++i) step[c] += (xz[c][i] - xz[c][i - 1]) * (xz[c][i] - xz[c][i - 1]);
+    step[c] /= static_cast<double>(length - 1);
+  }
+  double best = 1e300;
+  std::size_t best_first = 0, best_samples = 0;
+  for (std::size_t s = 0; s < length / 10; ++s)
+    for (std::size_t l = std::max(min_length, length - length / 5); l <= length; ++l) {
+      double j = 0.0;
+      for (std::size_t c = 0; c < 2; ++c) j += std::pow(xz[c][s + l] - xz[c][s], 2) / step[c];
+      if (j < best) best = j, best_first = s, best_samples = l;
+    }
+  std::printf("Lorenz (x, z): ends meet on samples %zu..%zu, jump %.3g steps^2 (the leading 4096: %.3g)\n", m.first,
+              m.first + m.samples - 1, m.jump,
+              std::pow(xz[0][length] - xz[0][0], 2) / step[0] + std::pow(xz[1][length] - xz[1][0], 2) / step[1]);
+  EXPECT_EQ(m.first, best_first);
+  EXPECT_EQ(m.samples, best_samples);
+  EXPECT_NEAR(m.jump, best, 1e-9 * best);
+  EXPECT_LT(m.jump, 0.01);
+  // A motion of period 100 samples: its ends meet after whole periods.
+  std::vector<std::vector<double>> circle(2, std::vector<double>(5000));
+  for (std::size_t i = 0; i < 5000; ++i)
+    circle[0][i] = std::sin(2.0 * std::numbers::pi * static_cast<double>(i % 100) / 100.0),
+    circle[1][i] = std::cos(2.0 * std::numbers::pi * static_cast<double>(i % 100) / 100.0);
+  const EndMatch periodic = match_ends(circle, 4096, 100);
+  EXPECT_EQ(periodic.samples % 100, 0u);
+  EXPECT_EQ(periodic.jump, 0.0);
+  // The whole series: a segment that ends before its last sample. No room above min_length: no choice.
+  const EndMatch whole = match_ends(xz, 6000, 100);
+  EXPECT_LT(whole.first + whole.samples, 6000u);
+  EXPECT_GE(whole.samples, 6000u - 6000u / 5 - whole.first);
+  EXPECT_EQ(match_ends(xz, 4096, 4096).samples, 4096u);
+  EXPECT_EQ(match_ends(xz, 4096, 4096).first, 0u);
+  EXPECT_THROW(match_ends(xz, 6001, 100), InputError);
+
+  // The test on the matched segment is the test of that segment cut by hand.
+  const Series series = make_series_with_step(xz, 0.01);
+  SurrogateSetup setup;
+  setup.dim = 2, setup.delay = 17, setup.theiler = 160, setup.first = 60, setup.last = 250;
+  const SurrogateOptions o{.count = 5, .iterations = 30, .max_samples = 4096};
+  const SurrogateTest matched = surrogate_test(series, setup, o);
+  EXPECT_EQ(matched.first_sample, m.first);
+  EXPECT_EQ(matched.samples, m.samples);
+  EXPECT_DOUBLE_EQ(matched.end_jump, m.jump);
+  Series cut = series;
+  for (auto& c : cut.channels)
+    c = std::vector<double>(c.begin() + static_cast<std::ptrdiff_t>(m.first), c.begin() + static_cast<std::ptrdiff_t>(m.first + m.samples));
+  SurrogateOptions by_hand = o;
+  by_hand.max_samples = 0, by_hand.match_ends = false;
+  const SurrogateTest on_cut = surrogate_test(cut, setup, by_hand);
+  EXPECT_EQ(on_cut.first_sample, 0u);
+  EXPECT_TRUE(std::isnan(on_cut.end_jump));
+  EXPECT_EQ(matched.series_slope, on_cut.series_slope);
+  EXPECT_EQ(matched.surrogate_slopes, on_cut.surrogate_slopes);
+  EXPECT_EQ(segment_words(matched), fmt::format("samples {}..{} of 6000", m.first, m.first + m.samples - 1));
+  // One channel: the leading segment, end matching or not.
+  const SurrogateTest one = surrogate_test(make_series_with_step({xz[0]}, 0.01), setup, o);
+  EXPECT_EQ(one.first_sample, 0u);
+  EXPECT_EQ(one.samples, 4096u);
+}

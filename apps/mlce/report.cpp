@@ -117,7 +117,8 @@ nlohmann::json to_json(const MlceResult& r) {
   j["taper_weighted_mean"] = r.mean_period.taper_weighted_mean;
   j["treated_as_map"] = r.mean_period.map;
   // The surrogate test (surrogate.hpp): null when not run (by default it runs where the curve alone
-  // reads chaos; --surrogates K always, 0 never). samples: the series' first samples it ran on.
+  // reads chaos; --surrogates K always, 0 never). samples from first_sample: the segment it ran on
+  // (several channels: the one whose ends meet, end_jump; null for one channel).
   if (const auto& t = r.surrogates)
     j["surrogates"] = {{"count", t->surrogate_slopes.size()},
                        {"series_slope", t->series_slope},
@@ -126,7 +127,9 @@ nlohmann::json to_json(const MlceResult& r) {
                        {"sigmas", finite_or_null(t->sigmas)},  // null: the surrogates' slopes all equal
                        {"distinguished", t->distinguished},
                        {"steps", {t->first, t->last}},
-                       {"samples", t->samples}};
+                       {"first_sample", t->first_sample},
+                       {"samples", t->samples},
+                       {"end_jump", finite_or_null(t->end_jump)}};
   else
     j["surrogates"] = nullptr;
   // A steady carrier over a growing mode (MlceResult::carrier): null when none.

@@ -27,7 +27,35 @@ void SurrogateOptions::validate() const {
 }
 
 std::string segment_words(const SurrogateTest& t) {
+  if (t.first_sample > 0)
+    return fmt::format("samples {}..{} of {}", t.first_sample, t.first_sample + t.samples - 1, t.of_samples);
   return t.samples < t.of_samples ? fmt::format("first {} of {} samples", t.samples, t.of_samples) : std::string();
+}
+
+EndMatch match_ends(const std::vector<std::vector<double>>& x, std::size_t length, std::size_t min_length) {
+  const std::size_t n = x.empty() ? 0 : x[0].size();
+  if (length > n) throw InputError(fmt::format("match_ends: a segment of {} samples in a series of {}", length, n));
+  EndMatch best{0, length, std::numeric_limits<double>::infinity()};
+  if (min_length >= length || length < 2) return best;  // no choice
+  // Each channel's jump in units of its rms step over the leading `length` samples.
+  std::vector<double> step(x.size());
+  for (std::size_t c = 0; c < x.size(); ++c) {
+    CompensatedSum squares;
+    for (std::size_t i = 1; i < length; ++i) squares.add((x[c][i] - x[c][i - 1]) * (x[c][i] - x[c][i - 1]));
+    step[c] = squares.value() / static_cast<double>(length - 1);
+  }
+  const std::size_t starts = std::min<std::size_t>(kEndMatchStarts, std::max<std::size_t>(1, length / 10));
+  const std::size_t shortest = std::max(min_length, length - std::min(length / 5, kEndMatchLengths));
+  for (std::size_t start = 0; start < starts; ++start)
+    for (std::size_t l = shortest; l <= length && start + l < n; ++l) {
+      double jump = 0.0;  // x[start + l] is where the record goes on; the wrap goes to x[start] instead
+      for (std::size_t c = 0; c < x.size(); ++c) {
+        const double d = x[c][start + l] - x[c][start];
+        jump += step[c] > 0.0 ? d * d / step[c] : (d != 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+      }
+      if (jump < best.jump) best = {start, l, jump};
+    }
+  return best;
 }
 
 std::vector<double> iaaft_surrogate(const std::vector<double>& x, std::uint64_t seed, std::size_t iterations,
@@ -154,6 +182,14 @@ std::vector<std::vector<double>> iaaft_surrogates(const std::vector<std::vector<
 
 namespace {
 
+/// Whether some channel's first `count` values are all equal: that channel has no surrogates over them.
+bool holds_a_channel_still(const Series& series, std::size_t count) {
+  return std::any_of(series.channels.begin(), series.channels.end(), [count](const std::vector<double>& x) {
+    const auto end = x.begin() + static_cast<std::ptrdiff_t>(count);
+    return std::adjacent_find(x.begin(), end, std::not_equal_to<>()) == end;
+  });
+}
+
 /// The plain curve's slope per sample over steps first..last, with the estimate's embedding.
 double curve_slope(const Series& series, const RosensteinOptions& ro, std::size_t first, std::size_t last) {
   const DivergenceCurve curve = divergence_curve(series, ro);
@@ -178,13 +214,7 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
   const std::size_t span = (setup.dim - 1) * setup.delay + setup.last + 1;
   out.of_samples = n;
   out.samples = options.max_samples == 0 ? n : std::min(n, std::max(options.max_samples, 8 * span));
-  // Some channel's first `count` values all equal: that channel has no surrogates over them.
-  const auto holds_still = [&series](std::size_t count) {
-    return std::any_of(series.channels.begin(), series.channels.end(), [count](const std::vector<double>& x) {
-      const auto end = x.begin() + static_cast<std::ptrdiff_t>(count);
-      return std::adjacent_find(x.begin(), end, std::not_equal_to<>()) == end;
-    });
-  };
+  const auto holds_still = [&series](std::size_t count) { return holds_a_channel_still(series, count); };
   if (holds_still(out.samples)) out.samples = n;  // a still leading segment has no surrogates: the whole series
   if (n < 4 || holds_still(n))
     throw InputError(series.channels.size() > 1
@@ -192,6 +222,17 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
                          : "the surrogate test needs a series of at least 4 samples, not all equal");
   Series segment = series;
   for (std::vector<double>& x : segment.channels) x.resize(out.samples);
+  if (options.match_ends && series.channels.size() > 1) {
+    const EndMatch m = match_ends(series.channels, out.samples, std::min(out.samples, 8 * span));
+    Series matched = series;
+    for (std::vector<double>& x : matched.channels)
+      x = std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(m.first),
+                              x.begin() + static_cast<std::ptrdiff_t>(m.first + m.samples));
+    if (!holds_a_channel_still(matched, m.samples)) {  // else the leading segment, which holds none still
+      segment = std::move(matched);
+      out.first_sample = m.first, out.samples = m.samples, out.end_jump = m.jump;
+    }
+  }
   out.series_slope = curve_slope(segment, ro, out.first, out.last);
   // The surrogates of a batch are made side by side, one a thread (each pass of IAAFT is serial),
   // and their curves then one after the other (each curve's search runs on every thread). A batch
