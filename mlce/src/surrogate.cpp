@@ -214,9 +214,9 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
   const std::size_t span = (setup.dim - 1) * setup.delay + setup.last + 1;
   out.of_samples = n;
   out.samples = options.max_samples == 0 ? n : std::min(n, std::max(options.max_samples, 8 * span));
-  const auto holds_still = [&series](std::size_t count) { return holds_a_channel_still(series, count); };
-  if (holds_still(out.samples)) out.samples = n;  // a still leading segment has no surrogates: the whole series
-  if (n < 4 || holds_still(n))
+  // A still leading segment has no surrogates: the whole series.
+  if (holds_a_channel_still(series, out.samples)) out.samples = n;
+  if (n < 4 || holds_a_channel_still(series, n))
     throw InputError(series.channels.size() > 1
                          ? "the surrogate test needs at least 4 samples, and every channel's not all equal"
                          : "the surrogate test needs a series of at least 4 samples, not all equal");
