@@ -7,6 +7,7 @@
 //   make_series lorenz_xyz N [dt] > file        (columns t x y z of that trajectory: mlce estimate --each)
 //   make_series logistic N R > file             (the logistic map at r = R instead of 4)
 //   make_series oscillator N dt ZETA OMEGA      (x = e^{-zeta omega t} cos(omega_d t); default 0.05, 2 pi)
+//   make_series random_walk N dt SEED           (a Gaussian random walk, x += N(0, 1) per sample)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
                          "       make_series lorenz N dt TRANSIENT X Y Z   (from (X, Y, Z))\n"
                          "       make_series lorenz_xyz N [dt]       (columns t x y z of that trajectory)\n"
                          "       make_series logistic N R            (the logistic map at r = R)\n"
-                         "       make_series oscillator N dt ZETA OMEGA   (damping ratio and natural frequency; default 0.05, 2 pi)\n");
+                         "       make_series oscillator N dt ZETA OMEGA   (damping ratio and natural frequency; default 0.05, 2 pi)\n"
+                         "       make_series random_walk N dt SEED   (a Gaussian random walk, x += N(0, 1) per sample)\n");
     return 2;
   }
   const std::string name = argv[1];
@@ -52,6 +54,8 @@ int main(int argc, char** argv) {
     x = damped_oscillator(n, dt = dt > 0 ? dt : 0.01, argc > 5 ? std::strtod(argv[4], nullptr) : 0.05,
                           argc > 5 ? std::strtod(argv[5], nullptr) : 2.0 * M_PI);
   else if (name == "henon") x = henon_x(n), dt = 1.0;
+  else if (name == "random_walk")
+    x = random_walk(n, argc > 4 ? std::strtoull(argv[4], nullptr, 10) : 1), dt = dt > 0 ? dt : 1.0;
   else if (name == "logistic") x = logistic(n, 0.1234567, argc > 3 ? std::strtod(argv[3], nullptr) : 4.0), dt = 1.0;
   else {
     std::fprintf(stderr, "make_series: unknown system '%s'\n", name.c_str());

@@ -1,5 +1,6 @@
 // End-to-end: every parameter automatic, against the known exponents of reference systems.
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include <omp.h>
 
@@ -9,6 +10,7 @@
 #include <tuple>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -17,6 +19,8 @@
 #include "mlce/reading.hpp"
 #include "mlce/recurrence.hpp"
 #include "mlce/transient.hpp"
+#include "mlce/reader/channel_spec.hpp"
+#include "mlce/reader/mbdyn_text.hpp"
 #include "reference_systems.hpp"
 #include "result_checks.hpp"
 
@@ -619,7 +623,9 @@ TEST(EstimateSystems, AStochasticSeriesThatNeverUnfoldsIsNotRead) {
     std::printf("x_k = %.2f x_(k-1) + e_k: FNN lowest %.3f, lambda %.4f per sample, reading %s (%s)\n", coefficient,
                 lowest(r), r.lambda, reading.motion.c_str(), r.unreliable.c_str());
     EXPECT_EQ(reading.stability, Stability::undetermined) << coefficient;
-    if (!has_warning(r, "the series drifts")) {  // a walk that strays far is a drift already
+    // A walk is said to be one (its steps are white: ARandomWalkIsSaidAndNotRead); the FNN rule is
+    // checked where it is not.
+    if (!has_warning(r, "is a random walk")) {
       EXPECT_GE(lowest(r), kStochasticFnnShare) << coefficient;
       EXPECT_TRUE(has_warning(r, "false nearest neighbours stay at")) << coefficient;
     }
@@ -964,6 +970,132 @@ TEST(EstimateSystems, DriftingSeriesIsFlaggedAndItsRefusalSaysWhy) {
   const auto l = estimate_mlce(make_series_with_step({reference::lorenz_x(10000, 0.01, {1, 1, 1}, 0.0)}, 0.01), {});
   EXPECT_GT(l.skipped_start, 0u);
   EXPECT_FALSE(has_warning(l, "drifts"));
+}
+
+TEST(EstimateSystems, ARandomWalkIsSaidAndNotRead) {
+  // A Gaussian random walk (x += N(0, 1) per sample: a random walk by construction) has no attractor
+  // and its deterministic part x[t+1] = x[t] has exponent 0; 2 of 30 seeds read "unstable, diverging"
+  // before. Its steps are white, and Ljung-Box's Q over 20 lags is then chi-square with 20 degrees of
+  // freedom: mean 20, standard deviation sqrt 40 (the truth the statistic is checked against).
+  constexpr int walks = 200;
+  double q_sum = 0.0;  // 200 terms of ~20: no compensation needed
+  int found = 0;
+  for (int k = 0; k < walks; ++k) {
+    const WhiteSteps w = white_steps(make_series_with_step({reference::random_walk(2000, 7000 + k)}, 0.01));
+    found += w.found ? 1 : 0;
+    ASSERT_EQ(w.lags, kWhiteStepLags);
+    q_sum += w.statistic;
+  }
+  const double mean_q = q_sum / walks;
+  std::printf("random walks, N = 2000: %d of %d found, mean Q %.2f (chi-square 20: 20 +- %.2f)\n", found, walks, mean_q,
+              std::sqrt(40.0 / walks) * 3.0);
+  EXPECT_GE(found, walks - 2);  // a white sequence exceeds the 99.9 % point once in 1000
+  EXPECT_NEAR(mean_q, 20.0, 3.0 * std::sqrt(40.0 / walks));
+  // The estimate says so, and reads no stability; the scale does not matter (1e-200, 1e200).
+  for (const std::size_t n : {10000u, 1000u})
+    for (std::uint64_t seed : {1u, 7u, 12u}) {
+      const auto x = reference::random_walk(n, seed);
+      const MlceResult r = run(x, 0.01);
+      const Reading reading = read_stability(r);
+      std::printf("random walk N = %zu seed %llu: lambda %+.4f, %s\n", n, static_cast<unsigned long long>(seed), r.lambda,
+                  reading.summary.substr(0, 70).c_str());
+      EXPECT_EQ(r.unreliable, "a random walk (its steps are white noise)") << n << " " << seed;
+      EXPECT_EQ(reading.stability, Stability::undetermined) << n << " " << seed;
+      EXPECT_TRUE(has_warning(r, "is a random walk: its steps are white noise")) << n << " " << seed;
+      for (const double scale : {1e-200, 1e200}) {
+        std::vector<double> scaled = x;
+        for (double& v : scaled) v *= scale;
+        const WhiteSteps w = white_steps(make_series_with_step({scaled}, 0.01));
+        EXPECT_TRUE(w.found) << scale;
+        EXPECT_NEAR(w.statistic, white_steps(make_series_with_step({x}, 0.01)).statistic, 1e-6) << scale;
+      }
+    }
+  // No sampled motion's steps are white: flows (smooth steps), maps (steps tied by the map), linear
+  // noise that returns (an AR(2) resonance, a noise-driven mode's q and v), white noise itself, a
+  // ramp printed with 4 decimals (a drift with rounding) and a wrapping azimuth.
+  std::vector<std::pair<std::string, std::vector<double>>> motions = {
+      {"Lorenz x", reference::lorenz_x(10000, 0.01)},
+      {"Roessler x", reference::roessler_x(10000, 0.1)},
+      {"van der Pol x", reference::van_der_pol_x(10000, 0.01)},
+      {"damped oscillator", reference::damped_oscillator(2000, 0.01, 0.05, 2.0 * std::numbers::pi)},
+      {"Henon x", reference::henon_x(10000)},
+      {"logistic", reference::logistic(10000)},
+      {"AR(2) resonance", reference::ar2_resonance(10000, 0.99, 0.2, 3)},
+      {"noise-driven mode q", reference::noise_driven_oscillator(10000, 0.01, 0.05, 2.0 * std::numbers::pi, 3).q},
+      {"noise-driven mode v", reference::noise_driven_oscillator(10000, 0.01, 0.05, 2.0 * std::numbers::pi, 3).v}};
+  std::mt19937_64 gen(11);
+  std::normal_distribution<double> e(0.0, 1.0);
+  std::vector<double> white(10000), ramp(10000), azimuth(10000);
+  for (std::size_t i = 0; i < white.size(); ++i) {
+    white[i] = e(gen);
+    ramp[i] = std::round(1e4 * 0.37 * 0.01 * static_cast<double>(i)) / 1e4;
+    azimuth[i] = std::remainder(25.4 * 0.01 * static_cast<double>(i), 2.0 * std::numbers::pi);
+  }
+  motions.emplace_back("white noise", white);
+  motions.emplace_back("ramp, 4 decimals", ramp);
+  motions.emplace_back("wrapping azimuth", azimuth);
+  for (const auto& [name, x] : motions) {
+    const WhiteSteps w = white_steps(make_series_with_step({x}, 0.01));
+    if (w.tested)
+      std::printf("%-20s random walk: %s (Q %.3g over %zu lags, point %.3g; variance ratio %.3g)\n", name.c_str(),
+                  w.found ? "yes" : "no", w.statistic, w.lags, w.critical, w.variance_ratio);
+    else
+      std::printf("%-20s random walk: no (variance below %g x its steps', or steps of one sign)\n", name.c_str(),
+                  kWalkVarianceRatio);
+    EXPECT_FALSE(w.found) << name;
+  }
+  // A slowly wrapping azimuth (0.5 rad/s, a turn every 1257 samples) has steps of one value but for
+  // rare whole turns, which the portmanteau test cannot tell from white: the wrap is the finding.
+  std::vector<double> slow_azimuth(10000);
+  for (std::size_t i = 0; i < slow_azimuth.size(); ++i)
+    slow_azimuth[i] = std::remainder(0.5 * 0.01 * static_cast<double>(i), 2.0 * std::numbers::pi);
+  EXPECT_TRUE(white_steps(make_series_with_step({slow_azimuth}, 0.01)).found);
+  for (const auto& angle : {azimuth, slow_azimuth}) {
+    try {
+      const MlceResult a = estimate_mlce(make_series_with_step({angle}, 0.01), {});
+      EXPECT_EQ(a.unreliable, "an angle that wraps by whole turns");
+      EXPECT_FALSE(has_warning(a, "random walk"));
+    } catch (const InputError& refused) {  // too few mean periods: refused, and not for a walk
+      EXPECT_EQ(std::string(refused.what()).find("random walk"), std::string::npos) << refused.what();
+    }
+  }
+  const MlceResult w = run(reference::random_walk(10000, 1), 0.01);
+  for (const auto& text : w.warnings)
+    if (text.find("random walk") != std::string::npos) std::printf("warning: %s\n", text.c_str());
+}
+
+TEST(EstimateSystems, NoChannelOfTheBundledMbdynRunsIsARandomWalk) {
+  // Real solver output (data/mbdyn: limit cycle, growth, decays): every node column (position,
+  // orientation, velocities), every joint and inertia column and the blades' lags. A multibody
+  // integrator's steps follow each other smoothly; none is white.
+  std::size_t channels = 0, tested = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  std::string lowest_name;
+  for (const char* run : {"c3zero_242rpm_cyhalf_lco/c3zero_242rpm_cyhalf", "c3zero_242rpm_cyhalf_10s/c3zero_242rpm_cyhalf",
+                          "iso_200rpm_5s/iso_200rpm", "iso_200rpm_1s/iso_200rpm"}) {
+    const std::string prefix = std::string(MLCE_DATA_DIR) + "/mbdyn/" + run;
+    const reader::Inventory inventory = reader::describe_mbdyn_text(prefix);
+    std::vector<reader::ChannelSpec> specs;
+    for (const auto& node : inventory.nodes)
+      for (const char* field : {"x", "y", "z", "r1", "r2", "r3", "vx", "vy", "vz", "wx", "wy", "wz"})
+        specs.push_back(reader::parse_channel_spec(fmt::format("node:{}:{}", node.label, field)));
+    for (const auto& entity : inventory.entities)
+      for (std::size_t k = 2; k <= entity.columns; ++k)
+        specs.push_back(reader::parse_channel_spec(fmt::format("{}:{}:{}", entity.file, entity.label, k)));
+    for (const int blade : {11, 12, 13, 14}) specs.push_back(reader::parse_channel_spec(fmt::format("rel:{}:4:z", blade)));
+    const reader::ChannelSet set = reader::read_mbdyn_text(prefix, specs);
+    for (std::size_t c = 0; c < set.values.size(); ++c) {
+      const WhiteSteps w = white_steps(make_series_with_step({set.values[c]}, 0.01));
+      EXPECT_FALSE(w.found) << run << " " << set.names[c] << ": Q " << w.statistic;
+      ++channels;
+      if (w.tested && w.statistic / w.critical < lowest)
+        lowest = w.statistic / w.critical, lowest_name = std::string(run) + " " + set.names[c];
+      tested += w.tested ? 1 : 0;
+    }
+  }
+  std::printf("%zu channels of the bundled MBDyn runs, none a random walk; %zu wander 10 x their steps' variance, "
+              "their Q at least %.3g x the 99.9 %% point (%s)\n", channels, tested, lowest, lowest_name.c_str());
+  EXPECT_GT(channels, 300u);
 }
 
 TEST(EstimateSystems, ALevelCreepingBeneathTheNeighboursIsSaid) {

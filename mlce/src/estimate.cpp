@@ -270,33 +270,48 @@ const Series& analysed_part(const Series& raw, const MlceOptions& options, Serie
   return storage;
 }
 
-/// Warnings about the analysed series itself (MlceResult::unreliable set with them): a drift (a
-/// quantity that keeps growing) and an angle that wraps by whole turns. Returns the drift's warning
-/// ("" when none): the short-run refusal names it, and the rest after a left-out start is judged again.
+/// Warnings about the analysed series itself (MlceResult::unreliable set with them): a random walk
+/// (steps of white noise), a drift (a quantity that keeps growing) and an angle that wraps by whole
+/// turns. Returns the walk's or the drift's warning ("" when none): the short-run refusal names it,
+/// and the rest after a left-out start is judged again.
 std::string warn_about_series(const Series& series, MlceResult& r) {
-  // Delay vectors of a series that keeps drifting never come back near each other: the nearest
-  // neighbours are then whatever lies closest across the drift, and the spectrum's mean period is the
-  // drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
-  std::string drift_warning;
-  if (const Drift d = linear_drift(series); d.share > kDriftShare) {
-    drift_warning = fmt::format(
+  const WrappedAngle wrapped = wrapped_angle(series);
+  // A wrapping angle's steps are a constant and rare whole turns, which a portmanteau test can take
+  // for white: the wrap is the finding then.
+  const WhiteSteps walk = wrapped.count > 0 ? WhiteSteps{} : white_steps(series);
+  std::string series_warning;
+  if (walk.found) {
+    series_warning = fmt::format(
+        "{} is a random walk: its steps are white noise (Ljung-Box Q = {:.3g} over lags 1..{}, below the 99.9 % point "
+        "{:.3g} of white steps) while its variance is {:.3g} x theirs: integrated noise, or a "
+        "relaxation so slow that its steps look so; it comes back near its past states only by chance, and its "
+        "deterministic part x[t+1] = x[t] has exponent 0, which no divergence curve measures: analyse a channel of the "
+        "motion itself, or its steps (a rate) if they carry one",
+        channel_name(series, walk.channel), walk.statistic, walk.lags, walk.critical, walk.variance_ratio);
+    r.warnings.push_back(series_warning);
+    r.unreliable = "a random walk (its steps are white noise)";
+  } else if (const Drift d = linear_drift(series); d.share > kDriftShare) {
+    // Delay vectors of a series that keeps drifting never come back near each other: the nearest
+    // neighbours are then whatever lies closest across the drift, and the spectrum's mean period is
+    // the drift's (a rotor azimuth of 10^4 samples: "1.06 mean periods").
+    series_warning = fmt::format(
         "the series drifts: a straight line through time explains {:.0f} % of {}'s variance (a quantity that keeps "
         "growing, such as a rotation angle or a position?); the exponent assumes a motion that comes back near its past "
         "states: analyse a stationary channel (a rate, a relative angle) or remove the drift first",
         100.0 * d.share, channel_name(series, d.channel));
-    r.warnings.push_back(drift_warning);
+    r.warnings.push_back(series_warning);
     r.unreliable = "the series drifts";
   }
-  if (const WrappedAngle w = wrapped_angle(series); w.count > 0) {
+  if (wrapped.count > 0) {
     r.warnings.push_back(fmt::format(
         "{} jumps by {:.6g} between samples {} and {} (t = {:.6g}), and {} time(s) in all, by a whole turn: an angle "
         "that wraps at +-{}; its delay vectors straddle the jumps and the exponent is meaningless: analyse a relative "
         "angle (rel:A:B:AXIS, unwrapped), a rate, or unwrap it first",
-        channel_name(series, w.channel), w.jump, w.sample - 1, w.sample, series.time(w.sample), w.count,
-        w.degrees ? "180 deg" : "pi"));
+        channel_name(series, wrapped.channel), wrapped.jump, wrapped.sample - 1, wrapped.sample,
+        series.time(wrapped.sample), wrapped.count, wrapped.degrees ? "180 deg" : "pi"));
     if (r.unreliable.empty()) r.unreliable = "an angle that wraps by whole turns";
   }
-  return drift_warning;
+  return series_warning;
 }
 
 }  // namespace
@@ -394,7 +409,7 @@ Span span_of(const Series& series, const MeanPeriodResult& mean_period) {
 /// oscillator reaches its noise floor within 1.7 of its mean periods); an explicit window is the
 /// user's decision.
 void check_span(const Series& series, const MlceOptions& options, const Span& span, bool persisting,
-                const std::string& drift_warning, MlceResult& r) {
+                const std::string& series_warning, MlceResult& r) {
   if (r.mean_period.clamped || series.size() < 20 * r.mean_period.mean_period) {
     char text[160];
     std::snprintf(text, sizeof text, "the series spans only %.3g mean periods (%.0f samples each)", span.periods,
@@ -417,7 +432,7 @@ void check_span(const Series& series, const MlceOptions& options, const Span& sp
         "least {:.0f} samples needed (give --theiler N to override; the damped modes of a linear motion read its rate "
         "from so short a run: mlce modes)",
         series.size(), span.periods, std::ceil(span.own_period), std::ceil(kMinMeanPeriods * span.own_period));
-    throw InputError(drift_warning.empty() ? text : text + "; but " + drift_warning);
+    throw InputError(series_warning.empty() ? text : text + "; but " + series_warning);
   }
 }
 
@@ -969,7 +984,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   if (options.horizon && *options.horizon < 2) throw OptionError("horizon: expected >= 2");
   if (options.record_modes) options.record_modes->validate();  // before the estimate, not after it
   r.n_points = series.size();
-  const std::string drift_warning = warn_about_series(series, r);
+  const std::string series_warning = warn_about_series(series, r);
   // Neither decays nor grows: its last third's RMS within a factor kPersistentAmplitude of its
   // first third's (transient.hpp). Read by the floor-window test, the short-run refusal and the
   // recurrence test.
@@ -987,7 +1002,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
   r.end_repeat = end_repeat(series);
   if (r.mean_period.map) r.map_cycle = map_cycle(series, options.map_cycle);
   const bool persisting = persists(r.amplitude_ratio);
-  check_span(series, options, span, persisting, drift_warning, r);
+  check_span(series, options, span, persisting, series_warning, r);
   Embedding e = choose_embedding(series, options, r.mean_period);
   r.theiler = e.theiler, r.delay = e.delay, r.dim = e.dim;
   r.ami = std::move(e.ami), r.fnn = std::move(e.fnn);
@@ -1039,7 +1054,7 @@ MlceResult estimate_once(const Series& raw, const MlceOptions& options) {
     // The input's warnings once; the drift is judged again on the rest, which is what is analysed.
     std::vector<std::string> warnings;
     for (std::size_t w = 0; w < input_warnings; ++w)
-      if (r.warnings[w] != drift_warning) warnings.push_back(r.warnings[w]);
+      if (r.warnings[w] != series_warning) warnings.push_back(r.warnings[w]);
     warnings.push_back(text);
     append(warnings, out.warnings);
     out.warnings = std::move(warnings);

@@ -3,6 +3,7 @@
 #include "mlce/mean_period.hpp"
 #include "mlce/numerics.hpp"
 
+#include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -588,6 +589,50 @@ Drift linear_drift(const Series& s) {
       d.share = r2, d.channel = c;
   }
   return d;
+}
+
+WhiteSteps white_steps(const Series& s) {
+  WhiteSteps out;
+  for (std::size_t c = 0; c < s.channels.size(); ++c) {
+    const auto& x = s.channels[c];
+    const std::size_t n = x.size() < 2 ? 0 : x.size() - 1;  // steps
+    const std::size_t lags = std::min(kWhiteStepLags, n / 10);
+    if (lags < 2) continue;
+    // Each channel in units of its peak |x| first: squares of 1e300 would overflow. The steps are
+    // differences of those (a 1e-300 walk has steps of ~1e-302 of its peak: no underflow).
+    const double peak = max_abs(x);
+    if (!(peak > 0.0)) continue;
+    std::vector<double> steps(n), level(x.size());
+    for (std::size_t t = 0; t < x.size(); ++t) level[t] = x[t] / peak;
+    for (std::size_t t = 0; t < n; ++t) steps[t] = level[t + 1] - level[t];
+    const auto centre = [](std::vector<double>& v) {
+      CompensatedSum sum;
+      for (const double u : v) sum.add(u);
+      const double mean = sum.value() / static_cast<double>(v.size());
+      for (double& u : v) u -= mean;
+      return mean;
+    };
+    const double mean_step = centre(steps);
+    centre(level);
+    const double step_sum = lagged_product_sum(steps, 0), level_sum = lagged_product_sum(level, 0);
+    if (!(step_sum > 0.0)) continue;  // a constant or a straight line: no noise in its steps
+    const double step_variance = step_sum / static_cast<double>(n);
+    if (mean_step * mean_step >= step_variance) continue;  // a drift with rounding, not a walk
+    const double ratio = (level_sum / static_cast<double>(x.size())) / step_variance;
+    if (!(ratio >= kWalkVarianceRatio)) continue;
+    const double dn = static_cast<double>(n);
+    CompensatedSum q;
+    for (std::size_t k = 1; k <= lags; ++k) {
+      const double rho = lagged_product_sum(steps, k) / step_sum;
+      q.add(rho * rho / (dn - static_cast<double>(k)));
+    }
+    const double statistic = dn * (dn + 2.0) * q.value();
+    const double critical =
+        boost::math::quantile(boost::math::chi_squared_distribution<double>(static_cast<double>(lags)), 0.999);
+    if (!out.tested || statistic / critical < out.statistic / out.critical)
+      out = {statistic < critical, true, c, statistic, critical, lags, ratio};
+  }
+  return out;
 }
 
 WrappedAngle wrapped_angle(const Series& s) {

@@ -195,6 +195,18 @@ inline std::vector<double> ar2_resonance(std::size_t n, double r, double w, std:
   return x;
 }
 
+/// A Gaussian random walk x_t = x_{t-1} + e_t from x_0 = 0 (e_t standard normal from mt19937_64
+/// seeded `seed`): not stationary (its variance grows as t), it never settles on an attractor, and no
+/// exponent describes it -- a wandering coordinate, such as a free body's position under noise.
+inline std::vector<double> random_walk(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::normal_distribution<double> e(0.0, 1.0);
+  std::vector<double> x(n);
+  double s = 0.0;
+  for (auto& v : x) v = (s += e(gen));
+  return x;
+}
+
 /// A damped oscillator q'' + 2 zeta omega q' + omega^2 q = w(t), w white noise of unit intensity
 /// (mt19937_64 seeded `seed`), by semi-implicit Euler at step dt after 20 / (zeta omega) time units of
 /// start-up: its displacement q and velocity v, two channels of one stable linear mode (exponent

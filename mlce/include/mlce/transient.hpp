@@ -235,6 +235,37 @@ inline constexpr double kDriftShare = 0.5;
 /// A trend whose second half's slope is below this fraction of its first half's settles.
 inline constexpr double kSettlingSlope = 0.5;
 
+/// A random walk: a channel whose steps x[t+1] - x[t] are white noise while the channel itself is
+/// not (Box and Pierce's portmanteau test, Ljung-Box form Q = n (n + 2) sum_k rho_k^2 / (n - k) over
+/// the centred steps' autocorrelations rho_k at lags k = 1..kWhiteStepLags, against the chi-square
+/// point with that many degrees of freedom that a white sequence exceeds once in 1000). Such a channel
+/// is integrated noise, x_t = x_{t-1} + e_t (or a relaxation so slow that its steps look so): its
+/// variance grows as t, it returns near its past states only by chance, and the exponent of its
+/// deterministic part x_{t+1} = x_t is 0, which no divergence curve measures (a Gaussian random walk,
+/// N = 10^4, read "unstable, diverging" at lambda = +0.031 and +0.048 1/s on 2 of 30 seeds before:
+/// bench/random_walk_readings.sh). A sampled motion never passes: its steps follow each other
+/// smoothly (a flow's) or by its map (a map's steps correlate with each other through the map: white
+/// samples make steps of lag-1 correlation -1/2). Required besides: the channel's variance at least
+/// kWalkVarianceRatio x its steps' (the steps are small against where the walk has wandered), and the
+/// steps' mean smaller than their spread (a ramp printed with few digits has steps of one value plus
+/// rounding: that is a drift, linear_drift's case).
+/// The figures are the channel's whose Q lies lowest against its point among the channels tested
+/// (those that meet the variance and mean conditions); `tested` is false when none does.
+struct WhiteSteps {
+  bool found = false;            ///< that channel's Q below its point: a random walk
+  bool tested = false;
+  std::size_t channel = 0;
+  double statistic = 0.0;        ///< its Ljung-Box Q
+  double critical = 0.0;         ///< the chi-square 99.9 % point a random walk's stays below
+  std::size_t lags = 0;          ///< lags 1..lags tested
+  double variance_ratio = 0.0;   ///< var(x) / var(steps) of that channel
+};
+WhiteSteps white_steps(const Series& series);
+/// Lags of the portmanteau test (fewer on a short series: at most a tenth of its steps).
+inline constexpr std::size_t kWhiteStepLags = 20;
+/// A channel whose variance is below this multiple of its steps' is not told from white noise.
+inline constexpr double kWalkVarianceRatio = 10.0;
+
 /// An angle printed modulo a turn (MBDyn's Euler angles in degrees wrap at +-180, its rotation
 /// vectors at pi; a rotating blade's or hub's azimuth wraps every revolution): a step between two
 /// samples of a whole turn, 360 or 2 pi within 10 %, that also spans at least half the channel's
