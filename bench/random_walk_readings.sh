@@ -5,7 +5,7 @@
 # parameter automatic; per series lambda, the reading and the reason the estimate gives it is
 # unreliable ("refused" where the series is too short to estimate); then how often each reading and
 # each reason was given.
-#   bench/random_walk_readings.sh [BUILD_DIR]        (about 1 min)
+#   bench/random_walk_readings.sh [BUILD_DIR]        (about 2 min)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$here/build}"

@@ -280,6 +280,9 @@ TEST(Surrogate, AJointEmbeddingIsTestedWithMultivariateSurrogates) {
     EXPECT_EQ(r.surrogates.has_value(), read_stability(untested).motion == "chaotic") << seed;
     if (r.surrogates) {
       EXPECT_FALSE(r.surrogates->distinguished) << seed;
+      EXPECT_EQ(r.surrogates->channels, 2u);
+      const std::string summary = read_stability(r).summary;  // says which surrogates it was not told from
+      EXPECT_NE(summary.find("cross-spectra (multivariate IAAFT)"), std::string::npos) << summary;
     }
   }
   EXPECT_GE(untested_chaotic, 2u);  // what the test is for: the curve alone reads chaos here

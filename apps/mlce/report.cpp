@@ -118,7 +118,8 @@ nlohmann::json to_json(const MlceResult& r) {
   j["treated_as_map"] = r.mean_period.map;
   // The surrogate test (surrogate.hpp): null when not run (by default it runs where the curve alone
   // reads chaos; --surrogates K always, 0 never). samples from first_sample: the segment it ran on
-  // (several channels: the one whose ends meet, end_jump; null for one channel).
+  // (several channels: the one whose ends meet, end_jump; null for one channel). channels: the
+  // surrogates' (several: multivariate IAAFT).
   if (const auto& t = r.surrogates)
     j["surrogates"] = {{"count", t->surrogate_slopes.size()},
                        {"series_slope", t->series_slope},
@@ -129,7 +130,8 @@ nlohmann::json to_json(const MlceResult& r) {
                        {"steps", {t->first, t->last}},
                        {"first_sample", t->first_sample},
                        {"samples", t->samples},
-                       {"end_jump", finite_or_null(t->end_jump)}};
+                       {"end_jump", finite_or_null(t->end_jump)},
+                       {"channels", t->channels}};
   else
     j["surrogates"] = nullptr;
   // A steady carrier over a growing mode (MlceResult::carrier): null when none.

@@ -346,10 +346,13 @@ Reading read_from_curve(const MlceResult& r, const ReadingOptions& options) {
     if (const auto& t = r.surrogates; t && !t->distinguished && a == AmplitudeTrend::persists)
       return undetermined(fmt::format(
           "lambda > 0 on a motion of steady amplitude, but its divergence is not told from linear noise's: {} "
-          "surrogates with its spectrum and values (IAAFT) diverge as fast or nearly (p = {:.2g}, {:.2g} standard "
+          "surrogates with its {} diverge as fast or nearly (p = {:.2g}, {:.2g} standard "
           "deviations above their mean{}; chaos needs p <= {:g} and {:g}): a motion driven by noise through linear "
           "dynamics (a lightly damped mode excited by turbulence) reads so; {}",
-          t->surrogate_slopes.size(), t->p_value, t->sigmas, surrogate_segment(*t), t->significance, t->min_sigmas,
+          t->surrogate_slopes.size(),
+          t->channels > 1 ? "channels' spectra, values and cross-spectra (multivariate IAAFT)"
+                          : "spectrum and values (IAAFT)",
+          t->p_value, t->sigmas, surrogate_segment(*t), t->significance, t->min_sigmas,
           numbers + noise));
     out.stability = Stability::unstable;
     if (a == AmplitudeTrend::grows) {

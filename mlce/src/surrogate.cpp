@@ -213,6 +213,7 @@ SurrogateTest surrogate_test(const Series& series, const SurrogateSetup& setup, 
   const std::size_t n = series.size();
   const std::size_t span = (setup.dim - 1) * setup.delay + setup.last + 1;
   out.of_samples = n;
+  out.channels = series.channels.size();
   out.samples = options.max_samples == 0 ? n : std::min(n, std::max(options.max_samples, 8 * span));
   // A still leading segment has no surrogates: the whole series.
   if (holds_a_channel_still(series, out.samples)) out.samples = n;

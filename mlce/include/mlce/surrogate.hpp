@@ -92,6 +92,9 @@ struct SurrogateTest {
   std::size_t of_samples = 0;            ///< of the series' samples
   /// Where the segment's ends were matched (several channels): match_ends' jump; else NaN.
   double end_jump = std::numeric_limits<double>::quiet_NaN();
+  /// Channels the surrogates were made of: one, IAAFT; several, multivariate IAAFT (their
+  /// cross-spectra kept too).
+  std::size_t channels = 1;
   std::vector<std::string> warnings;
 };
 
