@@ -38,6 +38,9 @@ perl -e 'print pack("C4", 0, 128, 128, 2), pack("s<*", map { int(20000 * sin(6.2
 perl -e '$x = 0.3; print pack("C4", 0, 128, 128, 0), pack("s<*", map { $x = 4 * $x * (1 - $x); int(30000 * ($x - 0.5)) } 0..499)' \
   > "$corpus/estimate/logistic"
 perl -e 'print pack("C4", 0, 128, 128, 2), pack("s<*", map { 3 * int(3 * sin(6.2832 * $_ / 40)) } 0..499)' > "$corpus/estimate/quantised"
+# inputs that once broke a target, kept as seeds so every run replays them first (fuzz/regressions/TARGET/:
+# bdcsvd-deflation, a record of few modes whose R made Eigen 3.4.0's BDCSVD read out of bounds)
+for d in "$here"/fuzz/regressions/*/; do cp "$d"* "$corpus/$(basename "$d")/"; done
 for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf gzip estimate; do
   echo "fuzz_$f: ${secs} s" >&2
   "$build/fuzz_$f" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 \

@@ -99,8 +99,19 @@ struct Identified {
 };
 
 /// H's singular values and right singular vectors: QR first, then the SVD of the small R (to rounding,
-/// not H^T H's squared values).
-Eigen::BDCSVD<Eigen::MatrixXd> right_singular(const Eigen::MatrixXd& hankel) {
+/// not H^T H's squared values). Eigen 3.4.0's divide-and-conquer BDCSVD reads out of bounds
+/// (perturbCol0: perm(l - 1) at l = 0) where a deflated entry is tiny but not zero, which a record
+/// of fewer modes than columns gives (R's diagonal falls to rounding: fuzz_estimate found one at
+/// 1e-16 of its largest); such an R goes to one-sided Jacobi (JacobiSVD), exact there and 2-5 x slower
+/// at L = 100-160, and every other R keeps BDCSVD.
+/// R's diagonal entry below this share of its largest: H has fewer modes than columns to rounding.
+constexpr double kRankDeficient = 1e-10;
+
+struct RightSingular {
+  Eigen::VectorXd values;
+  Eigen::MatrixXd v;
+};
+RightSingular right_singular(const Eigen::MatrixXd& hankel) {
   const Eigen::Index l = hankel.cols();
   Eigen::MatrixXd r_factor = Eigen::MatrixXd::Zero(l, l);
   if (hankel.rows() >= l) {
@@ -109,7 +120,13 @@ Eigen::BDCSVD<Eigen::MatrixXd> right_singular(const Eigen::MatrixXd& hankel) {
   } else {
     r_factor.topRows(hankel.rows()) = hankel;  // fewer rows than columns: H itself (same V and values)
   }
-  return Eigen::BDCSVD<Eigen::MatrixXd>(r_factor, Eigen::ComputeFullV);
+  const Eigen::VectorXd diagonal = r_factor.diagonal().cwiseAbs();
+  if (diagonal.minCoeff() <= kRankDeficient * diagonal.maxCoeff()) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r_factor, Eigen::ComputeFullV);
+    return {svd.singularValues(), svd.matrixV()};
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(r_factor, Eigen::ComputeFullV);
+  return {svd.singularValues(), svd.matrixV()};
 }
 
 /// The largest row norm over the 10th percentile of them: how many decades the record's amplitude spans.
@@ -149,7 +166,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
   out.columns = columns;
   out.rows = rows_per_channel * channels;
   const Eigen::Index l = static_cast<Eigen::Index>(columns);
-  Eigen::BDCSVD<Eigen::MatrixXd> svd = right_singular(hankel);
+  RightSingular svd = right_singular(hankel);
   if (o.weighting == RowWeighting::amplitude ||
       (o.weighting == RowWeighting::automatic && row_norm_range(hankel) > o.amplitude_range)) {
     // Every row scaled to unit norm, down to a floor: a row is a sum of the mode patterns z^{jD} whatever its
@@ -157,7 +174,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
     // as much as its start. The floor, noise_factor x a noise-only row's norm (the median of the lower half
     // of the unweighted singular values over sqrt(rows), times sqrt(L)), keeps rows at a measurement
     // noise floor from being raised to the signal's weight.
-    const Eigen::VectorXd& unweighted = svd.singularValues();
+    const Eigen::VectorXd& unweighted = svd.values;
     const double floor_value = median(std::vector<double>(unweighted.data() + columns / 2, unweighted.data() + columns));
     const double floor_norm = o.noise_factor * floor_value / std::sqrt(static_cast<double>(hankel.rows())) *
                               std::sqrt(static_cast<double>(columns));
@@ -167,7 +184,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
     }
     svd = right_singular(hankel);
   }
-  const Eigen::VectorXd& values = svd.singularValues();
+  const Eigen::VectorXd& values = svd.values;
   const double largest = values(0);
   if (!(largest > 0.0)) return {};  // a stretch that sits at the record's mean throughout: no mode, order 0
   out.singular_values.resize(columns);
@@ -187,7 +204,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
   out.order = n;
   if (n == 0) return {};
   // Shift invariance (step 4): the right singular vectors one column on are the same, times z^D.
-  const Eigen::MatrixXd v = svd.matrixV().leftCols(static_cast<Eigen::Index>(n));
+  const Eigen::MatrixXd v = svd.v.leftCols(static_cast<Eigen::Index>(n));
   const Eigen::MatrixXd v1 = v.topRows(l - 1), v2 = v.bottomRows(l - 1);
   const Eigen::MatrixXd a = v1.colPivHouseholderQr().solve(v2);
   const Eigen::EigenSolver<Eigen::MatrixXd> eigen(a, /*computeEigenvectors=*/false);
