@@ -23,7 +23,8 @@
 //     D (`stride`) puts samples_per_mean_period columns in the spectrum's mean period (eq. 19), and fewer
 //     when power above the strided Nyquist frequency would fold (alias_share): poles of a finely sampled
 //     record are otherwise crowded near z = 1, where their rates are ill-conditioned.
-//  3. H's singular values s_1 >= ... >= s_L (Householder QR, then the SVD of R: never H^T H, whose squared
+//  3. H's singular values s_1 >= ... >= s_L (Householder QR, then the SVD of R -- BDCSVD, or JacobiSVD where R
+//     is rank-deficient to rounding (modes.cpp: right_singular) -- never H^T H, whose squared
 //     condition would hide modes below 1e-8 of the strongest). The order n counts the singular values above
 //     max(noise_factor x the median of the lower half -- white noise's floor, nearly flat there --,
 //     rank_tolerance x s_1), at most max_order; `--order N` overrides.
