@@ -173,6 +173,40 @@ TEST(Modes, NoisyDecayWithinTwoPercent) {
   EXPECT_EQ(within, 8);
 }
 
+// A record of fewer modes than the pencil's L = 160 columns leaves the Hankel matrix's R rank-deficient
+// to rounding; its SVD is then JacobiSVD (Eigen 3.4.0's BDCSVD read out of bounds on such an R: the
+// fuzz regression fuzz/regressions/estimate/bdcsvd-deflation, a few exactly repeating levels). Truth:
+// a sequence repeating every 8 samples is the sum of its DFT harmonics k / (8 dt), k = 1..3 here
+// (levels chosen with no mean and no Nyquist part), each undamped; two decaying modes are
+// TwoBeatingDecaysAreReadExactly's. A noisy record keeps BDCSVD.
+TEST(Modes, ARankDeficientHankelMatrixIsReadExactly) {
+  const double dt = 0.01;
+  constexpr std::array<double, 8> kLevels{0, 2, 3, 1, -1, -3, -2, 0};  // even and odd sums 0: no Nyquist part
+  std::vector<double> repeating(4000);
+  for (std::size_t i = 0; i < repeating.size(); ++i) repeating[i] = kLevels[i % kLevels.size()];
+  const ModalResult r = identify_modes(series_of({repeating}, dt));
+  print("repeating levels", r);
+  EXPECT_TRUE(r.rank_deficient);
+  EXPECT_EQ(r.columns, 160U);
+  EXPECT_LE(r.order, 6U);  // three harmonics, a pair each
+  EXPECT_LT(r.residual, 1e-9);
+  EXPECT_TRUE(r.linear);
+  EXPECT_EQ(r.reading, "neutral, undamped mode");
+  for (const auto& m : r.modes) {
+    if (m.share < 1e-12) continue;
+    EXPECT_LT(std::abs(m.sigma), 1e-8) << m.frequency;
+    const double harmonic = m.frequency * 8.0 * dt;  // k
+    EXPECT_NEAR(harmonic, std::round(harmonic), 1e-9) << m.frequency;
+  }
+  const auto beating = reference::decaying_modes(4001, dt, {{-0.02, 2.0 / kTwoPi, 1.0}, {-0.05, 2.4 / kTwoPi, 1.0}});
+  const ModalResult b = identify_modes(series_of({beating}, dt));
+  EXPECT_TRUE(b.rank_deficient);
+  EXPECT_NEAR(*b.lambda, -0.02, 1e-7);
+  const ModalResult noisy = identify_modes(
+      series_of({reference::with_white_noise(reference::damped_oscillator(2000, dt, 0.05, kTwoPi), 0.02, 1)}, dt));
+  EXPECT_FALSE(noisy.rank_deficient);
+}
+
 // Two channels mixing the same two modes differently share their poles.
 TEST(Modes, ChannelsShareTheirPoles) {
   const double dt = 0.01;

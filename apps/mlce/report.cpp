@@ -399,6 +399,7 @@ nlohmann::json to_json(const ModalResult& r) {
           {"order", r.order},
           {"order_automatic", r.order_automatic},
           {"order_capped", r.order_capped},
+          {"rank_deficient", r.rank_deficient},
           {"residual", r.residual},
           {"residual_correlation", r.residual_correlation},
           {"noise_left", r.noise_left},

@@ -93,7 +93,7 @@ struct Identified {
   std::vector<double> singular_values;  ///< relative to s_1
   double noise_floor = 0.0;
   std::size_t order = 0, columns = 0, rows = 0, zero_poles = 0;
-  bool capped = false;
+  bool capped = false, rank_deficient = false;
   double residual = 0.0, residual_correlation = 0.0;
   std::vector<double> channel_residual;
 };
@@ -110,6 +110,7 @@ constexpr double kRankDeficient = 1e-10;
 struct RightSingular {
   Eigen::VectorXd values;
   Eigen::MatrixXd v;
+  bool rank_deficient = false;  ///< R's diagonal fell below kRankDeficient of its largest: JacobiSVD
 };
 RightSingular right_singular(const Eigen::MatrixXd& hankel) {
   const Eigen::Index l = hankel.cols();
@@ -123,10 +124,10 @@ RightSingular right_singular(const Eigen::MatrixXd& hankel) {
   const Eigen::VectorXd diagonal = r_factor.diagonal().cwiseAbs();
   if (diagonal.minCoeff() <= kRankDeficient * diagonal.maxCoeff()) {
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(r_factor, Eigen::ComputeFullV);
-    return {svd.singularValues(), svd.matrixV()};
+    return {svd.singularValues(), svd.matrixV(), true};
   }
   const Eigen::BDCSVD<Eigen::MatrixXd> svd(r_factor, Eigen::ComputeFullV);
-  return {svd.singularValues(), svd.matrixV()};
+  return {svd.singularValues(), svd.matrixV(), false};
 }
 
 /// The largest row norm over the 10th percentile of them: how many decades the record's amplitude spans.
@@ -167,6 +168,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
   out.rows = rows_per_channel * channels;
   const Eigen::Index l = static_cast<Eigen::Index>(columns);
   RightSingular svd = right_singular(hankel);
+  out.rank_deficient = svd.rank_deficient;
   if (o.weighting == RowWeighting::amplitude ||
       (o.weighting == RowWeighting::automatic && row_norm_range(hankel) > o.amplitude_range)) {
     // Every row scaled to unit norm, down to a floor: a row is a sum of the mode patterns z^{jD} whatever its
@@ -183,6 +185,7 @@ std::vector<Pole> pencil_poles(const Normalised& data, std::size_t first, std::s
       if (norm > 0.0) hankel.row(row) /= norm;
     }
     svd = right_singular(hankel);
+    out.rank_deficient = out.rank_deficient || svd.rank_deficient;
   }
   const Eigen::VectorXd& values = svd.values;
   const double largest = values(0);
@@ -523,6 +526,7 @@ ModalResult identify_record(const Series& series, const ModalOptions& options) {
   r.order = whole.order;
   r.order_automatic = !options.order;
   r.order_capped = whole.capped;
+  r.rank_deficient = whole.rank_deficient;
   r.singular_values = whole.singular_values;
   r.noise_floor = whole.noise_floor;
   r.columns = whole.columns;

@@ -69,6 +69,16 @@ std::vector<double> window_square_sums(const Series& s, std::size_t w, std::size
   return sums;
 }
 
+/// Subtracts v's mean from every element and returns that mean (a compensated sum: a long
+/// stretch of near-equal values keeps its last digits).
+double centre_in_place(std::vector<double>& v) {
+  CompensatedSum sum;
+  for (const double u : v) sum.add(u);
+  const double mean = sum.value() / static_cast<double>(v.size());
+  for (double& u : v) u -= mean;
+  return mean;
+}
+
 /// Correlations of a centred stretch at lags 1, 2 and 3 (lagged_product_sum over its lag-0 sum);
 /// nullopt for a constant stretch (the underflow rule's case: no whiteness to judge).
 std::optional<std::array<double, 3>> lag_correlations(const std::vector<double>& centred) {
@@ -89,10 +99,8 @@ bool white_samples(const Series& s, std::size_t from, std::size_t to) {
     const double peak = max_abs(std::span<const double>(channel).subspan(from, to - from));
     if (!(peak > 0.0)) continue;
     std::vector<double> x(channel.begin() + static_cast<std::ptrdiff_t>(from), channel.begin() + static_cast<std::ptrdiff_t>(to));
-    double mean = 0.0;
-    for (double& v : x) mean += (v /= peak);
-    mean /= static_cast<double>(x.size());
-    for (double& v : x) v -= mean;
+    for (double& v : x) v /= peak;
+    centre_in_place(x);
     const auto rho = lag_correlations(x);
     if (!rho) continue;
     for (const double r : *rho)
@@ -605,15 +613,8 @@ WhiteSteps white_steps(const Series& s) {
     std::vector<double> steps(n), level(x.size());
     for (std::size_t t = 0; t < x.size(); ++t) level[t] = x[t] / peak;
     for (std::size_t t = 0; t < n; ++t) steps[t] = level[t + 1] - level[t];
-    const auto centre = [](std::vector<double>& v) {
-      CompensatedSum sum;
-      for (const double u : v) sum.add(u);
-      const double mean = sum.value() / static_cast<double>(v.size());
-      for (double& u : v) u -= mean;
-      return mean;
-    };
-    const double mean_step = centre(steps);
-    centre(level);
+    const double mean_step = centre_in_place(steps);
+    centre_in_place(level);
     const double step_sum = lagged_product_sum(steps, 0), level_sum = lagged_product_sum(level, 0);
     if (!(step_sum > 0.0)) continue;  // a constant or a straight line: no noise in its steps
     const double step_variance = step_sum / static_cast<double>(n);

@@ -174,6 +174,10 @@ struct ModalResult {
   std::size_t order = 0;       ///< n, poles (a pair counts 2)
   bool order_automatic = true;
   bool order_capped = false;   ///< more singular values above the floor than max_order
+  /// The Hankel matrix's R had a diagonal entry below 1e-10 of its largest (fewer modes than columns to
+  /// rounding: a noiseless record of few modes, an exactly repeating one); its SVD was then one-sided
+  /// Jacobi, BDCSVD otherwise (step 3).
+  bool rank_deficient = false;
   std::vector<double> singular_values;  ///< of the Hankel matrix, relative to s_1
   double noise_floor = 0.0;    ///< the median of the lower half, relative to s_1
   std::size_t stride = 1;      ///< D, samples
