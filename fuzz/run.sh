@@ -8,7 +8,7 @@ build="${2:-$here/build-fuzz}"
 CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMLCE_FUZZ=ON >/dev/null
 cmake --build "$build" -j "$(nproc 2>/dev/null || echo 2)"
 corpus="$build/corpus"
-rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,column_file,channel_spec,netcdf,gzip,estimate}
+rm -rf "$corpus" && mkdir -p "$corpus"/{mbdyn_log,mbdyn_out,mbdyn_blocks,mbdyn_eigenanalysis,column_file,channel_spec,netcdf,gzip,estimate}
 iso="$here/data/mbdyn/iso_200rpm_1s/iso_200rpm"
 cp "$iso.log" "$corpus/mbdyn_log/"
 head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
@@ -17,6 +17,13 @@ printf 'Step 0 1000 0 1 0 0 0 1\nStep 1 1000 0.005 2 1e-08 0 0 1\nStep 2 1000.01
   > "$corpus/mbdyn_out/late.out"
 head -n 30 "$iso.mov" > "$corpus/mbdyn_blocks/seed.mov"
 head -n 30 "$iso.jnt" > "$corpus/mbdyn_blocks/seed.jnt"
+# eigenanalysis .m files as MBDyn writes them: dense matrices, sparse triplets, alpha with eigenvectors
+printf '%% time: 0\ndTime = 0;\n%% coefficient\ndCoef = 0.05;\n%% F/xPrime + dCoef * F/x\nAplus = [1 -0.05 ;\n250 3 ];\n%% F/xPrime - dCoef * F/x\nAminus = [1 0.05 ;\n-250 2 ];\n' \
+  > "$corpus/mbdyn_eigenanalysis/dense.m"
+printf 'dTime = 1;\ndCoef = 5e-4;\nAplus = [1 1 1;\n2 2 3;\n];\nAplus = spconvert(Aplus);\nAminus = [1 1 1;\n2 2 -3;\n];\nAminus = spconvert(Aminus);\n' \
+  > "$corpus/mbdyn_eigenanalysis/sparse.m"
+printf 'dTime = 2;\ndCoef = 0.5;\n%% alphar, alphai, beta\nalpha = [0.9 0.1 1;\n0.9 -0.1 1;\n-1 0 1;\n];\n%% right eigenvectors\nVR = [\n1+i*2 1-i*2 3 ;\n4 5 6 ];\n' \
+  > "$corpus/mbdyn_eigenanalysis/alpha.m"
 head -n 50 "$here/data/lorenz_x.txt" > "$corpus/column_file/seed.txt"
 printf '"","t","x # m"\n"1",0,0.5\n"2",0.01,"-0.25"\n' > "$corpus/column_file/quoted.csv"  # R's write.csv
 printf 'when,t,x,note\n2026-11-27 01:00:00,0,0.5,ok\n2026-11-27 01:00:01,1,*****,\n' > "$corpus/column_file/labelled.csv"
@@ -41,7 +48,7 @@ perl -e 'print pack("C4", 0, 128, 128, 2), pack("s<*", map { 3 * int(3 * sin(6.2
 # inputs that once broke a target, kept as seeds so every run replays them first (fuzz/regressions/TARGET/:
 # bdcsvd-deflation, a record of few modes whose R made Eigen 3.4.0's BDCSVD read out of bounds)
 for d in "$here"/fuzz/regressions/*/; do cp "$d"* "$corpus/$(basename "$d")/"; done
-for f in mbdyn_log mbdyn_out mbdyn_blocks column_file channel_spec netcdf gzip estimate; do
+for f in mbdyn_log mbdyn_out mbdyn_blocks mbdyn_eigenanalysis column_file channel_spec netcdf gzip estimate; do
   echo "fuzz_$f: ${secs} s" >&2
   "$build/fuzz_$f" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=0 \
     "$corpus/$f" 2>"$build/fuzz_$f.log" || { tail -n 40 "$build/fuzz_$f.log" >&2; exit 1; }

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
+#include <filesystem>
+#include <fstream>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -275,4 +278,51 @@ TEST_F(SpectrumCli, FloquetAtAHighRotorSpeedAgreesWithEigen) {
   ASSERT_EQ(f["exponents"].size(), 12u);
   for (std::size_t i = 0; i < 12; ++i)
     EXPECT_NEAR(f["exponents"][i].get<double>(), e["exponents"][i].get<double>(), 1e-5) << i;
+}
+
+// MBDyn's own eigenanalyses: the files of a set in analysis order, one from the matrices (the mboct-mbdyn-pkg
+// loader's two oscillators, s = -d / 2m +- i sqrt(s / m - (d / 2m)^2): largest real part -10 / (2 x 2.5) = -2)
+// and one from MBDyn's alpha (Lambda = (1 + c s) / (1 - c s) of s = +0.3 +- 2i and a constraint's Lambda = -1).
+TEST_F(SpectrumCli, MbdynEigenanalysisFilesReadAsEigenvalues) {
+  write("run_0.m",
+        "% time: 0\ndTime = 0;\n% coefficient\ndCoef = 0.05;\n"
+        "Aplus = [1 0 -0.05 0 ;\n0 1 0 -0.05 ;\n250 0 3 0 ;\n0 50 0 4 ];\n"
+        "Aminus = [1 0 0.05 0 ;\n0 1 0 0.05 ;\n-250 0 2 0 ;\n0 -50 0 2 ];\n");
+  const double c = 0.05;
+  const std::complex<double> grow(0.3, 2.0), lambda = (1.0 + c * grow) / (1.0 - c * grow);
+  std::ostringstream alpha;
+  alpha.precision(17);
+  alpha << "dTime = 2.5;\ndCoef = " << c << ";\nalpha = [" << lambda.real() << " " << lambda.imag() << " 1;\n"
+        << lambda.real() << " " << -lambda.imag() << " 1;\n-2 0 2;\n];\n";
+  write("run_1.m", alpha.str());
+  const json j = json_of("eigenanalysis " + (dir / "run").string() + " --csv " + (dir / "e.csv").string());
+  ASSERT_EQ(j["analyses"].size(), 2u);
+  const json& m = j["analyses"][0];
+  EXPECT_EQ(m["source"], "matrices");
+  EXPECT_EQ(m["time"].get<double>(), 0.0);
+  ASSERT_EQ(m["eigenvalues"].size(), 4u);
+  EXPECT_NEAR(m["largest_real_part"].get<double>(), -2.0, 1e-9);
+  EXPECT_NEAR(m["largest_frequency_hz"].get<double>(), std::sqrt(2000.0 - 4.0) / (2 * M_PI), 1e-8);
+  EXPECT_EQ(m["stability"], "stable");
+  const json& a = j["analyses"][1];
+  EXPECT_EQ(a["source"], "alpha");
+  EXPECT_EQ(a["time"].get<double>(), 2.5);
+  EXPECT_EQ(a["at_infinity"].get<int>(), 1);
+  EXPECT_NEAR(a["largest_real_part"].get<double>(), 0.3, 1e-12);
+  EXPECT_NEAR(a["eigenvalues"][0]["imag"].get<double>(), 2.0, 1e-12);
+  EXPECT_EQ(a["stability"], "unstable");
+  std::ifstream csv(dir / "e.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, 1 + 4 + 2);
+  // One file named directly reads the same.
+  const json one = json_of("eigenanalysis " + (dir / "run_1.m").string());
+  EXPECT_EQ(one["analyses"].size(), 1u);
+  // Errors: a set without eigenanalysis files; a file with a bad value (named with its line); nothing partial.
+  expect_one_line_error(run("eigenanalysis " + (dir / "none").string()), "none: no eigenanalysis file");
+  write("bad_0.m", "dCoef = 0.5;\nalpha = [1 0 1;\n1 0;\n];\n");
+  const auto bad = run("eigenanalysis " + (dir / "bad").string() + " --csv " + (dir / "bad.csv").string());
+  expect_one_line_error(bad, "bad_0.m:3: alpha: a row of 2 values");
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.csv"));
 }

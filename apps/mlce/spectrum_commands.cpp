@@ -15,6 +15,9 @@
 #include "mlce/models/scene.hpp"
 #include "mlce/spectrum/floquet.hpp"
 #include "mlce/spectrum/qr_spectrum.hpp"
+#include "mlce/spectrum/solver_pencil.hpp"
+#include "mlce/reader/mbdyn_eigenanalysis.hpp"
+#include "mlce/reader/mbdyn_text.hpp"
 #include "plot.hpp"
 #include "report.hpp"
 
@@ -356,6 +359,97 @@ int cmd_eigen(const std::vector<std::string>& args) {
   }
   const spectrum::LinearSpectrum s = spectrum::linear_eigen(form.A, dA, names);
   return print_linear(s, scene, "eigen", c, form.coordinates, plot_path);
+}
+
+namespace {
+
+/// The sign of a real part against the spectrum's own rounding: within 1e-8 of the largest |s| (the
+/// QZ's relative accuracy on a well-scaled pencil, with margin) it reads neutral (a rigid-body mode's
+/// s = 0 comes out at ~1e-15 |s|max, either sign).
+const char* sign_word(double real, const std::vector<std::complex<double>>& all) {
+  double largest = 0.0;
+  for (const auto& s : all) largest = std::max(largest, std::abs(s));
+  if (std::abs(real) <= 1e-8 * largest) return "neutral";
+  return real > 0.0 ? "unstable" : "stable";
+}
+
+}  // namespace
+
+int cmd_eigenanalysis(const std::vector<std::string>& args) {
+  bool json = false;
+  std::string csv_path;
+  po::options_description d("mlce eigenanalysis SET|FILE.m [options]");
+  d.add_options()("json", po::bool_switch(&json), "print one JSON object")(
+      "csv", po::value(&csv_path), "every eigenvalue as CSV (file, time, real, imag, frequency_hz, damping_ratio)")(
+      "quiet", po::bool_switch(), "accepted for scripts that pass it to every command (this one prints no progress)");
+  const auto parsed = parse(args, d);
+  if (!parsed) return 0;
+  const po::variables_map& vm = *parsed;
+  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix) or one eigenanalysis FILE.m");
+  const std::string file = vm["file"].as<std::string>();
+  std::vector<std::string> files;
+  if (file.size() > 2 && file.ends_with(".m")) {
+    files.push_back(file);
+  } else {
+    const std::string prefix = reader::mbdyn_prefix(file);
+    files = reader::mbdyn_eigenanalysis_files(prefix);
+    if (files.empty())
+      throw std::runtime_error(prefix + ": no eigenanalysis file (" + prefix + ".m or " + prefix +
+                               "_<k>.m); MBDyn writes one per analysis when its initial-value block has `eigenanalysis: "
+                               "<times>, output eigenvectors` (or `output matrices`)");
+  }
+  nlohmann::json analyses = nlohmann::json::array();
+  std::string csv = "file,time,real,imag,frequency_hz,damping_ratio\n";
+  std::string text;
+  std::vector<std::string> warnings;
+  for (const auto& path : files) {
+    const reader::MbdynEigenanalysis e = reader::read_mbdyn_eigenanalysis(path);
+    // MBDyn's own eigenvalues when it wrote them; otherwise QZ on the matrices it wrote.
+    const bool from_alpha = !e.alpha.empty();
+    const spectrum::SolverPencilSpectrum s =
+        from_alpha ? spectrum::spectrum_from_multipliers(e.alpha, *e.coefficient)
+                   : spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, *e.coefficient);
+    for (const auto& w : s.warnings) warnings.push_back(path + ": " + w);
+    const std::string source =
+        from_alpha ? "alpha" : fmt::format("Aplus/Aminus {} x {}{} by QZ", e.size, e.size, e.sparse ? " (sparse)" : "");
+    const char* stability = s.largest_real_part ? sign_word(*s.largest_real_part, s.eigenvalues) : "undetermined";
+    nlohmann::json values = nlohmann::json::array();
+    const std::string time = e.time ? fmt::format("{}", *e.time) : std::string();
+    for (const auto& v : s.eigenvalues) {
+      const double frequency = std::abs(v.imag()) / (2.0 * M_PI), damping = std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0;
+      values.push_back({{"real", v.real()}, {"imag", v.imag()}, {"frequency_hz", frequency}, {"damping_ratio", damping}});
+      csv += fmt::format("{},{},{},{},{},{}\n", path, time, v.real(), v.imag(), frequency, damping);
+    }
+    nlohmann::json a = {{"file", path},
+                        {"time", e.time ? nlohmann::json(*e.time) : nlohmann::json(nullptr)},
+                        {"coefficient", *e.coefficient},
+                        {"source", from_alpha ? "alpha" : "matrices"},
+                        {"size", from_alpha ? e.alpha.size() : e.size},
+                        {"eigenvalues", values},
+                        {"at_infinity", s.at_infinity},
+                        {"largest_real_part", s.largest_real_part ? nlohmann::json(*s.largest_real_part) : nlohmann::json(nullptr)},
+                        {"largest_frequency_hz", s.largest_frequency},
+                        {"stability", stability}};
+    analyses.push_back(a);
+    text += fmt::format("# {}: {}dCoef {}, eigenvalues from {}: {} finite, {} at infinity (constraints, singular Aplus)\n", path,
+                        e.time ? fmt::format("t = {}, ", *e.time) : std::string(), *e.coefficient, source, s.eigenvalues.size(),
+                        s.at_infinity);
+    if (s.largest_real_part)
+      text += fmt::format("largest real part {:+.9g} 1/time unit at {:.6g} cycles/time unit: {}\n", *s.largest_real_part,
+                          s.largest_frequency, stability);
+    text += fmt::format("{:>16} {:>16} {:>14} {:>14}\n", "real", "imag (rad)", "frequency", "damping ratio");
+    for (const auto& v : s.eigenvalues)
+      text += fmt::format("{:>16.9g} {:>16.9g} {:>14.6g} {:>14.6g}\n", v.real(), v.imag(), std::abs(v.imag()) / (2.0 * M_PI),
+                          std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0);
+  }
+  if (!csv_path.empty()) write_file_atomically(csv_path, csv);
+  if (json) {
+    std::cout << nlohmann::json{{"analyses", analyses}, {"warnings", warnings}}.dump() << "\n";
+  } else {
+    std::cout << text;
+  }
+  print_warnings(warnings);
+  return 0;
 }
 
 }  // namespace mlce::cli

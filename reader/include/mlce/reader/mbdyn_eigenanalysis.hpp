@@ -1,0 +1,50 @@
+#pragma once
+// MBDyn's eigenanalysis output: the Octave script PREFIX.m, or PREFIX_<k>.m for the k-th of several
+// analyses, that `eigenanalysis: ...` in the initial-value block writes (format doc section 1 lists
+// `.m`; the layout below is MBDyn's DataManager::OutputEigParams, OutputEigFullMatrices,
+// OutputEigSparseMatrices and OutputEigenvectors):
+//   % time: <t>            dTime = <t>;
+//   % coefficient          dCoef = <h/2>;
+//   `output matrices`:        Aplus = [row; row; ...];  Aminus = [...];   (dense, n x n)
+//   `output sparse matrices`: Aplus = [i j v; ...]; Aplus = spconvert(Aplus);  (1-based triplets)
+//   `output geometry`:        labels = [...]; idx = [...]; X0 = [...];   (not read)
+//   `output eigenvectors`:    alpha = [alphar alphai beta; ...];  VL = [...]; VR = [...];  (VL, VR not read)
+// Aplus = F/x' + dCoef F/x and Aminus = F/x' - dCoef F/x are the Jacobians of the residual F(x', x)
+// about the state at dTime; alpha holds the generalized eigenvalues Lambda = (alphar + i alphai) / beta
+// of Aminus v = Lambda Aplus v. What they mean (s = (Lambda - 1) / (dCoef (Lambda + 1))) is the
+// estimators' business (mlce/linearised.hpp); this reader returns what the file holds.
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mlce::reader {
+
+struct MbdynEigenanalysis {
+  std::string source;
+  std::optional<double> time;         ///< dTime
+  std::optional<double> coefficient;  ///< dCoef (half the step the matrices were built with)
+  /// alphar, alphai, beta of each eigenvalue MBDyn computed; empty without `output eigenvectors`.
+  std::vector<std::array<double, 3>> alpha;
+  std::size_t size = 0;               ///< n of Aplus and Aminus; 0 when the matrices are not in the file
+  std::vector<double> aplus, aminus;  ///< row-major n x n (sparse triplets expanded)
+  bool sparse = false;                ///< the matrices were written as triplets
+};
+
+/// Largest n of Aplus/Aminus read (they are held dense: 2 n^2 doubles, 256 MB at this n). A larger
+/// model's eigenvalues come from MBDyn's own solution (`output eigenvectors` writes alpha).
+inline constexpr std::size_t kLargestEigenanalysisMatrix = 4000;
+
+/// Throws ReadError naming source:line on a value that is no finite number, an alpha row that is not
+/// three numbers, matrices that are not square or differ in size, a triplet index below 1, an
+/// unterminated matrix, or a file that holds neither alpha nor both matrices.
+MbdynEigenanalysis parse_mbdyn_eigenanalysis(std::string_view text, const std::string& source);
+MbdynEigenanalysis read_mbdyn_eigenanalysis(const std::string& path);
+
+/// The eigenanalysis files of the set at `prefix`: PREFIX.m and PREFIX_<suffix>.m, those with numeric
+/// suffixes in numeric order (PREFIX_2.m before PREFIX_10.m). Empty when there is none.
+std::vector<std::string> mbdyn_eigenanalysis_files(const std::string& prefix);
+
+}  // namespace mlce::reader
