@@ -12,6 +12,7 @@
 #include "mlce/models/simulate.hpp"
 #include "mlce/spectrum/floquet.hpp"
 #include "mlce/spectrum/qr_spectrum.hpp"
+#include "mlce/spectrum/solver_pencil.hpp"
 
 namespace {
 
@@ -56,6 +57,28 @@ void eigen_mbc(benchmark::State& state) {
     benchmark::DoNotOptimize(mlce::spectrum::linear_eigen(mlce::models::time_invariant_form(s).A).exponents.data());
 }
 
+/// mlce eigenanalysis on MBDyn-sized pencils: n oscillator pairs in first-order residual form (Aplus
+/// regular: LU + EigenSolver), and the same with Aplus made singular in one row (QZ). The cost of a
+/// solver's eigenanalysis file, O(n^3).
+void solver_pencil(benchmark::State& state, bool singular_aplus) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const double c = 5e-4;
+  std::vector<double> plus(n * n, 0.0), minus(n * n, 0.0);
+  for (std::size_t k = 0; k + 1 < n; k += 2) {  // x' = v, v' = -w^2 x - 2 zeta w v, w = 1 + k / 10, zeta = 0.02
+    const double w = 1.0 + static_cast<double>(k) / 10.0, z = 0.02;
+    const double e[2][2] = {{1, 0}, {0, 1}}, kk[2][2] = {{0, -1}, {w * w, 2 * z * w}};
+    for (int r = 0; r < 2; ++r)
+      for (int q = 0; q < 2; ++q) {
+        plus[(k + r) * n + k + q] = e[r][q] + c * kk[r][q];
+        minus[(k + r) * n + k + q] = e[r][q] - c * kk[r][q];
+      }
+  }
+  for (std::size_t i = 0; i < n * n; i += 7) plus[i] += 1e-3, minus[i] += 1e-3;  // couple them
+  if (singular_aplus)
+    for (std::size_t q = 0; q < n; ++q) plus[(n - 1) * n + q] = 0.0;
+  for (auto _ : state) benchmark::DoNotOptimize(mlce::spectrum::spectrum_from_pencil(n, plus, minus, c).eigenvalues.data());
+}
+
 using M = mlce::spectrum::JacobianMethod;
 
 }  // namespace
@@ -73,5 +96,7 @@ BENCHMARK_CAPTURE(qr, jacobian_free_largest_only, std::vector<std::string>{}, M:
 BENCHMARK_CAPTURE(qr, analytic_largest_only_1_param_c3, std::vector<std::string>{"c3"}, M::analytic, 1)->Unit(benchmark::kMillisecond);
 BENCHMARK(floquet)->Unit(benchmark::kMillisecond);
 BENCHMARK(eigen_mbc)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(solver_pencil, lu_eigensolver, false)->Arg(100)->Arg(250)->Arg(500)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(solver_pencil, qz, true)->Arg(100)->Arg(250)->Arg(500)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

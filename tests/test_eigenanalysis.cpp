@@ -147,6 +147,20 @@ TEST(Eigenanalysis, AConstraintIsAtInfinity) {
   expect_eigenvalues(s, analytic(), 1e-9, 0.005);
 }
 
+// A singular Aplus (a row with no x' and no x: beta = 0 there) goes to QZ, which finds the finite
+// eigenvalue of the other row exactly: Aminus = diag(a, 1), Aplus = diag(1, 0) gives Lambda = a and beta = 0.
+TEST(Eigenanalysis, ASingularAplusIsSolvedByQz) {
+  const double c = 0.01, a = 0.9;
+  const auto s = spectrum::spectrum_from_pencil(2, std::vector<double>{1, 0, 0, 0}, std::vector<double>{a, 0, 0, 1}, c);
+  EXPECT_NE(s.method.find("QZ"), std::string::npos) << s.method;
+  EXPECT_EQ(s.at_infinity, 1U);
+  ASSERT_EQ(s.eigenvalues.size(), 1U);
+  EXPECT_NEAR(s.eigenvalues[0].real(), (a - 1) / (c * (a + 1)), 1e-12);
+  // The regular oscillators take the standard route and say so.
+  const auto e = reader::parse_mbdyn_eigenanalysis(m_file(two_oscillators(), 0.05, false), "run.m");
+  EXPECT_NE(spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, *e.coefficient).method.find("LU"), std::string::npos);
+}
+
 // A second method on a rotor: the pencil (I - c A, I + c A) of x' = A x for Hammond's isotropic rotor
 // (the multiblade time-invariant form, 12 states) against Eigen's EigenSolver on A.
 TEST(Eigenanalysis, HammondsPencilGivesTheEigenvaluesOfA) {

@@ -5,6 +5,7 @@
 #include <boost/program_options.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -406,12 +407,15 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     const reader::MbdynEigenanalysis e = reader::read_mbdyn_eigenanalysis(path);
     // MBDyn's own eigenvalues when it wrote them; otherwise QZ on the matrices it wrote.
     const bool from_alpha = !e.alpha.empty();
+    if (!from_alpha && e.size >= 300)  // O(n^3): ~2 s at n = 500, ~15 s at 1000 (bench_spectrum solver_pencil)
+      std::fprintf(stderr, "mlce eigenanalysis: %s: eigenvalues of a %zu x %zu pencil (O(n^3): seconds to minutes)...\n",
+                   path.c_str(), e.size, e.size);
     const spectrum::SolverPencilSpectrum s =
         from_alpha ? spectrum::spectrum_from_multipliers(e.alpha, *e.coefficient)
                    : spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, *e.coefficient);
     for (const auto& w : s.warnings) warnings.push_back(path + ": " + w);
     const std::string source =
-        from_alpha ? "alpha" : fmt::format("Aplus/Aminus {} x {}{} by QZ", e.size, e.size, e.sparse ? " (sparse)" : "");
+        from_alpha ? "alpha" : fmt::format("Aplus/Aminus {} x {}{} by {}", e.size, e.size, e.sparse ? " (sparse)" : "", s.method);
     const char* stability = s.largest_real_part ? sign_word(*s.largest_real_part, s.eigenvalues) : "undetermined";
     nlohmann::json values = nlohmann::json::array();
     const std::string time = e.time ? fmt::format("{}", *e.time) : std::string();
@@ -424,6 +428,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
                         {"time", e.time ? nlohmann::json(*e.time) : nlohmann::json(nullptr)},
                         {"coefficient", *e.coefficient},
                         {"source", from_alpha ? "alpha" : "matrices"},
+                        {"method", s.method},
                         {"size", from_alpha ? e.alpha.size() : e.size},
                         {"eigenvalues", values},
                         {"at_infinity", s.at_infinity},

@@ -2,6 +2,7 @@
 #include "mlce/spectrum/solver_pencil.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -54,6 +55,7 @@ SolverPencilSpectrum spectrum_from_multipliers(std::span<const std::array<double
                            "dof no element touches), left out");
   if (out.eigenvalues.empty())
     out.warnings.push_back("every eigenvalue is at infinity (constraints or a singular Aplus): no motion to read");
+  out.method = "alpha";
   return out;
 }
 
@@ -71,15 +73,36 @@ SolverPencilSpectrum spectrum_from_pencil(std::size_t n, std::span<const double>
   const double scale = std::max(plus.cwiseAbs().maxCoeff(), minus.cwiseAbs().maxCoeff());
   if (!(scale > 0.0) || !std::isfinite(scale)) throw std::invalid_argument("Aplus and Aminus are zero or not finite");
   plus /= scale, minus /= scale;
-  // Aminus v = Lambda Aplus v, as MBDyn's LAPACK dggev call (A = Aminus, B = Aplus); no eigenvectors.
-  Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> qz(minus, plus, false);
-  if (qz.info() != Eigen::Success) throw std::invalid_argument("the QZ iteration on (Aminus, Aplus) did not converge");
   std::vector<std::array<double, 3>> alpha(n);
+  // Aminus v = Lambda Aplus v. Aplus is the matrix a step of size 2 dCoef factors (the solver's own
+  // Jacobian), so it is regular on a run that advanced: Lambda are then the eigenvalues of
+  // Aplus^-1 Aminus (LU, then Eigen's EigenSolver: 2.5x faster than its QZ at n = 500, bench_spectrum solver_pencil).
+  // Where Aplus is singular to rounding (beta = 0 eigenvalues) QZ, as MBDyn's LAPACK dggev call.
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(plus);
+  // A zero pivot makes the LU's condition estimate meaningless (it divides by it): checked first.
+  const Eigen::VectorXd pivots = lu.matrixLU().diagonal().cwiseAbs();
+  const double rcond = pivots.minCoeff() > 1e-14 * pivots.maxCoeff() ? lu.rcond() : 0.0;
+  const Eigen::MatrixXd reduced = rcond > o.regular_aplus ? Eigen::MatrixXd(lu.solve(minus)) : Eigen::MatrixXd();
+  if (rcond > o.regular_aplus && reduced.allFinite()) {
+    const Eigen::EigenSolver<Eigen::MatrixXd> standard(reduced, false);
+    if (standard.info() != Eigen::Success) throw std::invalid_argument("the eigenvalues of Aplus^-1 Aminus did not converge");
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::complex<double> lambda = standard.eigenvalues()(static_cast<Eigen::Index>(k));
+      alpha[k] = {lambda.real(), lambda.imag(), 1.0};
+    }
+    SolverPencilSpectrum out = spectrum_from_multipliers(alpha, coefficient, o);
+    out.method = "LU of Aplus, eigenvalues of Aplus^-1 Aminus";
+    return out;
+  }
+  const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> qz(minus, plus, false);
+  if (qz.info() != Eigen::Success) throw std::invalid_argument("the QZ iteration on (Aminus, Aplus) did not converge");
   for (std::size_t k = 0; k < n; ++k) {
     const auto e = static_cast<Eigen::Index>(k);
     alpha[k] = {qz.alphas()(e).real(), qz.alphas()(e).imag(), qz.betas()(e)};
   }
-  return spectrum_from_multipliers(alpha, coefficient, o);
+  SolverPencilSpectrum out = spectrum_from_multipliers(alpha, coefficient, o);
+  out.method = "QZ (Aplus singular to rounding: reciprocal condition " + std::to_string(rcond) + ")";
+  return out;
 }
 
 }  // namespace mlce::spectrum

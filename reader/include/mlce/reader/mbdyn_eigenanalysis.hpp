@@ -33,9 +33,10 @@ struct MbdynEigenanalysis {
   bool sparse = false;                ///< the matrices were written as triplets
 };
 
-/// Largest n of Aplus/Aminus read (they are held dense: 2 n^2 doubles, 256 MB at this n). A larger
-/// model's eigenvalues come from MBDyn's own solution (`output eigenvectors` writes alpha).
-inline constexpr std::size_t kLargestEigenanalysisMatrix = 4000;
+/// Largest n of Aplus/Aminus read (they are held dense, 2 n^2 doubles, and their eigenvalues cost O(n^3):
+/// about 2 min at this n, spectrum/solver_pencil.hpp). A larger model's eigenvalues come from MBDyn's own
+/// solution (`output eigenvectors` writes alpha).
+inline constexpr std::size_t kLargestEigenanalysisMatrix = 2000;
 
 /// Throws ReadError naming source:line on a value that is no finite number, an alpha row that is not
 /// three numbers, matrices that are not square or differ in size, a triplet index below 1, an
