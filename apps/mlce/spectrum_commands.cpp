@@ -419,10 +419,12 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     const char* stability = s.largest_real_part ? sign_word(*s.largest_real_part, s.eigenvalues) : "undetermined";
     nlohmann::json values = nlohmann::json::array();
     const std::string time = e.time ? fmt::format("{}", *e.time) : std::string();
+    std::string rows;  // the text table's rows, written in the same pass as JSON and CSV
     for (const auto& v : s.eigenvalues) {
       const double frequency = std::abs(v.imag()) / (2.0 * M_PI), damping = std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0;
       values.push_back({{"real", v.real()}, {"imag", v.imag()}, {"frequency_hz", frequency}, {"damping_ratio", damping}});
       csv += fmt::format("{},{},{},{},{},{}\n", path, time, v.real(), v.imag(), frequency, damping);
+      rows += fmt::format("{:>16.9g} {:>16.9g} {:>14.6g} {:>14.6g}\n", v.real(), v.imag(), frequency, damping);
     }
     nlohmann::json a = {{"file", path},
                         {"time", e.time ? nlohmann::json(*e.time) : nlohmann::json(nullptr)},
@@ -442,10 +444,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     if (s.largest_real_part)
       text += fmt::format("largest real part {:+.9g} 1/time unit at {:.6g} cycles/time unit: {}\n", *s.largest_real_part,
                           s.largest_frequency, stability);
-    text += fmt::format("{:>16} {:>16} {:>14} {:>14}\n", "real", "imag (rad)", "frequency", "damping ratio");
-    for (const auto& v : s.eigenvalues)
-      text += fmt::format("{:>16.9g} {:>16.9g} {:>14.6g} {:>14.6g}\n", v.real(), v.imag(), std::abs(v.imag()) / (2.0 * M_PI),
-                          std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0);
+    text += fmt::format("{:>16} {:>16} {:>14} {:>14}\n", "real", "imag (rad)", "frequency", "damping ratio") + rows;
   }
   if (!csv_path.empty()) write_file_atomically(csv_path, csv);
   if (json) {
