@@ -3,7 +3,8 @@
 // that no header makes libnetcdf allocate or loop without bound (-rss_limit_mb, -timeout). From a
 // netCDF-4 seed (fuzz/run.sh), the child process that reads such a file and the pipe its result
 // comes back through: whatever libhdf5 does there (crash, endless loop), this process must get
-// the channels or one ReadError.
+// the channels or one ReadError. The eigenanalysis variables (eig.*) are read too: their sizes come
+// from the header, and a dense matrix or a triplet list must stay within what the file's bytes hold.
 #include <cstdint>
 #include <string>
 
@@ -22,6 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     (void)mlce::reader::read_mbdyn_netcdf(path, {mlce::reader::parse_channel_spec("node:1:y")});
+  } catch (const mlce::reader::ReadError&) {
+  }
+  try {
+    (void)mlce::reader::read_mbdyn_netcdf_eigenanalyses(path);
   } catch (const mlce::reader::ReadError&) {
   }
   return 0;

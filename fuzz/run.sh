@@ -36,6 +36,26 @@ head -n 30 "$iso.mov" | gzip -c -n > "$corpus/gzip/seed.mov.gz"
 head -n 50 "$here/data/lorenz_x.txt" | gzip -c -n > "$corpus/gzip/seed.txt.gz"
 # the NetCDF header and its first records (a file cut short: the reader's truncated-file path)
 head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"
+# MBDyn's eigenanalysis variables (DataManager::OutputEigPrepare ...): dense matrices (eig.0), sparse
+# triplets along the record dimension, more of them than output records (eig.1), alpha (eig.2), one planned
+# analysis never performed (eig.3: fill values)
+ncgen -o "$corpus/netcdf/eig.nc" /dev/stdin <<'CDL'
+netcdf eig {
+dimensions:
+  time = UNLIMITED ; vec3 = 3 ; eigensolutions = 4 ; eig_iSize = 2 ; eig_2_iNVec_out = 3 ;
+variables:
+  double time(time) ; double node.struct.1.X(time, vec3) ;
+  double eig.time(eigensolutions) ; double eig.dCoef(eigensolutions) ;
+  double eig.0.Aplus(eig_iSize, eig_iSize) ; double eig.0.Aminus(eig_iSize, eig_iSize) ;
+  double eig.1.Aplus(time, vec3) ; double eig.1.Aminus(time, vec3) ; double eig.2.alpha(eig_2_iNVec_out, vec3) ;
+data:
+  time = 0, 0.1, _, _ ; node.struct.1.X = 1, 2, 3, 1.5, 2, 3, _, _, _, _, _, _ ;
+  eig.time = 0, 0.1, 0.2, _ ; eig.dCoef = 0.05, 0.05, 0.05, _ ;
+  eig.0.Aplus = 1, 250, -0.05, 3 ; eig.0.Aminus = 1, -250, 0.05, 2 ;
+  eig.1.Aplus = 1, 1, 1, 1, 2, -0.05, 2, 1, 250, 2, 2, 3 ; eig.1.Aminus = 1, 1, 1, 1, 2, 0.05, 2, 1, -250, 2, 2, 2 ;
+  eig.2.alpha = 0.8, 0.5, 1, -2, 0, 2, 3, 0, 0 ;
+}
+CDL
 # the estimator's series (fuzz_estimate.cpp's layout: 4 bytes of options, then int16 samples; perl is
 # part of every Debian): a decay and a limit cycle sampled as a flow (dt 0.01), the logistic map, and
 # a sine quantised to a few levels, each 500 samples

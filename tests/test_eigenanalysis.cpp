@@ -2,8 +2,11 @@
 // eigenvalues (spectrum/solver_pencil.hpp). Truth: closed-form eigenvalues of damped oscillators written
 // in MBDyn's first-order residual form (the mboct-mbdyn-pkg loader's test model: two spring-mass-damper
 // abstract nodes), and the eigenvalues of Hammond's isotropic-rotor matrix A by Eigen's EigenSolver
-// (a second method) against QZ of the pencil MBDyn would write for x' = A x.
+// (a second method) against QZ of the pencil MBDyn would write for x' = A x. The same oscillators in a
+// NetCDF file laid out as MBDyn writes its eig.* variables (reader/mbdyn_netcdf.hpp), and through the CLI.
 #include <gtest/gtest.h>
+#include <netcdf.h>
+#include <nlohmann/json.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -21,7 +24,10 @@
 
 #include "mlce/models/dynamics.hpp"
 #include "mlce/models/scene.hpp"
+#include "cli_harness.hpp"
+#include "mlce/reader/channel_spec.hpp"
 #include "mlce/reader/mbdyn_eigenanalysis.hpp"
+#include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/table.hpp"
 #include "mlce/spectrum/solver_pencil.hpp"
 
@@ -243,6 +249,224 @@ TEST(Eigenanalysis, FilesOfASetInAnalysisOrder) {
   EXPECT_EQ(names, (std::vector<std::string>{"run.m", "run_00.m", "run_2.m", "run_10.m"}));
   EXPECT_TRUE(reader::mbdyn_eigenanalysis_files((dir / "none").string()).empty());
   std::filesystem::remove_all(dir);
+}
+
+// ---- NetCDF (eig.* variables) ------------------------------------------------------------------------
+
+#define NC_OK(call) ASSERT_EQ((call), NC_NOERR) << #call
+
+/// Options of the file below: what to break for the error tests.
+struct EigNetcdf {
+  double coefficient = 5e-4;
+  bool dense_minus = true;       ///< eig.0.Aminus present
+  double alpha_fill_row = -1;    ///< >= 0: eig.2.alpha's row left unwritten (fill value)
+  double triplet_index = 0;      ///< > 0: eig.1.Aplus's first row index replaced by this
+};
+
+/// A classic NetCDF file laid out as MBDyn 1.7 writes it (OutputHandler::Open: `time` unlimited, `vec3`;
+/// DataManager::OutputEigPrepare: `eigensolutions`, `eig_iSize`, eig.step/time/dCoef/idx; then per analysis
+/// OutputEigFullMatrices, OutputEigSparseMatrices, OutputEigenvectors), two output records of node 1:
+///   eig.0 at t = 0: dense Aplus/Aminus as FullMatrixHandler stores them, column by column;
+///   eig.1 at t = 0.01: sparse triplets along the record dimension (8: they grow it past the 2 outputs);
+///   eig.2 at t = 0.02: alpha (the 4 eigenvalues at beta scales 0.37 ... 0.37 * 7^3, Lambda = -1, beta = 0);
+///   eig.3 at t = 5: planned, never performed (its time and dCoef hold the fill value).
+void write_eig_netcdf(const std::string& path, const EigNetcdf& o = {}) {
+  const Pencil p = two_oscillators();
+  const double c = o.coefficient;
+  int id = 0, t_dim = 0, v3 = 0, eig_dim = 0, size_dim = 0, cplx = 0, idx_dim = 0, nvec = 0;
+  NC_OK(nc_create(path.c_str(), NC_CLOBBER, &id));
+  NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &t_dim));
+  NC_OK(nc_def_dim(id, "vec3", 3, &v3));
+  NC_OK(nc_def_dim(id, "eigensolutions", 4, &eig_dim));
+  NC_OK(nc_def_dim(id, "eig_iSize", 4, &size_dim));
+  NC_OK(nc_def_dim(id, "complex_var_dim", 2, &cplx));
+  NC_OK(nc_def_dim(id, "eig_iIdxSize", 1, &idx_dim));
+  NC_OK(nc_def_dim(id, "eig_2_iNVec_out", 6, &nvec));
+  int time = 0, x = 0, step = 0, etime = 0, coef = 0, idx = 0, a0p = 0, a0m = 0, a1p = 0, a1m = 0, alpha = 0, vr = 0;
+  const int tv3[] = {t_dim, v3}, sq[] = {size_dim, size_dim}, eig_idx[] = {eig_dim, idx_dim}, al[] = {nvec, v3},
+            vrd[] = {cplx, nvec, size_dim};
+  NC_OK(nc_def_var(id, "time", NC_DOUBLE, 1, &t_dim, &time));
+  NC_OK(nc_def_var(id, "node.struct.1.X", NC_DOUBLE, 2, tv3, &x));
+  NC_OK(nc_def_var(id, "eig.step", NC_INT, 1, &eig_dim, &step));
+  NC_OK(nc_def_var(id, "eig.time", NC_DOUBLE, 1, &eig_dim, &etime));
+  NC_OK(nc_def_var(id, "eig.dCoef", NC_DOUBLE, 1, &eig_dim, &coef));
+  NC_OK(nc_def_var(id, "eig.idx", NC_INT, 2, eig_idx, &idx));
+  NC_OK(nc_def_var(id, "eig.0.Aplus", NC_DOUBLE, 2, sq, &a0p));
+  if (o.dense_minus) {
+    NC_OK(nc_def_var(id, "eig.0.Aminus", NC_DOUBLE, 2, sq, &a0m));
+  }
+  NC_OK(nc_def_var(id, "eig.1.Aplus", NC_DOUBLE, 2, tv3, &a1p));
+  NC_OK(nc_def_var(id, "eig.1.Aminus", NC_DOUBLE, 2, tv3, &a1m));
+  NC_OK(nc_def_var(id, "eig.2.alpha", NC_DOUBLE, 2, al, &alpha));
+  NC_OK(nc_def_var(id, "eig.2.VR", NC_DOUBLE, 3, vrd, &vr));
+  NC_OK(nc_enddef(id));
+  for (std::size_t r = 0; r < 2; ++r) {
+    const std::size_t start[] = {r, 0}, count[] = {1, 3};
+    const double t = 0.01 * static_cast<double>(r), pos[] = {1.0 + t, 2.0, 3.0};
+    NC_OK(nc_put_var1_double(id, time, &r, &t));
+    NC_OK(nc_put_vara_double(id, x, start, count, pos));
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double t = 0.01 * static_cast<double>(k);
+    const int s = static_cast<int>(k);
+    NC_OK(nc_put_var1_double(id, etime, &k, &t));
+    NC_OK(nc_put_var1_double(id, coef, &k, &c));
+    NC_OK(nc_put_var1_int(id, step, &k, &s));
+  }
+  for (const int sign : {+1, -1}) {
+    std::vector<double> column_major(16);
+    std::size_t record = 0;
+    for (std::size_t r = 0; r < 4; ++r)
+      for (std::size_t col = 0; col < 4; ++col) {
+        const double v = p.e[r * 4 + col] + sign * c * p.k[r * 4 + col];
+        column_major[col * 4 + r] = v;
+        if (v == 0.0) continue;
+        double t[] = {static_cast<double>(r + 1), static_cast<double>(col + 1), v};
+        if (record == 0 && sign > 0 && o.triplet_index > 0) t[0] = o.triplet_index;
+        const std::size_t start[] = {record++, 0}, count[] = {1, 3};
+        NC_OK(nc_put_vara_double(id, sign > 0 ? a1p : a1m, start, count, t));
+      }
+    if (sign > 0 || o.dense_minus) {
+      NC_OK(nc_put_var_double(id, sign > 0 ? a0p : a0m, column_major.data()));
+    }
+  }
+  double beta = 0.37;
+  std::size_t row = 0;
+  const auto put_alpha = [&](double ar, double ai, double b) {
+    const std::size_t start[] = {row, 0}, count[] = {1, 3};
+    const double v[] = {ar, ai, b};
+    if (static_cast<double>(row) != o.alpha_fill_row) {
+      NC_OK(nc_put_vara_double(id, alpha, start, count, v));
+    }
+    ++row;
+  };
+  for (const cd s : analytic()) {
+    const cd lambda = (1.0 + c * s) / (1.0 - c * s);
+    put_alpha(lambda.real() * beta, lambda.imag() * beta, beta);
+    beta *= 7.0;
+  }
+  put_alpha(-3.5, 0, 3.5);
+  put_alpha(4.25, 0, 0);
+  NC_OK(nc_close(id));
+}
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() / ("mlce_eig_nc_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+TEST(EigenanalysisNetcdf, EveryLayoutGivesTheOscillatorsEigenvalues) {
+  const std::string path = temp_path("run.nc");
+  write_eig_netcdf(path);
+  const auto r = reader::read_mbdyn_netcdf_eigenanalyses(path);
+  ASSERT_EQ(r.analyses.size(), 3U);
+  ASSERT_EQ(r.warnings.size(), 1U);
+  EXPECT_NE(r.warnings[0].find(path + ":eig.3: planned but not performed"), std::string::npos) << r.warnings[0];
+  const Pencil p = two_oscillators();
+  const double c = 5e-4;
+  for (std::size_t k = 0; k < 2; ++k) {  // dense (stored transposed) and sparse: the same matrices, row-major
+    const auto& e = r.analyses[k];
+    EXPECT_EQ(e.source, path + ":eig." + std::to_string(k));
+    EXPECT_EQ(*e.time, 0.01 * static_cast<double>(k));
+    EXPECT_EQ(*e.coefficient, c);
+    EXPECT_EQ(e.sparse, k == 1);
+    ASSERT_EQ(e.size, 4U);
+    for (std::size_t i = 0; i < 16; ++i) {
+      EXPECT_EQ(e.aplus[i], p.e[i] + c * p.k[i]) << k << ", " << i;
+      EXPECT_EQ(e.aminus[i], p.e[i] - c * p.k[i]) << k << ", " << i;
+    }
+    expect_eigenvalues(spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, c), analytic(), 1e-9, c);
+  }
+  const auto& a = r.analyses[2];
+  EXPECT_EQ(a.size, 0U);
+  ASSERT_EQ(a.alpha.size(), 6U);
+  const auto s = spectrum::spectrum_from_multipliers(a.alpha, *a.coefficient);
+  expect_eigenvalues(s, analytic(), 1e-12, c);
+  EXPECT_EQ(s.at_infinity, 2U);
+
+  // The 8 triplets grew the record dimension past the 2 outputs: the time histories still read, 2 records.
+  const auto set = reader::read_mbdyn_netcdf(path, {reader::parse_channel_spec("node:1:x")});
+  ASSERT_EQ(set.time.size(), 2U);
+  EXPECT_EQ(set.values[0][1], 1.01);
+  ASSERT_FALSE(set.warnings.empty());
+  EXPECT_NE(set.warnings[0].find("records 2..7 hold no time"), std::string::npos) << set.warnings[0];
+  // ... and the inventory lists no eigenanalysis variable as a time history.
+  for (const auto& v : reader::describe_mbdyn_netcdf(path).variables) EXPECT_NE(v.name.rfind("eig.", 0), 0U) << v.name;
+  std::filesystem::remove(path);
+}
+
+TEST(EigenanalysisNetcdf, BadInputIsOneErrorNamingTheVariable) {
+  const std::string path = temp_path("bad.nc");
+  const auto expect_error = [&](const EigNetcdf& o, const std::string& what) {
+    write_eig_netcdf(path, o);
+    try {
+      (void)reader::read_mbdyn_netcdf_eigenanalyses(path);
+      ADD_FAILURE() << "no error, expected: " << what;
+    } catch (const reader::ReadError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error({.coefficient = 0.0}, path + ":eig.0: 'eig.dCoef' = 0");
+  expect_error({.coefficient = -1e-3}, "expected a positive number (half a time step)");
+  expect_error({.dense_minus = false}, path + ":eig.0: holds Aplus but not Aminus");
+  expect_error({.alpha_fill_row = 2}, "'eig.2.alpha' number 6: holds the NetCDF fill value");
+  expect_error({.triplet_index = 5}, path + ": eig.1.Aplus: index 5");
+  expect_error({.triplet_index = 1.5}, "expected a whole number from 1 to 4");
+  // A file with no eigenanalysis is none, not an error: the CLI says so.
+  {
+    int id = 0, dim = 0, v = 0;
+    NC_OK(nc_create(path.c_str(), NC_CLOBBER, &id));
+    NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &dim));
+    NC_OK(nc_def_var(id, "time", NC_DOUBLE, 1, &dim, &v));
+    NC_OK(nc_close(id));
+    const auto none = reader::read_mbdyn_netcdf_eigenanalyses(path);
+    EXPECT_TRUE(none.analyses.empty());
+    EXPECT_TRUE(none.warnings.empty());
+  }
+  std::filesystem::remove(path);
+}
+
+class EigenanalysisCli : public mlce::testing::CliFixture {};
+
+TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {
+  write_eig_netcdf((dir / "run.nc").string());
+  for (const std::string arg : {"run.nc", "run", "run.mov"}) {  // the file, or the set whose .nc holds eig.*
+    const auto r = run("eigenanalysis " + (dir / arg).string() + " --json --csv " + (dir / "e.csv").string());
+    ASSERT_EQ(r.status, 0) << arg << ": " << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["analyses"].size(), 3U) << arg;
+    EXPECT_EQ(j["analyses"][0]["file"], (dir / "run.nc").string() + ":eig.0");
+    EXPECT_EQ(j["analyses"][1]["source"], "matrices");
+    EXPECT_EQ(j["analyses"][2]["source"], "alpha");
+    for (const auto& a : j["analyses"]) {
+      EXPECT_NEAR(a["largest_real_part"].get<double>(), -kD1 / (2 * kM1), 1e-6);
+      EXPECT_EQ(a["stability"], "stable");
+    }
+    ASSERT_EQ(j["warnings"].size(), 1U);
+    EXPECT_NE(j["warnings"][0].get<std::string>().find("eig.3: planned but not performed"), std::string::npos);
+    EXPECT_NE(r.err.find("planned but not performed"), std::string::npos) << r.err;
+    std::ifstream csv(dir / "e.csv");
+    std::string line;
+    int lines = 0;
+    while (std::getline(csv, line)) ++lines;
+    EXPECT_EQ(lines, 1 + 3 * 4);
+  }
+  // Where the .nc holds none: the set's .m files are read; with neither, one error naming both.
+  int id = 0, dim = 0, v = 0;
+  NC_OK(nc_create((dir / "plain.nc").c_str(), NC_CLOBBER, &id));
+  NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &dim));
+  NC_OK(nc_def_var(id, "time", NC_DOUBLE, 1, &dim, &v));
+  NC_OK(nc_close(id));
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "plain.nc").string()), "plain.nc: no eigenanalysis (no 'eig.time')");
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "plain").string()), "or eig.* in");
+  write("plain.m", m_file(two_oscillators(), 0.05, false));
+  const auto m = run("eigenanalysis " + (dir / "plain").string() + " --json");
+  ASSERT_EQ(m.status, 0) << m.err;
+  EXPECT_EQ(nlohmann::json::parse(m.out)["analyses"][0]["file"], (dir / "plain.m").string());
+  // A bad file: one error naming the variable, no CSV left.
+  write_eig_netcdf((dir / "bad.nc").string(), {.coefficient = -1.0});
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "bad.nc").string() + " --csv " + (dir / "bad.csv").string()),
+                                       "bad.nc:eig.0: 'eig.dCoef' = -1");
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad.csv"));
 }
 
 }  // namespace

@@ -62,7 +62,7 @@ const char* kUsage =
     "  spectrum SCENE  all Lyapunov exponents by the discrete QR method, with sensitivities\n"
     "  floquet SCENE   Floquet exponents of the model linearised about x = 0 (or an orbit)\n"
     "  eigen SCENE     eigenvalues of the time-invariant (multiblade) linearisation\n"
-    "  eigenanalysis SET  MBDyn's own eigenanalyses (PREFIX.m, PREFIX_<k>.m) as eigenvalues in 1/s\n"
+    "  eigenanalysis SET  MBDyn's own eigenanalyses (PREFIX.m, PREFIX_<k>.m, or eig.* in PREFIX.nc) as eigenvalues in 1/s\n"
     "  channels SET    what an MBDyn output set (prefix or .nc) or column file holds\n"
     "  extract SET     write the selected channels with their time as CSV\n"
     "  compare A B     two runs side by side on the same channels (max/RMS difference, ranges)\n"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "mlce/spectrum/qr_spectrum.hpp"
 #include "mlce/spectrum/solver_pencil.hpp"
 #include "mlce/reader/mbdyn_eigenanalysis.hpp"
+#include "mlce/reader/mbdyn_netcdf.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
 #include "plot.hpp"
 #include "report.hpp"
@@ -379,32 +381,54 @@ const char* sign_word(double real, const std::vector<std::complex<double>>& all)
 int cmd_eigenanalysis(const std::vector<std::string>& args) {
   bool json = false, quiet = false;
   std::string csv_path;
-  po::options_description d("mlce eigenanalysis SET|FILE.m [options]");
+  po::options_description d("mlce eigenanalysis SET|FILE.m|FILE.nc [options]");
   d.add_options()("json", po::bool_switch(&json), "print one JSON object")(
       "csv", po::value(&csv_path), "every eigenvalue as CSV (file, time, real, imag, frequency_hz, damping_ratio)")(
       "quiet", po::bool_switch(&quiet), "no progress line on stderr (printed before solving a pencil of n >= 300)");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
-  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix) or one eigenanalysis FILE.m");
+  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix), one eigenanalysis FILE.m or a FILE.nc");
   const std::string file = vm["file"].as<std::string>();
+  // What to read: one .m file, the eigenanalyses of one .nc file, or those of the set at PREFIX: those in
+  // PREFIX.nc when it holds any (NetCDF keeps every number in double precision, the .m file `output
+  // precision` digits), else its .m files.
   std::vector<std::string> files;
+  reader::MbdynNetcdfEigenanalyses from_netcdf;
+  std::vector<std::string> warnings;
+  const auto read_netcdf = [&](const std::string& nc) {
+    from_netcdf = reader::read_mbdyn_netcdf_eigenanalyses(nc);
+    warnings = from_netcdf.warnings;
+    return !from_netcdf.analyses.empty() || !from_netcdf.warnings.empty();
+  };
   if (file.size() > 2 && file.ends_with(".m")) {
     files.push_back(file);
+  } else if (file.size() > 3 && file.ends_with(".nc")) {
+    if (!read_netcdf(file))
+      throw std::runtime_error(file + ": no eigenanalysis (no 'eig.time'); MBDyn writes eig.* when its initial-value block "
+                               "has `eigenanalysis: <times>, output eigenvectors` and the control data `output results: netcdf`");
   } else {
     const std::string prefix = reader::mbdyn_prefix(file);
-    files = reader::mbdyn_eigenanalysis_files(prefix);
-    if (files.empty())
-      throw std::runtime_error(prefix + ": no eigenanalysis file (" + prefix + ".m or " + prefix +
-                               "_<k>.m); MBDyn writes one per analysis when its initial-value block has `eigenanalysis: "
-                               "<times>, output eigenvectors` (or `output matrices`)");
+    std::error_code ec;
+    if (!(std::filesystem::is_regular_file(prefix + ".nc", ec) && read_netcdf(prefix + ".nc"))) {
+      files = reader::mbdyn_eigenanalysis_files(prefix);
+      if (files.empty())
+        throw std::runtime_error(prefix + ": no eigenanalysis file (" + prefix + ".m or " + prefix + "_<k>.m, or eig.* in " +
+                                 prefix + ".nc); MBDyn writes one per analysis when its initial-value block has `eigenanalysis: "
+                                 "<times>, output eigenvectors` (or `output matrices`)");
+    }
   }
+  if (!from_netcdf.warnings.empty() && from_netcdf.analyses.empty())
+    throw std::runtime_error(file + ": no eigenanalysis was performed (" + from_netcdf.warnings.front() + ")");
   nlohmann::json analyses = nlohmann::json::array();
   std::string csv = "file,time,real,imag,frequency_hz,damping_ratio\n";
   std::string text;
-  std::vector<std::string> warnings;
-  for (const auto& path : files) {
-    const reader::MbdynEigenanalysis e = reader::read_mbdyn_eigenanalysis(path);
+  // One analysis at a time from .m files (each may hold two 2000 x 2000 matrices); a NetCDF file's are read at once.
+  const std::size_t count = files.empty() ? from_netcdf.analyses.size() : files.size();
+  for (std::size_t index = 0; index < count; ++index) {
+    const reader::MbdynEigenanalysis e =
+        files.empty() ? std::move(from_netcdf.analyses[index]) : reader::read_mbdyn_eigenanalysis(files[index]);
+    const std::string& path = e.source;  // the file, or FILE.nc:eig.<k>
     // MBDyn's own eigenvalues when it wrote them; otherwise those of the matrices it wrote (LU or QZ).
     const bool from_alpha = !e.alpha.empty();
     if (!quiet && !from_alpha && e.size >= 300)  // O(n^3): 0.2-0.6 s at n = 500 (bench_spectrum solver_pencil), minutes at 2000

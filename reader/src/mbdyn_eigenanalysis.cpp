@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "line_source.hpp"
+#include "triplets.hpp"
 #include "mlce/reader/table.hpp"
 
 namespace mlce::reader {
@@ -109,34 +110,11 @@ std::vector<double> square_matrix(const std::string& name, const ReadMatrix& m, 
     if (m.width != n)
       throw ReadError(where + ": " + std::to_string(n) + " rows of " + std::to_string(m.width) +
                       " values; the matrix is square (or written as triplets, then followed by spconvert)");
-  } else {
-    n = 0;
-    if (m.rows > 0 && m.width != 3) throw ReadError(where + ": a sparse matrix is rows of (row, column, value)");
-    for (std::size_t i = 0; i < m.rows; ++i) {
-      const double* r = m.row(i);
-      for (int k = 0; k < 2; ++k) {
-        if (!(r[k] >= 1.0) || r[k] != std::floor(r[k]) || r[k] > static_cast<double>(kLargestEigenanalysisMatrix))
-          throw ReadError(where + ": index " + std::to_string(r[k]) + ": expected a whole number from 1 to " +
-                          std::to_string(kLargestEigenanalysisMatrix));
-        n = std::max(n, static_cast<std::size_t>(r[k]));
-      }
-    }
-    if (n == 0) throw ReadError(where + ": an empty matrix");
+    detail::check_matrix_size(where, n);
+    return m.values;
   }
-  if (n > kLargestEigenanalysisMatrix)
-    throw ReadError(where + ": " + std::to_string(n) + " x " + std::to_string(n) + ": more than the " +
-                    std::to_string(kLargestEigenanalysisMatrix) +
-                    " this reader holds dense; ask MBDyn for its eigenvalues (`output eigenvectors` writes alpha)");
-  std::vector<double> a(n * n, 0.0);
-  if (!sparse) {
-    a = m.values;
-  } else {
-    for (std::size_t i = 0; i < m.rows; ++i) {
-      const double* r = m.row(i);
-      a[(static_cast<std::size_t>(r[0]) - 1) * n + static_cast<std::size_t>(r[1]) - 1] += r[2];
-    }
-  }
-  return a;
+  if (m.rows > 0 && m.width != 3) throw ReadError(where + ": a sparse matrix is rows of (row, column, value)");
+  return detail::matrix_from_triplets(m.values.data(), m.rows, 0, where, n);
 }
 
 MbdynEigenanalysis parse(LineSource& src) {
@@ -214,6 +192,37 @@ MbdynEigenanalysis parse(LineSource& src) {
 }
 
 }  // namespace
+
+namespace detail {
+
+void check_matrix_size(const std::string& where, std::size_t n) {
+  if (n > kLargestEigenanalysisMatrix)
+    throw ReadError(where + ": " + std::to_string(n) + " x " + std::to_string(n) + ": more than the " +
+                    std::to_string(kLargestEigenanalysisMatrix) +
+                    " this reader holds dense; ask MBDyn for its eigenvalues (`output eigenvectors` writes alpha)");
+}
+
+std::vector<double> matrix_from_triplets(const double* t, std::size_t count, std::size_t size, const std::string& where,
+                                         std::size_t& n) {
+  const std::size_t largest = size > 0 ? std::min(size, kLargestEigenanalysisMatrix) : kLargestEigenanalysisMatrix;
+  n = size;
+  for (std::size_t i = 0; i < count; ++i)
+    for (int k = 0; k < 2; ++k) {
+      const double index = t[3 * i + k];
+      if (!(index >= 1.0) || index != std::floor(index) || index > static_cast<double>(largest))
+        throw ReadError(where + ": index " + std::to_string(index) + " (triplet " + std::to_string(i + 1) +
+                        "): expected a whole number from 1 to " + std::to_string(largest));
+      if (size == 0) n = std::max(n, static_cast<std::size_t>(index));
+    }
+  if (count == 0) throw ReadError(where + ": an empty matrix");
+  check_matrix_size(where, n);
+  std::vector<double> a(n * n, 0.0);
+  for (std::size_t i = 0; i < count; ++i)
+    a[(static_cast<std::size_t>(t[3 * i]) - 1) * n + static_cast<std::size_t>(t[3 * i + 1]) - 1] += t[3 * i + 2];
+  return a;
+}
+
+}  // namespace detail
 
 MbdynEigenanalysis parse_mbdyn_eigenanalysis(std::string_view text, const std::string& source) {
   auto src = LineSource::from_memory(text, source);

@@ -17,6 +17,7 @@
 #include "mlce/reader/orientation.hpp"
 #include "mlce/reader/table.hpp"
 #include "byte_codec.hpp"
+#include "triplets.hpp"
 #include "isolated_run.hpp"
 #include "line_source.hpp"
 #include "node_fields.hpp"
@@ -175,7 +176,9 @@ class NcFile {
   }
   /// Component `comp` of a (time[, n]) or (time, n1, n2) variable, first `n` records; in the
   /// latter `comp` counts in storage order (comp = n2 * i + j for element [i][j]: MBDyn's .R).
-  std::vector<double> column(int v, std::size_t comp, std::size_t n, const std::string& name) const {
+  /// With `fill_tail_cut`, records at the end that hold the fill value are left out (the vector is
+  /// shorter) rather than an error.
+  std::vector<double> column(int v, std::size_t comp, std::size_t n, const std::string& name, bool fill_tail_cut = false) const {
     const auto sh = shape(v);
     std::vector<double> out(n);
     if (n == 0) return out;
@@ -190,8 +193,11 @@ class NcFile {
     // A record the solver never wrote holds the fill value (the variable's _FillValue, else the
     // library's default): a finite number (9.97e36) that must not pass for data. MBDyn 1.7.3
     // declares some variables it never writes (revolute hinge, forces: format doc section 11).
-    double fill = NC_FILL_DOUBLE, declared = 0;
-    if (nc_get_att_double(id_, v, "_FillValue", &declared) == NC_NOERR) fill = declared;
+    const double fill = fill_value(v);
+    if (fill_tail_cut) {
+      while (!out.empty() && out.back() == fill) out.pop_back();
+      n = out.size();
+    }
     for (std::size_t k = 0; k < n; ++k) {
       if (out[k] == fill)
         throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) +
@@ -200,6 +206,40 @@ class NcFile {
         throw ReadError(path_ + ": '" + name + "' record " + std::to_string(k) + ": expected a finite number (did the run diverge? the records before it can be read alone)");
     }
     return out;
+  }
+  /// The variable's _FillValue, else the library's default: what a number the solver never wrote reads as.
+  double fill_value(int v) const {
+    double fill = NC_FILL_DOUBLE, declared = 0;
+    if (nc_get_att_double(id_, v, "_FillValue", &declared) == NC_NOERR) fill = declared;
+    return fill;
+  }
+  /// Every number of `v` as stored (row-major; fill values and all), its record dimension capped by the
+  /// file's size. At most as many numbers as the file's bytes can hold (classic format), and never more
+  /// than 3 x kLargestEigenanalysisMatrix^2 (a compressed netCDF-4 file).
+  std::vector<double> values(int v, const std::string& name) const {
+    auto sh = shape(v);
+    if (!sh.empty() && first_dimension_is_unlimited(v)) sh[0] = records(v);
+    constexpr std::uint64_t kMost = 3ULL * kLargestEigenanalysisMatrix * kLargestEigenanalysisMatrix;
+    std::uint64_t total = 1;
+    for (const std::size_t d : sh) {
+      if (d != 0 && total > std::min(kMost, max_records_) / d)
+        throw ReadError(path_ + ": '" + name + "' holds more numbers than " +
+                        (max_records_ < kMost ? "the file's bytes can (a corrupt header)" : "this reader takes"));
+      total *= d;
+    }
+    std::vector<double> out(static_cast<std::size_t>(total));
+    if (total == 0) return out;
+    const std::vector<std::size_t> start(sh.size(), 0);
+    const int rc = nc_get_vara_double(id_, v, start.data(), sh.data(), out.data());
+    if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
+    return out;
+  }
+  /// The length of dimension `name`, 0 when the file has none.
+  std::size_t dimension_length(const char* name) const {
+    int d = 0;
+    std::size_t len = 0;
+    if (nc_inq_dimid(id_, name, &d) != NC_NOERR || nc_inq_dimlen(id_, d, &len) != NC_NOERR) return 0;
+    return len;
   }
   std::string text_attribute(int v, const char* att) const {
     std::size_t len = 0;
@@ -340,6 +380,19 @@ const char* node_group_suffix(detail::NodeGroup g) {
   }
 }
 
+/// The time of every record the run wrote. MBDyn's sparse eigenanalysis matrices are (time, 3)
+/// variables (DataManager::OutputEigSparseMatrices) whose triplets can outnumber the output steps: they
+/// grow the record dimension past the run's last output, and those records' time holds the fill value.
+/// They are left out, with a warning; a fill value before a written time stays an error.
+std::vector<double> record_times(const NcFile& nc, int tv, std::size_t records, std::vector<std::string>& warnings) {
+  auto time = nc.column(tv, 0, records, "time", true);
+  if (time.size() < records)
+    warnings.push_back(nc.path() + ": records " + std::to_string(time.size()) + ".." + std::to_string(records - 1) +
+                       " hold no time (never written: the record dimension grown by another variable, e.g. an "
+                       "eigenanalysis's sparse matrices); read the " + std::to_string(time.size()) + " before them");
+  return time;
+}
+
 /// Records a truncated file really holds. The header's record count survives a copy or a disk that
 /// was cut short, and the classic format reads the missing records as zeros: a time that falls back
 /// to 0 and stays there marks them. The last record with a time is dropped too, because the
@@ -449,6 +502,45 @@ Inventory decode_inventory(std::string_view bytes) {
   return inv;
 }
 
+std::string encode(const MbdynNetcdfEigenanalyses& r) {
+  detail::ByteWriter w;
+  w.u64(r.analyses.size());
+  for (const auto& e : r.analyses) {
+    w.str(e.source);
+    w.f64(*e.time);
+    w.f64(*e.coefficient);
+    std::vector<double> alpha;
+    for (const auto& a : e.alpha) alpha.insert(alpha.end(), a.begin(), a.end());
+    w.doubles(alpha);
+    w.u64(e.size);
+    w.doubles(e.aplus);
+    w.doubles(e.aminus);
+    w.u64(e.sparse ? 1 : 0);
+  }
+  w.strings(r.warnings);
+  return w.take();
+}
+
+MbdynNetcdfEigenanalyses decode_eigenanalyses(std::string_view bytes) {
+  detail::ByteReader r(bytes);
+  MbdynNetcdfEigenanalyses out;
+  out.analyses.resize(r.count(5 * sizeof(std::uint64_t)));
+  for (auto& e : out.analyses) {
+    e.source = r.str();
+    e.time = r.f64();
+    e.coefficient = r.f64();
+    const auto alpha = r.doubles();
+    for (std::size_t i = 0; i + 2 < alpha.size(); i += 3) e.alpha.push_back({alpha[i], alpha[i + 1], alpha[i + 2]});
+    e.size = static_cast<std::size_t>(r.u64());
+    e.aplus = r.doubles();
+    e.aminus = r.doubles();
+    e.sparse = r.u64() != 0;
+  }
+  out.warnings = r.strings();
+  r.expect_end();
+  return out;
+}
+
 /// `read()` of a file that is not classic NetCDF (netCDF-4 is HDF5 underneath) runs only in a
 /// child process, whose result comes back as bytes: libhdf5 trusts the file's metadata and can
 /// crash, corrupt its heap or loop on a corrupt one (isolated_run.hpp), and none of it reaches
@@ -506,7 +598,8 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
   const int tv = nc.require("time", "the time of each record");
   const std::size_t records = nc.records(tv);
   if (records == 0) throw ReadError(path + ": no records");
-  out.time = nc.column(tv, 0, records, "time");
+  out.time = record_times(nc, tv, records, out.warnings);
+  if (out.time.empty()) throw ReadError(path + ": no record holds a time");
   std::size_t n = records_written(out.time, path, out.warnings);
   if (n == 0) throw ReadError(path + ": no complete record");
   out.time.resize(n);
@@ -592,6 +685,9 @@ ChannelSet read_channels(const std::string& path, const std::vector<ChannelSpec>
       case ChannelSpec::Kind::variable: {
         const int v = nc.require(s.field, "channel '" + s.text + "'; mlce channels lists the file's time histories");
         const auto sh = nc.shape(v);
+        if (s.field.rfind("eig.", 0) == 0)
+          throw ReadError(path + ": channel '" + s.text + "': '" + s.field +
+                          "' is MBDyn eigenanalysis output, no time history (`mlce eigenanalysis " + path + "` reads it)");
         if (!is_record_variable(nc, v))
           throw ReadError(path + ": channel '" + s.text + "': '" + s.field + "' is no time history (its first dimension is "
                           "not the record dimension 'time')");
@@ -616,8 +712,8 @@ Inventory describe(const std::string& path) {
   const int tv = nc.require("time", "the time of each record");
   inv.blocks = nc.records(tv);
   if (inv.blocks > 0) {
-    auto t = nc.column(tv, 0, inv.blocks, "time");
-    inv.blocks = records_written(t, path, inv.warnings);
+    auto t = record_times(nc, tv, inv.blocks, inv.warnings);
+    inv.blocks = t.empty() ? 0 : records_written(t, path, inv.warnings);
     t.resize(std::max<std::size_t>(inv.blocks, 1));
     inv.t_first = t.front();
     inv.t_last = t.back();
@@ -641,13 +737,103 @@ Inventory describe(const std::string& path) {
   const auto reached = [](const std::string& name) {
     for (const char* group : {"node.struct.", "elem.joint."})
       if (name.rfind(group, 0) == 0) return true;
-    return name == "time";
+    return name == "time" || name.rfind("eig.", 0) == 0;  // eigenanalysis triplets are no time history
   };
   for (const auto& name : nc.variable_names()) {
     const int v = *nc.var(name);
     if (!reached(name) && is_record_variable(nc, v)) inv.variables.push_back({name, components(nc.shape(v))});
   }
   return inv;
+}
+
+/// Every number of `values` (of variable `name`) finite and written, else one error naming the entry.
+void require_written(const NcFile& nc, int v, const std::vector<double>& values, std::size_t count, const std::string& name) {
+  const double fill = nc.fill_value(v);
+  for (std::size_t i = 0; i < count; ++i)
+    if (values[i] == fill || !std::isfinite(values[i]))
+      throw ReadError(nc.path() + ": '" + name + "' number " + std::to_string(i) +
+                      (values[i] == fill ? ": holds the NetCDF fill value (never written)" : ": expected a finite number"));
+}
+
+/// eig.<k>.Aplus or eig.<k>.Aminus as a row-major n x n matrix (layout: mbdyn_netcdf.hpp).
+std::vector<double> eigenanalysis_matrix(const NcFile& nc, int v, const std::string& name, std::size_t& n, bool& sparse) {
+  const auto sh = nc.shape(v);
+  const std::string where = nc.path() + ": " + name;
+  sparse = nc.first_dimension_is_unlimited(v);
+  if (sparse) {
+    if (sh.size() != 2 || sh[1] != 3) throw ReadError(where + ": a sparse matrix is records of (row, column, value)");
+    const auto t = nc.values(v, name);
+    const double fill = nc.fill_value(v);
+    std::size_t count = 0;  // the triplets come first; the records after them were never written
+    while (3 * count < t.size() && t[3 * count] != fill) ++count;
+    require_written(nc, v, t, 3 * count, name);
+    return detail::matrix_from_triplets(t.data(), count, nc.dimension_length("eig_iSize"), where, n);
+  }
+  if (sh.size() != 2 || sh[0] != sh[1] || sh[0] == 0)
+    throw ReadError(where + ": expected a square matrix (eig_iSize, eig_iSize) or (record, 3) triplets");
+  n = sh[0];
+  detail::check_matrix_size(where, n);
+  const auto stored = nc.values(v, name);
+  require_written(nc, v, stored, stored.size(), name);
+  std::vector<double> a(n * n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) a[i * n + j] = stored[j * n + i];  // stored column by column
+  return a;
+}
+
+MbdynNetcdfEigenanalyses read_eigenanalyses(const std::string& path) {
+  const NcFile nc(path);
+  MbdynNetcdfEigenanalyses out;
+  const auto tv = nc.var("eig.time");
+  if (!tv) return out;
+  const int cv = nc.require("eig.dCoef", "the coefficient of each eigenanalysis, written beside eig.time");
+  const auto times = nc.values(*tv, "eig.time"), coefficients = nc.values(cv, "eig.dCoef");
+  if (nc.shape(*tv).size() != 1 || coefficients.size() != times.size())
+    throw ReadError(path + ": 'eig.time' and 'eig.dCoef' are not one number each per eigenanalysis (dimension 'eigensolutions')");
+  const double time_fill = nc.fill_value(*tv);
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    const std::string group = "eig." + std::to_string(k);
+    MbdynEigenanalysis e;
+    e.source = path + ":" + group;
+    if (times[k] == time_fill) {
+      out.warnings.push_back(e.source + ": planned but not performed ('eig.time' holds the fill value: the run ended "
+                                        "before that time?)");
+      continue;
+    }
+    if (!std::isfinite(times[k])) throw ReadError(e.source + ": 'eig.time' is no finite number");
+    if (!(coefficients[k] > 0.0) || !std::isfinite(coefficients[k]) || coefficients[k] == nc.fill_value(cv))
+      throw ReadError(e.source + ": 'eig.dCoef' = " + std::to_string(coefficients[k]) +
+                      ": expected a positive number (half a time step)");
+    e.time = times[k];
+    e.coefficient = coefficients[k];
+    if (const auto av = nc.var(group + ".alpha")) {
+      const auto sh = nc.shape(*av);
+      if (sh.size() != 2 || sh[1] != 3)
+        throw ReadError(e.source + ".alpha: expected (eigenvalue, 3): alphar, alphai, beta of each eigenvalue");
+      const auto a = nc.values(*av, group + ".alpha");
+      require_written(nc, *av, a, a.size(), group + ".alpha");
+      for (std::size_t i = 0; i + 2 < a.size(); i += 3) e.alpha.push_back({a[i], a[i + 1], a[i + 2]});
+    }
+    const auto pv = nc.var(group + ".Aplus"), mv = nc.var(group + ".Aminus");
+    if (pv.has_value() != mv.has_value())
+      throw ReadError(e.source + ": holds " + (pv ? "Aplus but not Aminus" : "Aminus but not Aplus") + "; MBDyn writes both");
+    if (pv) {
+      std::size_t n_plus = 0, n_minus = 0;
+      bool sparse_plus = false, sparse_minus = false;
+      e.aplus = eigenanalysis_matrix(nc, *pv, group + ".Aplus", n_plus, sparse_plus);
+      e.aminus = eigenanalysis_matrix(nc, *mv, group + ".Aminus", n_minus, sparse_minus);
+      if (n_plus != n_minus)
+        throw ReadError(e.source + ": Aplus is " + std::to_string(n_plus) + " x " + std::to_string(n_plus) + ", Aminus " +
+                        std::to_string(n_minus) + " x " + std::to_string(n_minus) + "; they are the same size");
+      e.size = n_plus;
+      e.sparse = sparse_plus || sparse_minus;
+    }
+    if (e.alpha.empty() && e.size == 0)
+      throw ReadError(e.source + ": holds neither the eigenvalues (" + group + ".alpha: `output eigenvectors`) nor the "
+                      "matrices (" + group + ".Aplus, .Aminus: `output matrices` or `output sparse matrices`)");
+    out.analyses.push_back(std::move(e));
+  }
+  return out;
 }
 
 }  // namespace
@@ -660,6 +846,10 @@ ChannelSet read_mbdyn_netcdf(const std::string& path, const std::vector<ChannelS
 
 Inventory describe_mbdyn_netcdf(const std::string& path) {
   return read_netcdf4_in_child(path, [&] { return describe(path); }, decode_inventory);
+}
+
+MbdynNetcdfEigenanalyses read_mbdyn_netcdf_eigenanalyses(const std::string& path) {
+  return read_netcdf4_in_child(path, [&] { return read_eigenanalyses(path); }, decode_eigenanalyses);
 }
 
 }  // namespace mlce::reader
