@@ -261,6 +261,7 @@ struct EigNetcdf {
   bool dense_minus = true;       ///< eig.0.Aminus present
   double alpha_fill_row = -1;    ///< >= 0: eig.2.alpha's row left unwritten (fill value)
   double triplet_index = 0;      ///< > 0: eig.1.Aplus's first row index replaced by this
+  int format = 0;                ///< NC_NETCDF4: HDF5 underneath (read in a child process)
 };
 
 /// A classic NetCDF file laid out as MBDyn 1.7 writes it (OutputHandler::Open: `time` unlimited, `vec3`;
@@ -274,7 +275,7 @@ void write_eig_netcdf(const std::string& path, const EigNetcdf& o = {}) {
   const Pencil p = two_oscillators();
   const double c = o.coefficient;
   int id = 0, t_dim = 0, v3 = 0, eig_dim = 0, size_dim = 0, cplx = 0, idx_dim = 0, nvec = 0;
-  NC_OK(nc_create(path.c_str(), NC_CLOBBER, &id));
+  NC_OK(nc_create(path.c_str(), NC_CLOBBER | o.format, &id));
   NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &t_dim));
   NC_OK(nc_def_dim(id, "vec3", 3, &v3));
   NC_OK(nc_def_dim(id, "eigensolutions", 4, &eig_dim));
@@ -391,7 +392,25 @@ TEST(EigenanalysisNetcdf, EveryLayoutGivesTheOscillatorsEigenvalues) {
   EXPECT_NE(set.warnings[0].find("records 2..7 hold no time"), std::string::npos) << set.warnings[0];
   // ... and the inventory lists no eigenanalysis variable as a time history.
   for (const auto& v : reader::describe_mbdyn_netcdf(path).variables) EXPECT_NE(v.name.rfind("eig.", 0), 0U) << v.name;
+
+  // The same file as netCDF-4 (HDF5): read in a child process, handed back through a pipe, the same numbers.
+  const std::string path4 = temp_path("run4.nc");
+  write_eig_netcdf(path4, {.format = NC_NETCDF4});
+  const auto r4 = reader::read_mbdyn_netcdf_eigenanalyses(path4);
+  ASSERT_EQ(r4.analyses.size(), 3U);
+  EXPECT_EQ(r4.warnings.size(), 1U);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(r4.analyses[k].source, path4 + ":eig." + std::to_string(k));
+    EXPECT_EQ(r4.analyses[k].time, r.analyses[k].time);
+    EXPECT_EQ(r4.analyses[k].coefficient, r.analyses[k].coefficient);
+    EXPECT_EQ(r4.analyses[k].alpha, r.analyses[k].alpha);
+    EXPECT_EQ(r4.analyses[k].size, r.analyses[k].size);
+    EXPECT_EQ(r4.analyses[k].aplus, r.analyses[k].aplus);
+    EXPECT_EQ(r4.analyses[k].aminus, r.analyses[k].aminus);
+    EXPECT_EQ(r4.analyses[k].sparse, r.analyses[k].sparse);
+  }
   std::filesystem::remove(path);
+  std::filesystem::remove(path4);
 }
 
 TEST(EigenanalysisNetcdf, BadInputIsOneErrorNamingTheVariable) {
