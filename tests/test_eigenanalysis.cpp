@@ -449,7 +449,10 @@ class EigenanalysisCli : public mlce::testing::CliFixture {};
 TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {
   write_eig_netcdf((dir / "run.nc").string());
   for (const std::string arg : {"run.nc", "run", "run.mov"}) {  // the file, or the set whose .nc holds eig.*
-    const auto r = run("eigenanalysis " + (dir / arg).string() + " --json --csv " + (dir / "e.csv").string());
+    std::filesystem::remove(dir / "e.png");
+    const auto r = run("eigenanalysis " + (dir / arg).string() + " --json --csv " + (dir / "e.csv").string() + " --plot " +
+                       (dir / "e.png").string());
+    EXPECT_EQ(mlce::testing::slurp(dir / "e.png").substr(1, 3), "PNG") << arg;
     ASSERT_EQ(r.status, 0) << arg << ": " << r.err;
     const auto j = nlohmann::json::parse(r.out);
     ASSERT_EQ(j["analyses"].size(), 3U) << arg;
@@ -481,6 +484,11 @@ TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {
   const auto m = run("eigenanalysis " + (dir / "plain").string() + " --json");
   ASSERT_EQ(m.status, 0) << m.err;
   EXPECT_EQ(nlohmann::json::parse(m.out)["analyses"][0]["file"], (dir / "plain.m").string());
+  // Nothing finite to plot (every eigenvalue at infinity): one error naming the PNG, none written.
+  write("infinite.m", "dTime = 0;\ndCoef = 0.5;\nalpha = [-2 0 2;\n1 0 0;\n];\n");
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "infinite.m").string() + " --plot " + (dir / "i.png").string()),
+                                       "i.png: nothing to plot: no analysis has a finite eigenvalue");
+  EXPECT_FALSE(std::filesystem::exists(dir / "i.png"));
   // A bad file: one error naming the variable, no CSV left.
   write_eig_netcdf((dir / "bad.nc").string(), {.coefficient = -1.0});
   mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "bad.nc").string() + " --csv " + (dir / "bad.csv").string()),

@@ -303,19 +303,46 @@ void plot_reading_map_png(const std::vector<PlottedReading>& points, const std::
   }, 700);
 }
 
+namespace {
+
+/// The complex plane's axes for `data`, whose column `real_column` holds the real parts: grid, labels,
+/// the stability boundary (real part 0) drawn bold, and the x range widened to keep it in sight.
+std::string complex_plane(const std::string& xlabel, const std::string& ylabel, const std::string& title,
+                          const std::string& data, int real_column) {
+  return fmt::format(
+      "set grid\nset xlabel '{}'\nset ylabel '{}'\nset title '{}'\n"
+      "set offsets graph 0.1, graph 0.1, graph 0.1, graph 0.1\n"
+      "set yzeroaxis lt -1 lw 2 lc 'gray40'\nset xzeroaxis lt 0 lc 'gray60'\n"
+      "stats '{}' every ::1 using {} nooutput\n"
+      "if (STATS_max < 0) set xrange [:-0.05 * STATS_min]\n"
+      "if (STATS_min > 0) set xrange [-0.05 * STATS_max:]\n",
+      quoted(xlabel), quoted(ylabel), quoted(title), data, real_column);
+}
+
+}  // namespace
+
 void plot_exponents_png(const std::string& csv, const std::string& title, const std::string& unit,
                         const std::string& png_path) {
   render_png(png_path, csv, [&](const std::string& data) {
-    return fmt::format(
-        "set key below\nset grid\nset xlabel 'lambda, growth rate (1/{0})'\nset ylabel 'frequency (rad/{0})'\n"
-        "set title '{1}'\nset offsets graph 0.1, graph 0.1, graph 0.1, graph 0.1\n"
-        "set yzeroaxis lt -1 lw 2 lc 'gray40'\nset xzeroaxis lt 0 lc 'gray60'\n"
-        "stats '{2}' every ::1 using 2 nooutput\n"
-        "if (STATS_max < 0) set xrange [:-0.05 * STATS_min]\n"  // keep the boundary in sight
-        "if (STATS_min > 0) set xrange [-0.05 * STATS_max:]\n"
-        "plot '{2}' every ::1 using 2:($2 < 0 ? $3 : 1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'decaying (lambda < 0)', "
-        "'' every ::1 using 2:($2 >= 0 ? $3 : 1/0) with points pt 7 ps 1.6 lc rgb '#d62728' title 'growing or neutral (lambda >= 0)'\n",
-        quoted(unit), quoted(title), data);
+    return "set key below\n" +
+           complex_plane("lambda, growth rate (1/" + unit + ")", "frequency (rad/" + unit + ")", title, data, 2) +
+           fmt::format("plot '{0}' every ::1 using 2:($2 < 0 ? $3 : 1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title "
+                       "'decaying (lambda < 0)', '' every ::1 using 2:($2 >= 0 ? $3 : 1/0) with points pt 7 ps 1.6 lc rgb "
+                       "'#d62728' title 'growing or neutral (lambda >= 0)'\n",
+                       data);
+  });
+}
+
+void plot_eigenvalues_by_time_png(const std::string& csv, const std::string& title, const std::string& png_path) {
+  render_png(png_path, csv, [&](const std::string& data) {
+    return "set key off\nset palette defined (0 '#1f77b4', 1 '#2ca02c', 2 '#ff7f0e', 3 '#d62728')\n"
+           "set cblabel 'time of the analysis'\n" +
+           fmt::format("stats '{}' every ::1 using 1 nooutput\n"  // one analysis: one colour, no colour box
+                       "if (STATS_max > STATS_min) set cbrange [STATS_min:STATS_max]; "
+                       "else set cbrange [STATS_min - 1:STATS_max + 1]; unset colorbox\n",
+                       data) +
+           complex_plane("real part, growth rate (1/time unit)", "imaginary part (rad/time unit)", title, data, 2) +
+           fmt::format("plot '{}' every ::1 using 2:3:1 with points pt 7 ps 1.3 lc palette\n", data);
   });
 }
 

@@ -53,6 +53,11 @@ void plot_reading_map_png(const std::vector<PlottedReading>& points, const std::
 void plot_exponents_png(const std::string& csv, const std::string& title, const std::string& unit,
                         const std::string& png_path);
 
+/// PNG of eigenvalues in the complex plane from csv "time,real,imag" with a header line: the real
+/// part (growth rate) across, the imaginary part up, each point coloured by the time of its analysis
+/// (one colour for one analysis), and the stability boundary (real part 0) drawn.
+void plot_eigenvalues_by_time_png(const std::string& csv, const std::string& title, const std::string& png_path);
+
 /// PNG of columns 2..N of a CSV (with a header line) against column 1, one line each;
 /// `marks`: dashed vertical lines at x, each labelled.
 void plot_columns_png(const std::string& csv, const std::string& title, const std::string& xlabel,

@@ -380,10 +380,11 @@ const char* sign_word(double real, const std::vector<std::complex<double>>& all)
 
 int cmd_eigenanalysis(const std::vector<std::string>& args) {
   bool json = false, quiet = false;
-  std::string csv_path;
+  std::string csv_path, plot_path;
   po::options_description d("mlce eigenanalysis SET|FILE.m|FILE.nc [options]");
   d.add_options()("json", po::bool_switch(&json), "print one JSON object")(
       "csv", po::value(&csv_path), "every eigenvalue as CSV (file, time, real, imag, frequency_hz, damping_ratio)")(
+      "plot", po::value(&plot_path), "PNG of the eigenvalues in the complex plane, coloured by the time of their analysis")(
       "quiet", po::bool_switch(&quiet), "no progress line on stderr (printed before solving a pencil of n >= 300)");
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
@@ -422,6 +423,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     throw std::runtime_error(file + ": no eigenanalysis was performed (" + from_netcdf.warnings.front() + ")");
   nlohmann::json analyses = nlohmann::json::array();
   std::string csv = "file,time,real,imag,frequency_hz,damping_ratio\n";
+  std::string plot_csv = "time,real,imag\n";
   std::string text;
   // One analysis at a time from .m files (each may hold two 2000 x 2000 matrices); a NetCDF file's are read at once.
   const std::size_t count = files.empty() ? from_netcdf.analyses.size() : files.size();
@@ -448,6 +450,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
       const double frequency = std::abs(v.imag()) / (2.0 * M_PI), damping = std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0;
       values.push_back({{"real", v.real()}, {"imag", v.imag()}, {"frequency_hz", frequency}, {"damping_ratio", damping}});
       csv += fmt::format("{},{},{},{},{},{}\n", path, time, v.real(), v.imag(), frequency, damping);
+      plot_csv += fmt::format("{},{},{}\n", e.time ? *e.time : 0.0, v.real(), v.imag());
       rows += fmt::format("{:>16.9g} {:>16.9g} {:>14.6g} {:>14.6g}\n", v.real(), v.imag(), frequency, damping);
     }
     nlohmann::json a = {{"file", path},
@@ -469,6 +472,11 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
       text += fmt::format("largest real part {:+.9g} 1/time unit at {:.6g} cycles/time unit: {}\n", *s.largest_real_part,
                           s.largest_frequency, stability);
     text += fmt::format("{:>16} {:>16} {:>14} {:>14}\n", "real", "imag (rad)", "frequency", "damping ratio") + rows;
+  }
+  if (!plot_path.empty()) {
+    if (plot_csv.find('\n') + 1 == plot_csv.size())
+      throw std::runtime_error(plot_path + ": nothing to plot: no analysis has a finite eigenvalue");
+    plot_eigenvalues_by_time_png(plot_csv, "MBDyn eigenanalysis: eigenvalues s = (Lambda - 1) / (dCoef (Lambda + 1))", plot_path);
   }
   if (!csv_path.empty()) write_file_atomically(csv_path, csv);
   if (json) {
