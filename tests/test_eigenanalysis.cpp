@@ -472,6 +472,12 @@ TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {
     while (std::getline(csv, line)) ++lines;
     EXPECT_EQ(lines, 1 + 3 * 4);
   }
+  // `mlce channels` counts the analyses performed (eig.3 never was) and names the command.
+  const auto listed = run("channels " + (dir / "run.nc").string() + " --json");
+  ASSERT_EQ(listed.status, 0) << listed.err;
+  EXPECT_EQ(nlohmann::json::parse(listed.out)["eigenanalyses"], 3);
+  EXPECT_NE(run("channels " + (dir / "run.nc").string()).out.find("MBDyn eigenanalyses: 3 (mlce eigenanalysis "),
+            std::string::npos);
   // Where the .nc holds none: the set's .m files are read; with neither, one error naming both.
   int id = 0, dim = 0, v = 0;
   NC_OK(nc_create((dir / "plain.nc").c_str(), NC_CLOBBER, &id));

@@ -791,6 +791,7 @@ int cmd_channels(const std::vector<std::string>& args) {
       for (const auto& v : inv.variables) j["variables"].push_back({{"name", v.name}, {"components", v.components}});
     }
     if (!inv.columns.empty()) j["columns"] = inv.columns;
+    if (inv.format != "column") j["eigenanalyses"] = inv.eigenanalyses;
     j["warnings"] = inv.warnings;
     std::cout << j.dump() << "\n";
     return 0;
@@ -817,6 +818,8 @@ int cmd_channels(const std::vector<std::string>& args) {
       std::cout << "other time histories (var:NAME:K, K = 1 .. components):\n";
       for (const auto& v : inv.variables) std::cout << fmt::format("  {:<40} {} component(s)\n", v.name, v.components);
     }
+    if (inv.eigenanalyses > 0)
+      std::cout << fmt::format("MBDyn eigenanalyses: {} (mlce eigenanalysis {})\n", inv.eigenanalyses, file);
   }
   print_warnings(inv.warnings);
   return 0;

@@ -465,6 +465,7 @@ std::string encode(const Inventory& inv) {
   w.u64(inv.variables.size());
   for (const auto& v : inv.variables) w.str(v.name), w.u64(v.components);
   w.strings(inv.columns);
+  w.u64(inv.eigenanalyses);
   w.strings(inv.warnings);
   return w.take();
 }
@@ -497,6 +498,7 @@ Inventory decode_inventory(std::string_view bytes) {
     v.components = static_cast<std::size_t>(r.u64());
   }
   inv.columns = r.strings();
+  inv.eigenanalyses = static_cast<std::size_t>(r.u64());
   inv.warnings = r.strings();
   r.expect_end();
   return inv;
@@ -742,6 +744,15 @@ Inventory describe(const std::string& path) {
   for (const auto& name : nc.variable_names()) {
     const int v = *nc.var(name);
     if (!reached(name) && is_record_variable(nc, v)) inv.variables.push_back({name, components(nc.shape(v))});
+  }
+  if (const auto eig_time = nc.var("eig.time")) {
+    try {  // the time histories are listed whatever the eigenanalysis variables hold
+      const auto times = nc.values(*eig_time, "eig.time");
+      const double fill = nc.fill_value(*eig_time);
+      inv.eigenanalyses = static_cast<std::size_t>(std::count_if(times.begin(), times.end(), [fill](double t) { return t != fill; }));
+    } catch (const ReadError& e) {
+      inv.warnings.push_back(std::string(e.what()) + " (the eigenanalyses are not counted)");
+    }
   }
   return inv;
 }

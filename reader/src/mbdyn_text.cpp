@@ -1,6 +1,8 @@
 // MBDyn text output (format doc ../shared/docs/mbdyn-output-format.md, sections 1-3, 5, 9, 12).
 #include "mlce/reader/mbdyn_text.hpp"
 
+#include "mlce/reader/mbdyn_eigenanalysis.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -670,6 +672,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   inv.blocks = common_blocks(times, times.time.size(), out_path, files, inv.warnings);
   inv.t_first = times.time.front();
   inv.t_last = times.time[inv.blocks - 1];
+  inv.eigenanalyses = mbdyn_eigenanalysis_files(prefix).size();
   return inv;
 }
 
