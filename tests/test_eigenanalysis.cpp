@@ -444,6 +444,51 @@ TEST(EigenanalysisNetcdf, BadInputIsOneErrorNamingTheVariable) {
   std::filesystem::remove(path);
 }
 
+// A sparse matrix of more triplets than the reader takes in one block (2^16 records), in a file whose
+// record dimension they grow: every triplet read, in order, and nothing after the last one.
+TEST(EigenanalysisNetcdf, ManyTripletsAreReadAcrossBlocks) {
+  const std::string path = temp_path("many.nc");
+  constexpr std::size_t n = 300;
+  int id = 0, t_dim = 0, v3 = 0, eig_dim = 0, size_dim = 0, time = 0, etime = 0, coef = 0, plus = 0, minus = 0;
+  NC_OK(nc_create(path.c_str(), NC_CLOBBER, &id));
+  NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &t_dim));
+  NC_OK(nc_def_dim(id, "vec3", 3, &v3));
+  NC_OK(nc_def_dim(id, "eigensolutions", 1, &eig_dim));
+  NC_OK(nc_def_dim(id, "eig_iSize", n, &size_dim));
+  const int tv3[] = {t_dim, v3};
+  NC_OK(nc_def_var(id, "time", NC_DOUBLE, 1, &t_dim, &time));
+  NC_OK(nc_def_var(id, "eig.time", NC_DOUBLE, 1, &eig_dim, &etime));
+  NC_OK(nc_def_var(id, "eig.dCoef", NC_DOUBLE, 1, &eig_dim, &coef));
+  NC_OK(nc_def_var(id, "eig.0.Aplus", NC_DOUBLE, 2, tv3, &plus));
+  NC_OK(nc_def_var(id, "eig.0.Aminus", NC_DOUBLE, 2, tv3, &minus));
+  NC_OK(nc_enddef(id));
+  const double zero = 0.0, c = 1e-3;
+  const std::size_t first = 0;
+  NC_OK(nc_put_var1_double(id, etime, &first, &zero));
+  NC_OK(nc_put_var1_double(id, coef, &first, &c));
+  NC_OK(nc_put_var1_double(id, time, &first, &zero));
+  std::vector<double> triplets, diagonal;  // Aplus: every entry (n^2 = 90000 triplets); Aminus: its diagonal
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      const double v = i == j ? 1.0 + c : c / static_cast<double>(1 + i + 2 * j);
+      triplets.insert(triplets.end(), {static_cast<double>(i + 1), static_cast<double>(j + 1), v});
+      if (i == j) diagonal.insert(diagonal.end(), {static_cast<double>(i + 1), static_cast<double>(j + 1), 1.0 - c});
+    }
+  const std::size_t start[] = {0, 0}, all[] = {n * n, 3}, diag[] = {n, 3};
+  NC_OK(nc_put_vara_double(id, plus, start, all, triplets.data()));
+  NC_OK(nc_put_vara_double(id, minus, start, diag, diagonal.data()));
+  NC_OK(nc_close(id));
+  const auto r = reader::read_mbdyn_netcdf_eigenanalyses(path);
+  ASSERT_EQ(r.analyses.size(), 1U);
+  const auto& e = r.analyses[0];
+  ASSERT_EQ(e.size, n);
+  EXPECT_TRUE(e.sparse);
+  for (std::size_t k = 0; k < n * n; ++k) ASSERT_EQ(e.aplus[k], triplets[3 * k + 2]) << k;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) ASSERT_EQ(e.aminus[i * n + j], i == j ? 1.0 - c : 0.0) << i << ", " << j;
+  std::filesystem::remove(path);
+}
+
 class EigenanalysisCli : public mlce::testing::CliFixture {};
 
 TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {

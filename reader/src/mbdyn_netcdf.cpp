@@ -234,6 +234,16 @@ class NcFile {
     if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
     return out;
   }
+  /// Records first .. first + count - 1 of the record variable `v` of shape (time, w), row-major, as stored.
+  std::vector<double> records_of(int v, std::size_t first, std::size_t count, const std::string& name) const {
+    const auto sh = shape(v);
+    std::vector<double> out(count * (sh.size() == 2 ? sh[1] : 1));
+    if (out.empty()) return out;
+    const std::size_t start[2] = {first, 0}, counts[2] = {count, sh.size() == 2 ? sh[1] : 1};
+    const int rc = nc_get_vara_double(id_, v, start, counts, out.data());
+    if (rc != NC_NOERR) throw ReadError(path_ + ": reading '" + name + "': " + nc_strerror(rc));
+    return out;
+  }
   /// The length of dimension `name`, 0 when the file has none.
   std::size_t dimension_length(const char* name) const {
     int d = 0;
@@ -773,11 +783,25 @@ std::vector<double> eigenanalysis_matrix(const NcFile& nc, int v, const std::str
   sparse = nc.first_dimension_is_unlimited(v);
   if (sparse) {
     if (sh.size() != 2 || sh[1] != 3) throw ReadError(where + ": a sparse matrix is records of (row, column, value)");
-    const auto t = nc.values(v, name);
+    // The triplets come first; the records after them were never written (a long run has many more
+    // records than a model has nonzeros): read in blocks up to the first record without a row index.
     const double fill = nc.fill_value(v);
-    std::size_t count = 0;  // the triplets come first; the records after them were never written
-    while (3 * count < t.size() && t[3 * count] != fill) ++count;
-    require_written(nc, v, t, 3 * count, name);
+    const std::size_t records = nc.records(v);
+    constexpr std::size_t kBlock = 1 << 16, kMostTriplets = kLargestEigenanalysisMatrix * kLargestEigenanalysisMatrix;
+    std::vector<double> t;
+    std::size_t count = 0;
+    bool ended = false;
+    for (std::size_t first = 0; first < records && !ended; first += kBlock) {
+      const auto block = nc.records_of(v, first, std::min(kBlock, records - first), name);
+      for (std::size_t i = 0; i < block.size() / 3 && !ended; ++i) {
+        ended = block[3 * i] == fill;
+        if (ended) break;
+        if (++count > kMostTriplets)
+          throw ReadError(where + ": more than " + std::to_string(kMostTriplets) + " triplets (an n x n matrix has at most n^2 entries)");
+        t.insert(t.end(), block.begin() + static_cast<std::ptrdiff_t>(3 * i), block.begin() + static_cast<std::ptrdiff_t>(3 * i + 3));
+      }
+    }
+    require_written(nc, v, t, t.size(), name);
     return detail::matrix_from_triplets(t.data(), count, nc.dimension_length("eig_iSize"), where, n);
   }
   if (sh.size() != 2 || sh[0] != sh[1] || sh[0] == 0)
