@@ -39,7 +39,7 @@ head -c 24000 "$iso.nc" > "$corpus/netcdf/seed.nc"
 # MBDyn's eigenanalysis variables (DataManager::OutputEigPrepare ...): dense matrices (eig.0), sparse
 # triplets along the record dimension, more of them than output records (eig.1), alpha (eig.2), one planned
 # analysis never performed (eig.3: fill values)
-ncgen -o "$corpus/netcdf/eig.nc" /dev/stdin <<'CDL'
+cat > "$corpus/eig.cdl" <<'CDL'  # ncgen reads its input twice: a file, not a pipe
 netcdf eig {
 dimensions:
   time = UNLIMITED ; vec3 = 3 ; eigensolutions = 4 ; eig_iSize = 2 ; eig_2_iNVec_out = 3 ;
@@ -56,6 +56,7 @@ data:
   eig.2.alpha = 0.8, 0.5, 1, -2, 0, 2, 3, 0, 0 ;
 }
 CDL
+ncgen -o "$corpus/netcdf/eig.nc" "$corpus/eig.cdl"
 # the estimator's series (fuzz_estimate.cpp's layout: 4 bytes of options, then int16 samples; perl is
 # part of every Debian): a decay and a limit cycle sampled as a flow (dt 0.01), the logistic map, and
 # a sine quantised to a few levels, each 500 samples
