@@ -430,6 +430,36 @@ TEST(EigenanalysisNetcdf, BadInputIsOneErrorNamingTheVariable) {
   expect_error({.alpha_fill_row = 2}, "'eig.2.alpha' number 6: holds the NetCDF fill value");
   expect_error({.triplet_index = 5}, path + ": eig.1.Aplus: index 5");
   expect_error({.triplet_index = 1.5}, "expected a whole number from 1 to 4");
+  // A size beyond what the reader holds dense is refused as the size, before any index is read against it.
+  {
+    int id = 0, t_dim = 0, v3 = 0, eig_dim = 0, size_dim = 0, etime = 0, coef = 0, plus = 0, minus = 0;
+    NC_OK(nc_create(path.c_str(), NC_CLOBBER, &id));
+    NC_OK(nc_def_dim(id, "time", NC_UNLIMITED, &t_dim));
+    NC_OK(nc_def_dim(id, "vec3", 3, &v3));
+    NC_OK(nc_def_dim(id, "eigensolutions", 1, &eig_dim));
+    NC_OK(nc_def_dim(id, "eig_iSize", 2500, &size_dim));
+    const int tv3[] = {t_dim, v3};
+    NC_OK(nc_def_var(id, "eig.time", NC_DOUBLE, 1, &eig_dim, &etime));
+    NC_OK(nc_def_var(id, "eig.dCoef", NC_DOUBLE, 1, &eig_dim, &coef));
+    NC_OK(nc_def_var(id, "eig.0.Aplus", NC_DOUBLE, 2, tv3, &plus));
+    NC_OK(nc_def_var(id, "eig.0.Aminus", NC_DOUBLE, 2, tv3, &minus));
+    NC_OK(nc_enddef(id));
+    const std::size_t first = 0, start[] = {0, 0}, one[] = {1, 3};
+    const double zero = 0.0, c = 1e-3, triplet[] = {2400, 2400, 1.0};
+    NC_OK(nc_put_var1_double(id, etime, &first, &zero));
+    NC_OK(nc_put_var1_double(id, coef, &first, &c));
+    NC_OK(nc_put_vara_double(id, plus, start, one, triplet));
+    NC_OK(nc_put_vara_double(id, minus, start, one, triplet));
+    NC_OK(nc_close(id));
+    try {
+      (void)reader::read_mbdyn_netcdf_eigenanalyses(path);
+      ADD_FAILURE() << "no error for a 2500 x 2500 matrix";
+    } catch (const reader::ReadError& e) {
+      EXPECT_NE(std::string(e.what()).find("eig.0.Aplus: 2500 x 2500: more than the 2000 this reader holds dense"),
+                std::string::npos)
+          << e.what();
+    }
+  }
   // A file with no eigenanalysis is none, not an error: the CLI says so.
   {
     int id = 0, dim = 0, v = 0;

@@ -450,7 +450,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
       const double frequency = std::abs(v.imag()) / (2.0 * M_PI), damping = std::abs(v) > 0.0 ? -v.real() / std::abs(v) : 0.0;
       values.push_back({{"real", v.real()}, {"imag", v.imag()}, {"frequency_hz", frequency}, {"damping_ratio", damping}});
       csv += fmt::format("{},{},{},{},{},{}\n", path, time, v.real(), v.imag(), frequency, damping);
-      plot_csv += fmt::format("{},{},{}\n", e.time ? *e.time : 0.0, v.real(), v.imag());
+      if (!plot_path.empty()) plot_csv += fmt::format("{},{},{}\n", e.time ? *e.time : 0.0, v.real(), v.imag());
       rows += fmt::format("{:>16.9g} {:>16.9g} {:>14.6g} {:>14.6g}\n", v.real(), v.imag(), frequency, damping);
     }
     nlohmann::json a = {{"file", path},

@@ -204,7 +204,8 @@ void check_matrix_size(const std::string& where, std::size_t n) {
 
 std::vector<double> matrix_from_triplets(const double* t, std::size_t count, std::size_t size, const std::string& where,
                                          std::size_t& n) {
-  const std::size_t largest = size > 0 ? std::min(size, kLargestEigenanalysisMatrix) : kLargestEigenanalysisMatrix;
+  check_matrix_size(where, size);  // a size the file names is refused before its indices are read against it
+  const std::size_t largest = size > 0 ? size : kLargestEigenanalysisMatrix;
   n = size;
   for (std::size_t i = 0; i < count; ++i)
     for (int k = 0; k < 2; ++k) {
