@@ -8,8 +8,10 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <utility>
 
+#include <boost/sort/pdqsort/pdqsort.hpp>
 #include <omp.h>
 
 #include "fftw_plan.hpp"
@@ -121,8 +123,13 @@ std::vector<std::vector<double>> iaaft_surrogates(const std::vector<std::vector<
   }
   // The rank order sorts (value, index) pairs, contiguous in memory: an index sort that looks its
   // values up through a comparator took half the test's time (perf, Lorenz x at 10^4 samples).
+  // The pairs enter in the previous pass's rank order, which a pass changes less and less, and
+  // pattern-defeating quicksort (Boost.Sort) finishes nearly sorted runs by insertion: 4096 values
+  // of Lorenz x nearly sorted 12 us against std::sort's 34 us (65 us in random order). The order is
+  // total -- (value, index) -- so the result is std::sort's, whatever order the pairs come in.
   std::vector<std::pair<double, std::size_t>> ranked(n);
   std::vector<std::vector<std::size_t>> order(channels, std::vector<std::size_t>(n)), previous(channels);
+  for (auto& o : order) std::iota(o.begin(), o.end(), std::size_t{0});
   // Several channels: the surrogates' current transforms, and per frequency the common rotation.
   std::vector<std::vector<std::complex<double>>> current(channels > 1 ? channels : 0, std::vector<std::complex<double>>(nc));
   std::vector<std::complex<double>> rotation(channels > 1 ? nc : 0);
@@ -130,8 +137,8 @@ std::vector<std::vector<double>> iaaft_surrogates(const std::vector<std::vector<
   const auto take_ranks = [&](std::size_t c) {
     backward.execute();  // n times the inverse; only the order of its values is used
     const double* y = real.get();
-    for (std::size_t i = 0; i < n; ++i) ranked[i] = {y[i], i};
-    std::sort(ranked.begin(), ranked.end());  // ties by index, as a stable order would
+    for (std::size_t i = 0; i < n; ++i) ranked[i] = {y[order[c][i]], order[c][i]};
+    boost::sort::pdqsort(ranked.begin(), ranked.end());  // ties by index, as a stable order would
     for (std::size_t i = 0; i < n; ++i) order[c][i] = ranked[i].second;
     for (std::size_t i = 0; i < n; ++i) s[c][order[c][i]] = sorted[c][i];  // the series' values in that rank order
   };
@@ -142,7 +149,9 @@ std::vector<std::vector<double>> iaaft_surrogates(const std::vector<std::vector<
       for (std::size_t k = 0; k < nc; ++k) {  // the series' amplitudes, the surrogate's phases
         double& re = spectrum.get()[k][0];
         double& im = spectrum.get()[k][1];
-        const double a = std::hypot(re, im);
+        // No hypot: every value is scaled to |x| <= 1, so |X_k| <= n, and re^2 + im^2 neither
+        // overflows nor (where it matters) underflows; hypot's care took 5 % of the test.
+        const double a = std::sqrt(re * re + im * im);
         if (a > 0.0) {
           re *= amplitude[k] / a, im *= amplitude[k] / a;
         } else {

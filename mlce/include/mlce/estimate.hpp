@@ -109,7 +109,7 @@ struct MlceOptions {
   /// one claim that linear noise through a lightly damped mode fakes (an AR(2) resonance read so on 6
   /// of 8 series, bench/surrogate_power) -- with `surrogates` as below: 19 surrogates of the series'
   /// first 4096 samples, 30 IAAFT passes each, curves of at most 2000 references, which keeps the
-  /// test to about 0.12 s (Lorenz x: 26-43 standard deviations above its surrogates, AR(2) resonances
+  /// test to about 0.09 s (Lorenz x: 26-43 standard deviations above its surrogates, AR(2) resonances
   /// and a noise-driven mode within 3). never: no test; always: on every estimate with a fit region, with
   /// `surrogates` as given (`mlce estimate --surrogates K`: K of the whole part analysed, 200 passes).
   SurrogateWhen surrogates_when = SurrogateWhen::where_chaos_is_read;
