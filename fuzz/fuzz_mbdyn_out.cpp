@@ -1,7 +1,8 @@
-// libFuzzer: the .out parser (Step lines, output flags) on arbitrary bytes.
+// libFuzzer: the .out parsers (Step lines, output flags; the eigenvalue tables) on arbitrary bytes.
 #include <cstdint>
 #include <string_view>
 
+#include "mlce/reader/mbdyn_eigenanalysis.hpp"
 #include "mlce/reader/mbdyn_text.hpp"
 #include "mlce/reader/table.hpp"
 
@@ -12,6 +13,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       (void)mlce::reader::parse_mbdyn_out(text, "fuzz.out", frequency);
     } catch (const mlce::reader::ReadError&) {
     }
+  }
+  try {
+    (void)mlce::reader::parse_mbdyn_out_eigenanalyses(text, "fuzz.out");
+  } catch (const mlce::reader::ReadError&) {
   }
   return 0;
 }

@@ -15,6 +15,9 @@ head -c 4000 "$iso.out" > "$corpus/mbdyn_out/seed.out"
 # late times printed by default (%g, 6 digits): the path that rebuilds them from Step x TStep
 printf 'Step 0 1000 0 1 0 0 0 1\nStep 1 1000 0.005 2 1e-08 0 0 1\nStep 2 1000.01 0.005 2 1e-08 0 0 0\nStep 3 1000.01 0.005 2 1e-08 0 0 1\n' \
   > "$corpus/mbdyn_out/late.out"
+# eigenvalue tables as MBDyn's solver.cc prints them: a NaN row (Lambda = -1), a failed QZ, the older PI row
+printf 'Step 0 0 0.001 0 0 0 0 1\nInfo: 0, success BALANC="N" ILO=1 IHI=3 ABNRM=-1 BBNRM=-1\nMode n.       Real          Imag             Damp %%     Freq Hz\n       1:          -2 -      44.6766 j      4.47214     -7.11049\n       2:        -nan -         -nan j          100            0\n       3:          -2 +      44.6766 j      4.47214      7.11049\nStep 1 0.001 0.001 2 1e-12 0 0 1\nInfo: 3, the QZ iteration failed\nMode n.       Real          Imag             Damp %%     Freq Hz\n       1:            0 -           PI j            0    PI\n       2:          -2 +     -44.6766 j      4.47214     -7.11049\n' \
+  > "$corpus/mbdyn_out/eig.out"
 head -n 30 "$iso.mov" > "$corpus/mbdyn_blocks/seed.mov"
 head -n 30 "$iso.jnt" > "$corpus/mbdyn_blocks/seed.jnt"
 # eigenanalysis .m files as MBDyn writes them: dense matrices, sparse triplets, alpha with eigenvectors

@@ -3,7 +3,9 @@
 // in MBDyn's first-order residual form (the mboct-mbdyn-pkg loader's test model: two spring-mass-damper
 // abstract nodes), and the eigenvalues of Hammond's isotropic-rotor matrix A by Eigen's EigenSolver
 // (a second method) against QZ of the pencil MBDyn would write for x' = A x. The same oscillators in a
-// NetCDF file laid out as MBDyn writes its eig.* variables (reader/mbdyn_netcdf.hpp), and through the CLI.
+// NetCDF file laid out as MBDyn writes its eig.* variables (reader/mbdyn_netcdf.hpp), in the eigenvalue
+// tables MBDyn prints to the .out, and through the CLI.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <netcdf.h>
 #include <nlohmann/json.hpp>
@@ -14,6 +16,7 @@
 #include <complex>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -212,13 +215,19 @@ TEST(Eigenanalysis, ScaleOfTimeDoesNotMatter) {
   }
 }
 
-void expect_error(const std::string& text, const std::string& message) {
+/// `parse(text)` throws a ReadError whose message holds `message`.
+template <class Parse>
+void expect_read_error(Parse parse, const std::string& text, const std::string& message) {
   try {
-    reader::parse_mbdyn_eigenanalysis(text, "bad.m");
+    parse(text);
     ADD_FAILURE() << "no error for: " << text;
   } catch (const reader::ReadError& e) {
     EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
   }
+}
+
+void expect_error(const std::string& text, const std::string& message) {
+  expect_read_error([](const std::string& t) { return reader::parse_mbdyn_eigenanalysis(t, "bad.m"); }, text, message);
 }
 
 TEST(Eigenanalysis, BadInputIsOneErrorNamingTheLine) {
@@ -249,6 +258,119 @@ TEST(Eigenanalysis, FilesOfASetInAnalysisOrder) {
   EXPECT_EQ(names, (std::vector<std::string>{"run.m", "run_00.m", "run_2.m", "run_10.m"}));
   EXPECT_TRUE(reader::mbdyn_eigenanalysis_files((dir / "none").string()).empty());
   std::filesystem::remove_all(dir);
+}
+
+// ---- the .out's eigenvalue tables -----------------------------------------------------------------------
+
+/// The eigenvalue table MBDyn's solver.cc prints to the .out (output_eigenvalues after do_eig), from alpha
+/// rows: s = (2 / h) (Lambda - 1) / (Lambda + 1) in do_eig's real arithmetic, sorted by frequency then real
+/// part, each row `setw(8) k ": " setw(12) sigma " + "|" - " setw(12) |omega| " j    " setw(12) csi "    "
+/// setw(12) freq` at the stream's `precision`. MBDyn's own formatting, replayed: the reader's truth is
+/// the oscillators' closed form, which the alpha rows are made from.
+std::string out_table(const std::vector<std::array<double, 3>>& alpha, double h, int precision) {
+  struct Row {
+    double sigma, omega, csi, freq;
+  };
+  std::vector<Row> rows;
+  for (const auto& [re, im, b] : alpha) {
+    double d = re + b;
+    d *= d;
+    d += im * im;
+    d *= h / 2.;
+    Row r{(re * re - b * b + im * im) / d, 2. * b * im / d, 0.0, 0.0};
+    if (im != 0.) {
+      const double m = r.sigma * r.sigma + r.omega * r.omega;
+      r.csi = m > std::numeric_limits<double>::epsilon() ? -100 * r.sigma / std::sqrt(m) : 0.;
+      r.freq = r.omega / (2 * M_PI);
+    } else {
+      r.csi = std::abs(r.sigma) < std::numeric_limits<double>::epsilon() ? 0. : -100. * std::copysign(1, r.sigma);
+    }
+    rows.push_back(r);
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& x, const Row& y) { return x.freq == y.freq ? x.sigma < y.sigma : x.freq < y.freq; });
+  std::ostringstream out;
+  out.precision(precision);
+  out << "Mode n. " "  " "    Real    " "   " "    Imag    " "  " "    " "   Damp %   " "  Freq Hz" << '\n';
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    out << std::setw(8) << k + 1 << ": " << std::setw(12) << rows[k].sigma << (rows[k].omega >= 0. ? " + " : " - ") << std::setw(12)
+        << std::fabs(rows[k].omega) << " j" << "    " << std::setw(12) << rows[k].csi << "    " << std::setw(12) << rows[k].freq << '\n';
+  return out.str();
+}
+
+/// The oscillators' multipliers Lambda = (1 + c s) / (1 - c s) at c = h / 2, as alpha rows (beta = 1), and
+/// a constraint's Lambda = -1.
+std::vector<std::array<double, 3>> oscillator_alpha(double h) {
+  std::vector<std::array<double, 3>> alpha;
+  for (const cd s : analytic()) {
+    const cd lambda = (1.0 + h / 2 * s) / (1.0 - h / 2 * s);
+    alpha.push_back({lambda.real(), lambda.imag(), 1.0});
+  }
+  alpha.push_back({-1.0, 0.0, 1.0});
+  return alpha;
+}
+
+std::string step_line(long step, double time) {
+  return fmt::format("Step {} {} 0.001 2 1e-12 0 0 1\n", step, time);
+}
+
+TEST(EigenanalysisOut, TablesGiveTheOscillatorsEigenvaluesAtTheirStepTimes) {
+  const double h = 1e-3;
+  std::string text = "# Key for lines starting with \"Step\":\n# Step Time TStep NIter ResErr SolErr SolConv Out\n";
+  text += step_line(0, 0) + step_line(1, 0.001) + step_line(2, 0.002);
+  text += "Info: 0, success BALANC=\"N\" ILO=1 IHI=5 ABNRM=-1 BBNRM=-1\n" + out_table(oscillator_alpha(h), h, 6);
+  text += step_line(3, 0.003) + step_line(2, 0.0025) + step_line(4, 0.004);  // a debug build's step 2 again: not a time
+  const std::size_t failed_line = 16;  // 2 comments, 3 Step lines, a status line, a header, 5 rows, 3 Step lines
+  text += "Info: 3, the QZ iteration failed, but eigenvalues 4->5 should be correct\n" + out_table(oscillator_alpha(h), h, 16);
+  // Older MBDyn: omega printed with its sign after " + ", and Lambda = -1 as "0 - PI j ... PI".
+  text += step_line(5, 0.005) + "Info: 0, success\nMode n.       Real          Imag             Damp %     Freq Hz\n"
+          "       1:          -2 +     -44.6766 j      4.47214     -7.11049\n"
+          "       2:    -3.33333 +     -17.9505 j      18.2574     -2.85691\n"
+          "       3:            0 -           PI j            0    PI\n"
+          "       4:    -3.33333 +      17.9505 j      18.2574      2.85691\n"
+          "       5:          -2 +      44.6766 j      4.47214      7.11049\n"
+          "End of simulation\n";
+  const auto r = reader::parse_mbdyn_out_eigenanalyses(text, "run.out");
+  ASSERT_EQ(r.analyses.size(), 3U);
+  const std::vector<double> times = {0.002, 0.004, 0.005}, tolerance = {1e-5, 1e-12, 1e-5};
+  const std::vector<std::size_t> header_lines = {7, failed_line + 1, failed_line + 9};  // 5 rows, a Step line, a status line
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto& e = r.analyses[k];
+    EXPECT_EQ(e.source, "run.out:" + std::to_string(header_lines[k])) << k;
+    ASSERT_TRUE(e.time.has_value());
+    EXPECT_EQ(*e.time, times[k]);
+    EXPECT_FALSE(e.coefficient.has_value());
+    EXPECT_EQ(e.printed.size(), 4U);
+    EXPECT_EQ(e.printed_at_infinity, 1U) << k;  // the constraint: NaN (0 / 0) in do_eig, or PI
+    const auto s = spectrum::spectrum_from_eigenvalues(e.printed, e.printed_at_infinity);
+    EXPECT_EQ(s.at_infinity, 1U);
+    expect_eigenvalues(s, analytic(), tolerance[k], std::numeric_limits<double>::infinity());
+    EXPECT_NEAR(*s.largest_real_part, -kD1 / (2 * kM1), 1e-5);
+  }
+  ASSERT_EQ(r.warnings.size(), 1U);
+  EXPECT_NE(r.warnings[0].find("run.out:" + std::to_string(failed_line) + ": MBDyn's eigensolver reported 'Info: 3, the QZ"),
+            std::string::npos)
+      << r.warnings[0];
+  // A table before any Step line has no time; a .out without tables has no analysis.
+  const auto early = reader::parse_mbdyn_out_eigenanalyses(out_table(oscillator_alpha(h), h, 6), "early.out");
+  ASSERT_EQ(early.analyses.size(), 1U);
+  EXPECT_FALSE(early.analyses[0].time.has_value());
+  EXPECT_TRUE(reader::parse_mbdyn_out_eigenanalyses(step_line(0, 0) + step_line(1, 0.1), "plain.out").analyses.empty());
+}
+
+void expect_out_error(const std::string& text, const std::string& message) {
+  expect_read_error([](const std::string& t) { return reader::parse_mbdyn_out_eigenanalyses(t, "bad.out"); }, text, message);
+}
+
+TEST(EigenanalysisOut, BadRowsAreOneErrorNamingTheLine) {
+  const std::string head = step_line(0, 0) + "Mode n.       Real          Imag             Damp %     Freq Hz\n";
+  expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214\n", "bad.out:3: 6 fields; expected 'k: REAL +|- IMAG j");
+  expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214  7.1\n       3:  -2 - 44.6766 j 4.47 -7.1\n",
+                   "bad.out:4: row 3: where row 2: was next");
+  expect_out_error(head + "       1:          x2 +      44.6766 j      4.47214  7.1\n", "bad.out:3: real part: expected a number, found 'x2'");
+  expect_out_error(head + "       1:          -2 *      44.6766 j      4.47214  7.1\n", "bad.out:3: 7 fields; expected");
+  expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214  Hz\n", "bad.out:3: frequency: expected a number, found 'Hz'");
+  expect_out_error("Step x 0.1 0.1 1 0 0 0 1\n", "bad.out:1: expected 'Step STEP TIME");
+  expect_out_error("Step 1 nan 0.1 1 0 0 0 1\n", "bad.out:1: expected 'Step STEP TIME");
 }
 
 // ---- NetCDF (eig.* variables) ------------------------------------------------------------------------
@@ -565,6 +687,31 @@ TEST_F(EigenanalysisCli, NetcdfFileAndSetRead) {
   const auto m = run("eigenanalysis " + (dir / "plain").string() + " --json");
   ASSERT_EQ(m.status, 0) << m.err;
   EXPECT_EQ(nlohmann::json::parse(m.out)["analyses"][0]["file"], (dir / "plain.m").string());
+  // A set with neither .nc nor .m: the tables of its .out; the .out named itself too; a .out without a table: one error.
+  write("table.out", step_line(0, 0) + step_line(1, 0.25) + out_table(oscillator_alpha(1e-3), 1e-3, 6) + step_line(2, 0.5) +
+                         out_table(oscillator_alpha(1e-3), 1e-3, 6));
+  for (const std::string arg : {"table", "table.out", "table.mov"}) {
+    const auto t = run("eigenanalysis " + (dir / arg).string() + " --json");
+    ASSERT_EQ(t.status, 0) << arg << ": " << t.err;
+    const auto j = nlohmann::json::parse(t.out);
+    ASSERT_EQ(j["analyses"].size(), 2U) << arg;
+    EXPECT_EQ(j["analyses"][0]["file"], (dir / "table.out").string() + ":3");
+    EXPECT_EQ(j["analyses"][1]["time"], 0.5);
+    for (const auto& a : j["analyses"]) {
+      EXPECT_EQ(a["source"], "out");
+      EXPECT_TRUE(a["coefficient"].is_null());
+      EXPECT_EQ(a["size"], 5);
+      EXPECT_EQ(a["at_infinity"], 1);
+      EXPECT_NEAR(a["largest_real_part"].get<double>(), -kD1 / (2 * kM1), 1e-5);
+      EXPECT_EQ(a["stability"], "stable");
+    }
+  }
+  const auto text_run = run("eigenanalysis " + (dir / "table").string());
+  EXPECT_NE(text_run.out.find("t = 0.25, eigenvalues from the .out's table, as printed: 4 finite, 1 at infinity"), std::string::npos)
+      << text_run.out;
+  write("notable.out", step_line(0, 0));
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "notable.out").string()), "notable.out: no eigenvalue table");
+  mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "notable").string()), "no eigenvalue table in");
   // Nothing finite to plot (every eigenvalue at infinity): one error naming the PNG, none written.
   write("infinite.m", "dTime = 0;\ndCoef = 0.5;\nalpha = [-2 0 2;\n1 0 0;\n];\n");
   mlce::testing::expect_one_line_error(run("eigenanalysis " + (dir / "infinite.m").string() + " --plot " + (dir / "i.png").string()),

@@ -418,7 +418,13 @@ TEST_F(MbdynCli, ChannelsListsNodesJointsAndTimeSpan) {
   EXPECT_EQ(j["entities"].size(), 9u);  // joints 2 3 4 5 6 31..34
   EXPECT_NEAR(j["time"][1].get<double>(), 1.0, 1e-9);
   EXPECT_EQ(j["eigenanalyses"], 0);
-  // The set's eigenanalysis files (PREFIX_<k>.m) are counted and the command that reads them named.
+  // An eigenvalue table in the .out (after its last Step line, as MBDyn's solver.cc prints one) is counted.
+  std::ofstream(prefix + ".out", std::ios::app) << "Info: 0, success\nMode n.       Real          Imag             Damp %     Freq Hz\n"
+                                                   "       1:          -2 -      44.6766 j      4.47214     -7.11049\n"
+                                                   "       2:          -2 +      44.6766 j      4.47214      7.11049\n";
+  EXPECT_EQ(nlohmann::json::parse(run("channels " + prefix + " --json").out)["eigenanalyses"], 1);
+  // The set's eigenanalysis files (PREFIX_<k>.m) are counted (in place of the .out's tables, as
+  // `mlce eigenanalysis SET` reads them) and the command that reads them named.
   for (const char* k : {"_0.m", "_1.m"}) std::ofstream(prefix + k) << "dCoef = 0.5;\nalpha = [0.5 0 1;\n];\n";
   EXPECT_EQ(nlohmann::json::parse(run("channels " + prefix + " --json").out)["eigenanalyses"], 2);
   EXPECT_NE(run("channels " + prefix).out.find("MBDyn eigenanalyses: 2 (mlce eigenanalysis " + prefix + ")"), std::string::npos);

@@ -320,7 +320,7 @@ TEST_F(SpectrumCli, MbdynEigenanalysisFilesReadAsEigenvalues) {
   const json one = json_of("eigenanalysis " + (dir / "run_1.m").string());
   EXPECT_EQ(one["analyses"].size(), 1u);
   // Errors: a set without eigenanalysis files; a file with a bad value (named with its line); nothing partial.
-  expect_one_line_error(run("eigenanalysis " + (dir / "none").string()), "none: no eigenanalysis file");
+  expect_one_line_error(run("eigenanalysis " + (dir / "none").string()), "none: no eigenanalysis (no ");
   write("bad_0.m", "dCoef = 0.5;\nalpha = [1 0 1;\n1 0;\n];\n");
   const auto bad = run("eigenanalysis " + (dir / "bad").string() + " --csv " + (dir / "bad.csv").string());
   expect_one_line_error(bad, "bad_0.m:3: alpha: a row of 2 values");

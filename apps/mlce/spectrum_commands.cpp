@@ -381,7 +381,7 @@ const char* sign_word(double real, const std::vector<std::complex<double>>& all)
 int cmd_eigenanalysis(const std::vector<std::string>& args) {
   bool json = false, quiet = false;
   std::string csv_path, plot_path;
-  po::options_description d("mlce eigenanalysis SET|FILE.m|FILE.nc [options]");
+  po::options_description d("mlce eigenanalysis SET|FILE.m|FILE.nc|FILE.out [options]");
   d.add_options()("json", po::bool_switch(&json), "print one JSON object")(
       "csv", po::value(&csv_path), "every eigenvalue as CSV (file, time, real, imag, frequency_hz, damping_ratio)")(
       "plot", po::value(&plot_path), "PNG of the eigenvalues in the complex plane, coloured by the time of their analysis")(
@@ -389,34 +389,45 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
   const auto parsed = parse(args, d);
   if (!parsed) return 0;
   const po::variables_map& vm = *parsed;
-  if (!vm.count("file")) throw po::error("missing SET (an MBDyn output prefix), one eigenanalysis FILE.m or a FILE.nc");
+  if (!vm.count("file"))
+    throw po::error("missing SET (an MBDyn output prefix), one eigenanalysis FILE.m, a FILE.nc or a FILE.out");
   const std::string file = vm["file"].as<std::string>();
-  // What to read: one .m file, the eigenanalyses of one .nc file, or those of the set at PREFIX: those in
-  // PREFIX.nc when it holds any (NetCDF keeps every number in double precision, the .m file `output
-  // precision` digits), else its .m files.
+  // What to read: one .m file, the eigenanalyses of one .nc file, the eigenvalue tables of one .out file, or
+  // those of the set at PREFIX: those in PREFIX.nc when it holds any (NetCDF keeps every number in double
+  // precision, the .m file `output precision` digits), else its .m files, else the tables of PREFIX.out
+  // (the eigenvalues as printed, 6 significant digits by default, without dCoef or the matrices).
   std::vector<std::string> files;
   reader::MbdynNetcdfEigenanalyses from_netcdf;
+  reader::MbdynOutEigenanalyses from_out;
   std::vector<std::string> warnings;
   const auto read_netcdf = [&](const std::string& nc) {
     from_netcdf = reader::read_mbdyn_netcdf_eigenanalyses(nc);
     warnings = from_netcdf.warnings;
     return !from_netcdf.analyses.empty() || !from_netcdf.warnings.empty();
   };
+  const auto read_out = [&](const std::string& out) {
+    from_out = reader::read_mbdyn_out_eigenanalyses(out);
+    warnings = from_out.warnings;
+    return !from_out.analyses.empty();
+  };
+  const char* const how = "MBDyn writes them when its initial-value block has `eigenanalysis: <times>` (`output eigenvectors` "
+                          "or `output matrices` for the .m file, `output results: netcdf` for eig.* in the .nc)";
   if (file.size() > 2 && file.ends_with(".m")) {
     files.push_back(file);
   } else if (file.size() > 3 && file.ends_with(".nc")) {
     if (!read_netcdf(file))
       throw std::runtime_error(file + ": no eigenanalysis (no 'eig.time'); MBDyn writes eig.* when its initial-value block "
                                "has `eigenanalysis: <times>, output eigenvectors` and the control data `output results: netcdf`");
+  } else if (file.size() > 4 && file.ends_with(".out")) {
+    if (!read_out(file)) throw std::runtime_error(file + ": no eigenvalue table ('Mode n.  Real  Imag ...'); " + how);
   } else {
     const std::string prefix = reader::mbdyn_prefix(file);
     std::error_code ec;
     if (!(std::filesystem::is_regular_file(prefix + ".nc", ec) && read_netcdf(prefix + ".nc"))) {
       files = reader::mbdyn_eigenanalysis_files(prefix);
-      if (files.empty())
-        throw std::runtime_error(prefix + ": no eigenanalysis file (" + prefix + ".m or " + prefix + "_<k>.m, or eig.* in " +
-                                 prefix + ".nc); MBDyn writes one per analysis when its initial-value block has `eigenanalysis: "
-                                 "<times>, output eigenvectors` (or `output matrices`)");
+      if (files.empty() && !(std::filesystem::is_regular_file(prefix + ".out", ec) && read_out(prefix + ".out")))
+        throw std::runtime_error(prefix + ": no eigenanalysis (no " + prefix + ".m or " + prefix + "_<k>.m, no eig.* in " + prefix +
+                                 ".nc, no eigenvalue table in " + prefix + ".out); " + how);
     }
   }
   if (!from_netcdf.warnings.empty() && from_netcdf.analyses.empty())
@@ -425,23 +436,30 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
   std::string csv = "file,time,real,imag,frequency_hz,damping_ratio\n";
   std::string plot_csv = "time,real,imag\n";
   std::string text;
-  // One analysis at a time from .m files (each may hold two 2000 x 2000 matrices); a NetCDF file's are read at once.
-  const std::size_t count = files.empty() ? from_netcdf.analyses.size() : files.size();
+  // One analysis at a time from .m files (each may hold two 2000 x 2000 matrices); a NetCDF file's, and the
+  // tables of a .out, are read at once.
+  const std::size_t count = !files.empty() ? files.size() : !from_out.analyses.empty() ? from_out.analyses.size()
+                                                                                          : from_netcdf.analyses.size();
   for (std::size_t index = 0; index < count; ++index) {
-    const reader::MbdynEigenanalysis e =
-        files.empty() ? std::move(from_netcdf.analyses[index]) : reader::read_mbdyn_eigenanalysis(files[index]);
-    const std::string& path = e.source;  // the file, or FILE.nc:eig.<k>
-    // MBDyn's own eigenvalues when it wrote them; otherwise those of the matrices it wrote (LU or QZ).
-    const bool from_alpha = !e.alpha.empty();
-    if (!quiet && !from_alpha && e.size >= 300)  // O(n^3): 0.2-0.6 s at n = 500 (bench_spectrum solver_pencil), minutes at 2000
+    const reader::MbdynEigenanalysis e = !files.empty()                ? reader::read_mbdyn_eigenanalysis(files[index])
+                                         : !from_out.analyses.empty() ? std::move(from_out.analyses[index])
+                                                                      : std::move(from_netcdf.analyses[index]);
+    const std::string& path = e.source;  // the file, FILE.nc:eig.<k>, or FILE.out:LINE
+    // MBDyn's own eigenvalues when it wrote them (alpha, or the .out's table); otherwise those of the
+    // matrices it wrote (LU or QZ).
+    const bool from_alpha = !e.alpha.empty(), from_table = !e.coefficient;
+    if (!quiet && !from_alpha && !from_table && e.size >= 300)  // O(n^3): 0.2-0.6 s at n = 500 (bench_spectrum solver_pencil), minutes at 2000
       std::fprintf(stderr, "mlce eigenanalysis: %s: eigenvalues of a %zu x %zu pencil (O(n^3): seconds to minutes)...\n",
                    path.c_str(), e.size, e.size);
     const spectrum::SolverPencilSpectrum s =
-        from_alpha ? spectrum::spectrum_from_multipliers(e.alpha, *e.coefficient)
-                   : spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, *e.coefficient);
+        from_table   ? spectrum::spectrum_from_eigenvalues(e.printed, e.printed_at_infinity)
+        : from_alpha ? spectrum::spectrum_from_multipliers(e.alpha, *e.coefficient)
+                     : spectrum::spectrum_from_pencil(e.size, e.aplus, e.aminus, *e.coefficient);
     for (const auto& w : s.warnings) warnings.push_back(path + ": " + w);
     const std::string source =
-        from_alpha ? "alpha" : fmt::format("Aplus/Aminus {} x {}{} by {}", e.size, e.size, e.sparse ? " (sparse)" : "", s.method);
+        from_table   ? "the .out's table, as printed"
+        : from_alpha ? "alpha"
+                     : fmt::format("Aplus/Aminus {} x {}{} by {}", e.size, e.size, e.sparse ? " (sparse)" : "", s.method);
     const char* stability = s.largest_real_part ? sign_word(*s.largest_real_part, s.eigenvalues) : "undetermined";
     nlohmann::json values = nlohmann::json::array();
     const std::string time = e.time ? fmt::format("{}", *e.time) : std::string();
@@ -455,18 +473,21 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     }
     nlohmann::json a = {{"file", path},
                         {"time", e.time ? nlohmann::json(*e.time) : nlohmann::json(nullptr)},
-                        {"coefficient", *e.coefficient},
-                        {"source", from_alpha ? "alpha" : "matrices"},
+                        {"coefficient", e.coefficient ? nlohmann::json(*e.coefficient) : nlohmann::json(nullptr)},
+                        {"source", from_table ? "out" : from_alpha ? "alpha" : "matrices"},
                         {"method", s.method},
-                        {"size", from_alpha ? e.alpha.size() : e.size},
+                        {"size", from_table   ? e.printed.size() + e.printed_at_infinity
+                                 : from_alpha ? e.alpha.size()
+                                              : e.size},
                         {"eigenvalues", values},
                         {"at_infinity", s.at_infinity},
                         {"largest_real_part", s.largest_real_part ? nlohmann::json(*s.largest_real_part) : nlohmann::json(nullptr)},
                         {"largest_frequency_hz", s.largest_frequency},
                         {"stability", stability}};
     analyses.push_back(a);
-    text += fmt::format("# {}: {}dCoef {}, eigenvalues from {}: {} finite, {} at infinity (constraints, singular Aplus)\n", path,
-                        e.time ? fmt::format("t = {}, ", *e.time) : std::string(), *e.coefficient, source, s.eigenvalues.size(),
+    text += fmt::format("# {}: {}{}eigenvalues from {}: {} finite, {} at infinity (constraints, singular Aplus)\n", path,
+                        e.time ? fmt::format("t = {}, ", *e.time) : std::string(),
+                        e.coefficient ? fmt::format("dCoef {}, ", *e.coefficient) : std::string(), source, s.eigenvalues.size(),
                         s.at_infinity);
     if (s.largest_real_part)
       text += fmt::format("largest real part {:+.9g} 1/time unit at {:.6g} cycles/time unit: {}\n", *s.largest_real_part,

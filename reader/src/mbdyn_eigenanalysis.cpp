@@ -5,7 +5,9 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
+#include <optional>
 #include <system_error>
 
 #include "line_source.hpp"
@@ -191,6 +193,108 @@ MbdynEigenanalysis parse(LineSource& src) {
   return out;
 }
 
+// ---- the .out's eigenvalue tables (layout: mbdyn_eigenanalysis.hpp) ----
+
+std::vector<std::string_view> words(std::string_view s) {
+  std::vector<std::string_view> w;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
+    const std::size_t start = i;
+    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != '\r') ++i;
+    if (i > start) w.push_back(s.substr(start, i - start));
+  }
+  return w;
+}
+
+/// A number as iostream prints it, infinities and NaN ("inf", "-nan") included; nullopt for anything else.
+std::optional<double> printed_number(std::string_view t) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (t.empty() || ec != std::errc{} || end != t.data() + t.size()) return std::nullopt;
+  return v;
+}
+
+/// "k:" with k a whole number: a table row's label.
+std::optional<std::size_t> row_number(std::string_view t) {
+  if (t.size() < 2 || t.back() != ':') return std::nullopt;
+  std::size_t k = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size() - 1, k);
+  if (ec != std::errc{} || end != t.data() + t.size() - 1) return std::nullopt;
+  return k;
+}
+
+/// One row `k: REAL +|- IMAG j DAMP FREQ` of `e`'s table, the table's row `expected`.
+void read_table_row(const std::vector<std::string_view>& w, std::size_t expected, MbdynEigenanalysis& e, const LineSource& src) {
+  const std::string form = "expected 'k: REAL +|- IMAG j DAMP FREQ' (MBDyn's eigenvalue table)";
+  if (*row_number(w[0]) != expected)
+    throw ReadError(src.where() + ": row " + std::string(w[0]) + " where row " + std::to_string(expected) + ": was next; " + form);
+  if (w.size() != 7 || (w[2] != "+" && w[2] != "-") || w[4] != "j")
+    throw ReadError(src.where() + ": " + std::to_string(w.size()) + " fields; " + form);
+  const auto value = [&](std::size_t i, const char* what) -> std::optional<double> {
+    if (w[i] == "PI") return std::nullopt;  // older MBDyn: Lambda = -1, omega = pi / h
+    const auto v = printed_number(w[i]);
+    if (!v) throw ReadError(src.where() + ": " + what + ": expected a number, found '" + std::string(w[i]) + "'");
+    return v;
+  };
+  const auto real = value(1, "real part"), imag = value(3, "imaginary part");
+  value(5, "damping"), value(6, "frequency");  // checked, not kept: both follow from s
+  if (!real || !imag || !std::isfinite(*real) || !std::isfinite(*imag)) {
+    ++e.printed_at_infinity;  // (Lambda + 1) = 0 divides by zero in do_eig: a constraint's algebraic row
+    return;
+  }
+  e.printed.emplace_back(*real, w[2] == "-" ? -*imag : *imag);  // older MBDyn: "+ -44.67" (omega with its sign)
+}
+
+MbdynOutEigenanalyses parse_out_tables(LineSource& src) {
+  MbdynOutEigenanalyses out;
+  std::optional<double> time;
+  long last_step = -1;
+  std::string status;  // the eigensolver's status line before a table, and where it is
+  std::string status_where;
+  MbdynEigenanalysis* table = nullptr;
+  std::size_t rows = 0;
+  std::string_view line;
+  while (src.next(line)) {
+    const std::string_view t = trim(line);
+    if (table != nullptr) {
+      const auto w = words(t);
+      if (!w.empty() && row_number(w[0])) {
+        read_table_row(w, ++rows, *table, src);
+        continue;
+      }
+      table = nullptr;  // any other line ends the table
+    }
+    if (t.starts_with("Step ")) {
+      const auto w = words(t);
+      long step = 0;
+      double at = std::numeric_limits<double>::quiet_NaN();
+      bool ok = w.size() >= 3;
+      if (ok) {
+        const auto [end, ec] = std::from_chars(w[1].data(), w[1].data() + w[1].size(), step);
+        const auto [end_time, ec_time] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), at);
+        ok = ec == std::errc{} && end == w[1].data() + w[1].size() && ec_time == std::errc{} &&
+             end_time == w[2].data() + w[2].size() && std::isfinite(at);
+      }
+      if (!ok) throw ReadError(src.where() + ": expected 'Step STEP TIME TSTEP NITER RESERR SOLERR SOLCONV [OUT]'");
+      if (step > last_step) time = at, last_step = step;  // debug builds repeat earlier steps out of sequence
+    } else if (t.starts_with("Info: ") || t.starts_with("INFO: ")) {
+      status = std::string(t), status_where = src.where();
+    } else if (t.starts_with("Mode n.")) {
+      MbdynEigenanalysis& e = out.analyses.emplace_back();
+      e.source = src.where();
+      e.time = time;
+      const bool success = status.starts_with("Info: 0,") || status == "INFO: 0" || status.empty();
+      if (!success)
+        out.warnings.push_back(status_where + ": MBDyn's eigensolver reported '" + status +
+                               "' before the table at line " + std::to_string(src.line_number()) + ": its eigenvalues may be incomplete");
+      status.clear();
+      table = &e, rows = 0;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 namespace detail {
@@ -233,6 +337,16 @@ MbdynEigenanalysis parse_mbdyn_eigenanalysis(std::string_view text, const std::s
 MbdynEigenanalysis read_mbdyn_eigenanalysis(const std::string& path) {
   auto src = LineSource::open(path);
   return parse(src);
+}
+
+MbdynOutEigenanalyses parse_mbdyn_out_eigenanalyses(std::string_view text, const std::string& source) {
+  auto src = LineSource::from_memory(text, source);
+  return parse_out_tables(src);
+}
+
+MbdynOutEigenanalyses read_mbdyn_out_eigenanalyses(const std::string& path) {
+  auto src = LineSource::open(path);
+  return parse_out_tables(src);
 }
 
 std::vector<std::string> mbdyn_eigenanalysis_files(const std::string& prefix) {

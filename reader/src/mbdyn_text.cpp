@@ -237,6 +237,7 @@ MbdynTimes parse_out(LineSource& src, std::size_t frequency) {
   std::string_view line;
   long last_step = -1;
   while (src.next(line)) {
+    if (line.starts_with("Mode n.")) ++t.eigenvalue_tables;
     if (line.size() < 5 || line.substr(0, 5) != "Step ") continue;
     const auto f = tokens(line);
     long step = 0;
@@ -673,6 +674,7 @@ Inventory describe_mbdyn_text(const std::string& prefix_in) {
   inv.t_first = times.time.front();
   inv.t_last = times.time[inv.blocks - 1];
   inv.eigenanalyses = mbdyn_eigenanalysis_files(prefix).size();
+  if (inv.eigenanalyses == 0) inv.eigenanalyses = times.eigenvalue_tables;  // as `mlce eigenanalysis SET` reads them
   return inv;
 }
 

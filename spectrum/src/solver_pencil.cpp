@@ -10,6 +10,28 @@
 
 namespace mlce::spectrum {
 
+namespace {
+
+/// Largest real part first; real parts equal to 1e-12 of the largest |s| (a conjugate pair's two
+/// roundings) count as equal, so a pair lists its positive imaginary part first. Keys on a grid keep
+/// the order a strict weak one. Then the largest real part and its frequency.
+void order_by_real_part(SolverPencilSpectrum& out) {
+  double largest = 0.0;
+  for (const auto& v : out.eigenvalues) largest = std::max(largest, std::abs(v));
+  const double grid = 1e-12 * largest;
+  const auto key = [grid](double re) { return grid > 0.0 ? std::round(re / grid) : re; };
+  std::sort(out.eigenvalues.begin(), out.eigenvalues.end(), [&key](const auto& x, const auto& y) {
+    const double kx = key(x.real()), ky = key(y.real());
+    return kx != ky ? kx > ky : x.imag() > y.imag();
+  });
+  if (!out.eigenvalues.empty()) {
+    out.largest_real_part = out.eigenvalues.front().real();
+    out.largest_frequency = std::abs(out.eigenvalues.front().imag()) / (2.0 * std::numbers::pi);
+  }
+}
+
+}  // namespace
+
 SolverPencilSpectrum spectrum_from_multipliers(std::span<const std::array<double, 3>> alpha, double coefficient,
                                                const SolverPencilOptions& o) {
   if (!(coefficient > 0.0) || !std::isfinite(coefficient))
@@ -34,21 +56,7 @@ SolverPencilSpectrum spectrum_from_multipliers(std::span<const std::array<double
     // last, a time scale of 1e-150 or 1e150 neither under- nor overflows on the way.
     out.eigenvalues.push_back(((a - beta) / sum) / coefficient);
   }
-  // Largest real part first; real parts equal to 1e-12 of the largest |s| (a conjugate pair's two
-  // roundings) count as equal, so a pair lists its positive imaginary part first. Keys on a grid keep
-  // the order a strict weak one.
-  double largest = 0.0;
-  for (const auto& v : out.eigenvalues) largest = std::max(largest, std::abs(v));
-  const double grid = 1e-12 * largest;
-  const auto key = [grid](double re) { return grid > 0.0 ? std::round(re / grid) : re; };
-  std::sort(out.eigenvalues.begin(), out.eigenvalues.end(), [&key](const auto& x, const auto& y) {
-    const double kx = key(x.real()), ky = key(y.real());
-    return kx != ky ? kx > ky : x.imag() > y.imag();
-  });
-  if (!out.eigenvalues.empty()) {
-    out.largest_real_part = out.eigenvalues.front().real();
-    out.largest_frequency = std::abs(out.eigenvalues.front().imag()) / (2.0 * std::numbers::pi);
-  }
+  order_by_real_part(out);
   if (singular > 0)
     out.warnings.push_back(std::to_string(singular) +
                            " eigenvalue(s) with alpha = beta = 0: the pencil is singular (a constraint with no equation, or a "
@@ -102,6 +110,20 @@ SolverPencilSpectrum spectrum_from_pencil(std::size_t n, std::span<const double>
   }
   SolverPencilSpectrum out = spectrum_from_multipliers(alpha, coefficient, o);
   out.method = "QZ (Aplus singular to rounding: reciprocal condition " + std::to_string(rcond) + ")";
+  return out;
+}
+
+SolverPencilSpectrum spectrum_from_eigenvalues(std::vector<std::complex<double>> eigenvalues, std::size_t at_infinity) {
+  SolverPencilSpectrum out;
+  for (const auto& v : eigenvalues)
+    if (!std::isfinite(v.real()) || !std::isfinite(v.imag()))
+      throw std::invalid_argument("an eigenvalue that is not finite: count it in at_infinity");
+  out.eigenvalues = std::move(eigenvalues);
+  out.at_infinity = at_infinity;
+  order_by_real_part(out);
+  if (out.eigenvalues.empty())
+    out.warnings.push_back("every eigenvalue is at infinity (constraints or a singular Aplus): no motion to read");
+  out.method = "as printed";
   return out;
 }
 

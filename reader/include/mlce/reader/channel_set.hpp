@@ -57,8 +57,9 @@ struct Inventory {
   std::size_t blocks = 0;
   double t_first = 0.0, t_last = 0.0;
   std::vector<std::string> columns;  ///< column files: the column names
-  /// MBDyn's own eigenanalyses beside the time histories (the set's .m files; in NetCDF those eig.time
-  /// holds, never-reached ones left out): `mlce eigenanalysis SET` reads them.
+  /// MBDyn's own eigenanalyses beside the time histories (the set's .m files, or where there is none the
+  /// eigenvalue tables of its .out; in NetCDF those eig.time holds, never-reached ones left out):
+  /// `mlce eigenanalysis SET` reads them.
   std::size_t eigenanalyses = 0;
   std::vector<std::string> warnings;
 };

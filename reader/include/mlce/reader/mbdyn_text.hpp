@@ -37,6 +37,8 @@ struct MbdynTimes {
   std::vector<long> step;
   bool seven_fields = false;
   std::size_t step_lines = 0;  ///< every Step line read, written or not
+  /// Lines that open an eigenvalue table ("Mode n. ..."; read_mbdyn_out_eigenanalyses reads them)
+  std::size_t eigenvalue_tables = 0;
   /// Non-empty when the printed times could not resolve the output step (6 significant digits at
   /// late times) and were rebuilt from the Step indices and time steps: the warning that says so.
   std::string rebuilt;

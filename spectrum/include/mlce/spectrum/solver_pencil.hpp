@@ -48,6 +48,10 @@ struct SolverPencilSpectrum {
 SolverPencilSpectrum spectrum_from_multipliers(std::span<const std::array<double, 3>> alpha, double coefficient,
                                                const SolverPencilOptions& options = {});
 
+/// From continuous eigenvalues already mapped (MBDyn's .out table: reader::read_mbdyn_out_eigenanalyses), with
+/// `at_infinity` rows that held none: ordered and read as spectrum_from_multipliers' (method "as printed").
+/// Throws std::invalid_argument on an eigenvalue that is not finite.
+SolverPencilSpectrum spectrum_from_eigenvalues(std::vector<std::complex<double>> eigenvalues, std::size_t at_infinity);
 /// From the matrices (row-major n x n): the generalized eigenvalues of (Aminus, Aplus), as the eigenvalues
 /// of Aplus^-1 Aminus where Aplus is regular (SolverPencilOptions::regular_aplus), else by QZ (Eigen's
 /// GeneralizedEigenSolver), then as spectrum_from_multipliers. Cost O(n^3): bench_spectrum's solver_pencil
