@@ -363,11 +363,12 @@ void expect_out_error(const std::string& text, const std::string& message) {
 
 TEST(EigenanalysisOut, BadRowsAreOneErrorNamingTheLine) {
   const std::string head = step_line(0, 0) + "Mode n.       Real          Imag             Damp %     Freq Hz\n";
-  expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214\n", "bad.out:3: 6 fields; expected 'k: REAL +|- IMAG j");
+  expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214\n", "bad.out:3: 6 fields where 7 were; expected 'k: REAL +|- IMAG j");
   expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214  7.1\n       3:  -2 - 44.6766 j 4.47 -7.1\n",
                    "bad.out:4: row 3: where row 2: was next");
   expect_out_error(head + "       1:          x2 +      44.6766 j      4.47214  7.1\n", "bad.out:3: real part: expected a number, found 'x2'");
-  expect_out_error(head + "       1:          -2 *      44.6766 j      4.47214  7.1\n", "bad.out:3: 7 fields; expected");
+  expect_out_error(head + "       1:          -2 *      44.6766 j      4.47214  7.1\n", "bad.out:3: '*' where the imaginary part's sign");
+  expect_out_error(head + "       1:          -2 +      44.6766 i      4.47214  7.1\n", "bad.out:3: 'i' where 'j' was");
   expect_out_error(head + "       1:          -2 +      44.6766 j      4.47214  Hz\n", "bad.out:3: frequency: expected a number, found 'Hz'");
   expect_out_error("Step x 0.1 0.1 1 0 0 0 1\n", "bad.out:1: expected 'Step STEP TIME");
   expect_out_error("Step 1 nan 0.1 1 0 0 0 1\n", "bad.out:1: expected 'Step STEP TIME");

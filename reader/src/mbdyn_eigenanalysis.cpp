@@ -229,8 +229,10 @@ void read_table_row(const std::vector<std::string_view>& w, std::size_t expected
   const std::string form = "expected 'k: REAL +|- IMAG j DAMP FREQ' (MBDyn's eigenvalue table)";
   if (*row_number(w[0]) != expected)
     throw ReadError(src.where() + ": row " + std::string(w[0]) + " where row " + std::to_string(expected) + ": was next; " + form);
-  if (w.size() != 7 || (w[2] != "+" && w[2] != "-") || w[4] != "j")
-    throw ReadError(src.where() + ": " + std::to_string(w.size()) + " fields; " + form);
+  if (w.size() != 7) throw ReadError(src.where() + ": " + std::to_string(w.size()) + " fields where 7 were; " + form);
+  if (w[2] != "+" && w[2] != "-")
+    throw ReadError(src.where() + ": '" + std::string(w[2]) + "' where the imaginary part's sign (+ or -) was; " + form);
+  if (w[4] != "j") throw ReadError(src.where() + ": '" + std::string(w[4]) + "' where 'j' was; " + form);
   const auto value = [&](std::size_t i, const char* what) -> std::optional<double> {
     if (w[i] == "PI") return std::nullopt;  // older MBDyn: Lambda = -1, omega = pi / h
     const auto v = printed_number(w[i]);
