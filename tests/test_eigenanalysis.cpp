@@ -355,6 +355,13 @@ TEST(EigenanalysisOut, TablesGiveTheOscillatorsEigenvaluesAtTheirStepTimes) {
   ASSERT_EQ(early.analyses.size(), 1U);
   EXPECT_FALSE(early.analyses[0].time.has_value());
   EXPECT_TRUE(reader::parse_mbdyn_out_eigenanalyses(step_line(0, 0) + step_line(1, 0.1), "plain.out").analyses.empty());
+  // Beyond the double range (a hand-edited table): 1e-400 reads 0, 1e400 is infinite, so at infinity.
+  const auto extreme = reader::parse_mbdyn_out_eigenanalyses(
+      step_line(0, 0) + "Mode n. Real Imag Damp % Freq Hz\n  1: 1e-400 + 44.6766 j 0 7.11049\n  2: 1e400 + 0 j -100 0\n", "x.out");
+  ASSERT_EQ(extreme.analyses.size(), 1U);
+  ASSERT_EQ(extreme.analyses[0].printed.size(), 1U);
+  EXPECT_EQ(extreme.analyses[0].printed[0], cd(0.0, 44.6766));
+  EXPECT_EQ(extreme.analyses[0].printed_at_infinity, 1U);
 }
 
 void expect_out_error(const std::string& text, const std::string& message) {

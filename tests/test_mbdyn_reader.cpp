@@ -127,6 +127,18 @@ void write_node_x_records(const fs::path& path, const std::vector<double>& y) {
 
 }  // namespace
 
+// A number beyond the double range reads as strtod reads it: 1e-400 underflows to 0, 1e400 overflows to
+// inf and is refused as not finite. (std::from_chars leaves its output unchanged there, and the value
+// read as the 0.0 it was initialised to.)
+TEST(MbdynText, NumbersBeyondTheDoubleRangeReadAsStrtodReadsThem) {
+  const auto r = parse_mbdyn_blocks("1 1e-400 2\n1 -1e-400 4\n1 3 4\n", "u.mov", {{1, 2}}, {});
+  ASSERT_EQ(r.values.size(), 1U);
+  EXPECT_EQ(r.values[0], (std::vector<double>{0.0, 0.0, 3.0}));
+  EXPECT_TRUE(std::signbit(r.values[0][1]));
+  const std::string what = read_error_of([] { parse_mbdyn_blocks("1 1 2\n1 1e400 4\n", "o.mov", {{1, 2}}, {}); });
+  EXPECT_NE(what.find("o.mov:2: column 2: '1e400': expected a finite number"), std::string::npos) << what;
+}
+
 TEST(MbdynText, TimesComeFromTheOutputFlagOfStepLines) {
   const auto cs = read_mbdyn_text(kIso, specs({"node:2:x"}));
   const auto t = out_times(kIso + ".out");

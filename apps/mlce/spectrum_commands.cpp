@@ -447,6 +447,7 @@ int cmd_eigenanalysis(const std::vector<std::string>& args) {
     const std::string& path = e.source;  // the file, FILE.nc:eig.<k>, or FILE.out:LINE
     // MBDyn's own eigenvalues when it wrote them (alpha, or the .out's table); otherwise those of the
     // matrices it wrote (LU or QZ).
+    // Only the .out's tables come without dCoef: the .m and NetCDF readers refuse an analysis that lacks it.
     const bool from_alpha = !e.alpha.empty(), from_table = !e.coefficient;
     if (!quiet && !from_alpha && !from_table && e.size >= 300)  // O(n^3): 0.2-0.6 s at n = 500 (bench_spectrum solver_pencil), minutes at 2000
       std::fprintf(stderr, "mlce eigenanalysis: %s: eigenvalues of a %zu x %zu pencil (O(n^3): seconds to minutes)...\n",

@@ -5,12 +5,12 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <limits>
 #include <map>
 #include <optional>
 #include <system_error>
 
 #include "line_source.hpp"
+#include "text_fields.hpp"
 #include "triplets.hpp"
 #include "mlce/reader/table.hpp"
 
@@ -195,33 +195,11 @@ MbdynEigenanalysis parse(LineSource& src) {
 
 // ---- the .out's eigenvalue tables (layout: mbdyn_eigenanalysis.hpp) ----
 
-std::vector<std::string_view> words(std::string_view s) {
-  std::vector<std::string_view> w;
-  std::size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
-    const std::size_t start = i;
-    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != '\r') ++i;
-    if (i > start) w.push_back(s.substr(start, i - start));
-  }
-  return w;
-}
-
-/// A number as iostream prints it, infinities and NaN ("inf", "-nan") included; nullopt for anything else.
-std::optional<double> printed_number(std::string_view t) {
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  if (t.empty() || ec != std::errc{} || end != t.data() + t.size()) return std::nullopt;
-  return v;
-}
-
 /// "k:" with k a whole number: a table row's label.
 std::optional<std::size_t> row_number(std::string_view t) {
-  if (t.size() < 2 || t.back() != ':') return std::nullopt;
-  std::size_t k = 0;
-  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size() - 1, k);
-  if (ec != std::errc{} || end != t.data() + t.size() - 1) return std::nullopt;
-  return k;
+  long k = 0;
+  if (t.size() < 2 || t.back() != ':' || !detail::parse_long(t.substr(0, t.size() - 1), k) || k < 0) return std::nullopt;
+  return static_cast<std::size_t>(k);
 }
 
 /// One row `k: REAL +|- IMAG j DAMP FREQ` of `e`'s table, the table's row `expected`.
@@ -235,8 +213,9 @@ void read_table_row(const std::vector<std::string_view>& w, std::size_t expected
   if (w[4] != "j") throw ReadError(src.where() + ": '" + std::string(w[4]) + "' where 'j' was; " + form);
   const auto value = [&](std::size_t i, const char* what) -> std::optional<double> {
     if (w[i] == "PI") return std::nullopt;  // older MBDyn: Lambda = -1, omega = pi / h
-    const auto v = printed_number(w[i]);
-    if (!v) throw ReadError(src.where() + ": " + what + ": expected a number, found '" + std::string(w[i]) + "'");
+    double v = 0.0;
+    if (!detail::parse_double(w[i], v))
+      throw ReadError(src.where() + ": " + what + ": expected a number, found '" + std::string(w[i]) + "'");
     return v;
   };
   const auto real = value(1, "real part"), imag = value(3, "imaginary part");
@@ -260,7 +239,7 @@ MbdynOutEigenanalyses parse_out_tables(LineSource& src) {
   while (src.next(line)) {
     const std::string_view t = trim(line);
     if (table != nullptr) {
-      const auto w = words(t);
+      const auto w = detail::tokens(t);
       if (!w.empty() && row_number(w[0])) {
         read_table_row(w, ++rows, *table, src);
         continue;
@@ -268,17 +247,11 @@ MbdynOutEigenanalyses parse_out_tables(LineSource& src) {
       table = nullptr;  // any other line ends the table
     }
     if (t.starts_with("Step ")) {
-      const auto w = words(t);
+      const auto w = detail::tokens(t);  // 7 fields before 2011, 8 or 9 since: the step and the time lead
       long step = 0;
-      double at = std::numeric_limits<double>::quiet_NaN();
-      bool ok = w.size() >= 3;
-      if (ok) {
-        const auto [end, ec] = std::from_chars(w[1].data(), w[1].data() + w[1].size(), step);
-        const auto [end_time, ec_time] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), at);
-        ok = ec == std::errc{} && end == w[1].data() + w[1].size() && ec_time == std::errc{} &&
-             end_time == w[2].data() + w[2].size() && std::isfinite(at);
-      }
-      if (!ok) throw ReadError(src.where() + ": expected 'Step STEP TIME TSTEP NITER RESERR SOLERR SOLCONV [OUT]'");
+      double at = 0.0;
+      if (w.size() < 3 || !detail::parse_long(w[1], step) || !detail::parse_double(w[2], at) || !std::isfinite(at))
+        throw ReadError(src.where() + ": expected 'Step STEP TIME TSTEP NITER RESERR SOLERR SOLCONV [OUT]'");
       if (step > last_step) time = at, last_step = step;  // debug builds repeat earlier steps out of sequence
     } else if (t.starts_with("Info: ") || t.starts_with("INFO: ")) {
       status = std::string(t), status_where = src.where();

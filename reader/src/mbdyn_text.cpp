@@ -17,52 +17,25 @@
 #include "line_source.hpp"
 #include "mlce/reader/table.hpp"
 #include "node_fields.hpp"
+#include "text_fields.hpp"
 
 namespace mlce::reader {
 namespace {
 
 using detail::LineSource;
+using detail::is_blank;
+using detail::next_token;
+using detail::parse_double;
+using detail::parse_long;
+using detail::tokens;
 
 /// File `ext` of the output set `prefix`: PREFIX.ext, or PREFIX.ext.gz when only that is there.
 std::string set_file(const std::string& prefix, const std::string& ext) { return detail::stored_file(prefix + "." + ext); }
-
-bool is_blank(char c) { return c == ' ' || c == '\t'; }
-
-/// Next whitespace-separated token of `s` from `pos` (empty at the end).
-std::string_view next_token(std::string_view s, std::size_t& pos) {
-  while (pos < s.size() && is_blank(s[pos])) ++pos;
-  const std::size_t start = pos;
-  while (pos < s.size() && !is_blank(s[pos])) ++pos;
-  return s.substr(start, pos - start);
-}
-
-std::vector<std::string_view> tokens(std::string_view s) {
-  std::vector<std::string_view> out;
-  std::size_t pos = 0;
-  for (auto t = next_token(s, pos); !t.empty(); t = next_token(s, pos)) out.push_back(t);
-  return out;
-}
 
 std::string shorten(std::string_view s) {
   std::string t(s.substr(0, 32));
   if (s.size() > 32) t += "...";
   return t;
-}
-
-bool parse_long(std::string_view t, long& v) {
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  return ec == std::errc() && p == t.data() + t.size();
-}
-
-/// strtod-compatible numbers (MBDyn writes `-0.000000e+00`, `inf`, `nan`, `-nan`).
-bool parse_double(std::string_view t, double& v) {
-  if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  if (t == "-nan" || t == "nan") {
-    v = std::nan("");
-    return true;
-  }
-  const auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-  return (ec == std::errc() || ec == std::errc::result_out_of_range) && p == t.data() + t.size();
 }
 
 MbdynLog parse_log(LineSource& src) {
